@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The whole test suite, from a fresh clone on Debian 12: installs what is missing, builds (Release),
+# runs every test, then builds again with AddressSanitizer + UndefinedBehaviorSanitizer and runs the
+# suite under them. Exits non-zero if anything fails. Benchmarks are built but not run.
+#   scripts/test.sh            everything
+#   scripts/test.sh --quick    the Release pass only, without [slow] cases
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+quick=0
+[ "${1:-}" = "--quick" ] && quick=1
+
+scripts/install-deps.sh
+jobs=$(nproc)
+
+echo "== Release build and tests"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j "$jobs"
+if [ "$quick" = 1 ]; then
+  ctest --test-dir build --output-on-failure -j "$jobs" -LE slow
+  exit 0
+fi
+ctest --test-dir build --output-on-failure -j "$jobs"
+
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DINCISE_SANITIZE=ON -DINCISE_BUILD_BENCH=OFF
+cmake --build build-asan -j "$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE slow
