@@ -1,0 +1,170 @@
+// Cuts a tissue surface mesh with local DFFD incisions grown along scalpel strokes (Schein & Elber,
+// "Discontinuous Free Form Deformations", §4; the lattice itself is Incision, incision.h).
+//
+// For every lattice column that becomes final (see Incision), the cutter, touching only mesh elements
+// under that column (a VertexGrid query of the column's control-point hull, no pass over the mesh):
+//  1. parameterises the vertices of the slab v in [j, j + 1) by inverting the undeformed lattice F0
+//     (damped Newton, volume_inversion.h);
+//  2. splits each edge whose end points lie on opposite sides of u = 1/2 and whose crossing lies inside
+//     the cut (after the stroke's start, above the blade's depth) at the crossing, in parameter space
+//     (paper §3.2); the new vertex is a seam vertex at u = 1/2 exactly;
+//  3. walks the seam (the chain of seam edges, the level set u = 1/2 on the surface) and, for every seam
+//     vertex with a seam neighbour on both sides, duplicates it: faces on the u >= 1/2 side move to the
+//     copy (evaluated at 1/2 + 0), the original keeps the u < 1/2 side (evaluated at 1/2 - epsilon);
+//  4. adds wall geometry for the depth of the cut (§4): below every duplicated seam vertex a column of
+//     `wall_rows` vertices per side down to one shared bottom vertex at the blade's depth, and two walls of
+//     triangles between consecutive columns, meeting at the bottom (the blade's V); at the seam's two ends
+//     the walls close in a fan. The mesh stays a closed two-manifold with its Euler characteristic.
+// Then every vertex whose displacement changed is moved to rest + D(u, v, w) (Incision::displacementAt).
+// The order of all this depends only on the samples, so the same samples give the same mesh (the same
+// bytes) however they are grouped into extend() calls.
+//
+// Vertex and face kinds (surface_mesh.h) record what each new element is: Seam vertices, Split faces
+// (pieces of cut faces), Wall vertices and faces. Several incisions may cut one mesh, crossing or not: a
+// new incision starts from the mesh as the previous ones left it (their wounds stop evolving).
+//
+// Threads: one owner (the sim thread). Cost per column step: O(vertices and faces under `order` columns);
+// per extend() with no new column: O(columns still opening). Allocation: amortised growth of the mesh and
+// of per-incision buffers. Failure: the constructor (load time) throws MeshError for a mesh that is not a
+// closed two-manifold and std::invalid_argument for bad options (Incision::validateOptions); begin(),
+// extend(), advance() and finish() never throw: bad samples come back as a status, and an internal
+// topology failure stops the incision with `failed` set and the message in stats().
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "incise/cutting/incision.h"
+#include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/vertex_grid.h"
+
+namespace incise::cutting {
+
+struct CutterOptions {
+  IncisionOptions incision;
+  int wall_rows = 3;                 // vertices per wall column and side, the bottom included (>= 1)
+  double contact_tolerance_m = 0.0;  // a sample farther than this from every vertex has left the surface;
+                                     // 0 = 3 x the mesh's mean edge length
+};
+
+// What one call did. Counts are for the call; totals live in CutStats.
+struct CutStep {
+  SampleStatus sample = SampleStatus::Accepted;
+  bool left_surface = false;  // the sample was off the surface: the incision was finished
+  bool failed = false;        // an internal topology failure stopped the incision (message in CutStats)
+  int columns = 0;            // lattice columns processed
+  int vertices_bound = 0;     // vertices parameterised
+  int edges_split = 0;
+  int vertices_duplicated = 0;
+  int wall_faces = 0;         // wall faces (re)built
+  int vertices_moved = 0;     // re-deformed
+};
+
+struct CutStats {
+  int incisions = 0;
+  int seam_vertices = 0;      // of the current incision's chain
+  int edges_split = 0;        // totals over all incisions
+  int vertices_duplicated = 0;
+  int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
+  std::string failure;        // first internal failure, empty if none
+};
+
+class SurfaceCutter {
+ public:
+  // Takes the mesh by reference for the cutter's lifetime. Throws MeshError if it is not a closed
+  // two-manifold (checkManifold) and std::invalid_argument for bad options. Cost O(V) (the grid).
+  SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options);
+
+  // Starts a new incision at `first` (a point on the surface with its outward normal) with the blade moving
+  // along `blade_direction`; the previous incision, if any, is finished first. A non-finite sample or a
+  // zero normal is refused with a status (no incision starts). Never throws.
+  CutStep begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept;
+  // Adds stroke samples to the current incision and processes every column they make final. A sample off
+  // the surface finishes the incision. Never throws.
+  CutStep extend(const StrokeSample& sample) noexcept;
+  CutStep extend(std::span<const StrokeSample> samples) noexcept;
+  // Lets the wound's opening evolve to time t_s without new samples (no-op without an active incision).
+  CutStep advance(double t_s) noexcept;
+  // Finishes the current incision: the cut reaches the last station. Never throws.
+  CutStep finish() noexcept;
+
+  bool active() const noexcept { return incision_ != nullptr && !incision_->finished(); }
+  const Incision* incision() const noexcept { return incision_.get(); }
+  const CutStats& stats() const noexcept { return stats_; }
+  const SurfaceMesh& surface() const noexcept { return mesh_; }
+  // The current incision's seam, from its start to its tip (original handles: the u < 1/2 side).
+  std::vector<TriMesh::VertexHandle> seam() const;
+  // Per-vertex data of the current incision: parameters (u, v, w) and rest position, if bound.
+  struct Binding {
+    Eigen::Vector3d uvw;
+    Eigen::Vector3d rest_m;
+    int side;  // -1, +1, 0 (on the seam, not duplicated), 2 (bottom of the cut)
+  };
+  std::optional<Binding> binding(TriMesh::VertexHandle v) const;
+
+ private:
+  struct VertexData {
+    Eigen::Vector3d uvw = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rest_m = Eigen::Vector3d::Zero();
+    int incision = -1;  // the incision this data belongs to; stale otherwise
+    std::int8_t side = 0;
+    bool seam = false;     // a seam vertex of this incision
+    bool chained = false;  // in the chain
+    bool doubled = false;  // duplicated (has a + copy and a wall column)
+    std::uint32_t stamp = 0;
+  };
+  struct WallColumn {
+    std::vector<TriMesh::VertexHandle> minus, plus;  // [0] the lip, [wall_rows] the shared bottom
+  };
+
+  VertexData& data(TriMesh::VertexHandle v) { return mesh_.mesh().property(vertex_data_, v); }
+  const VertexData& data(TriMesh::VertexHandle v) const { return mesh_.mesh().property(vertex_data_, v); }
+  bool bound(TriMesh::VertexHandle v) const { return data(v).incision == incision_index_; }
+
+  CutStep process(CutStep step) noexcept;
+  void processColumn(int column, CutStep& step);
+  bool bindVertex(TriMesh::VertexHandle v, int column);
+  void splitCrossings(std::vector<TriMesh::VertexHandle>& fresh, int column, CutStep& step);
+  TriMesh::VertexHandle addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side,
+                                       VertexKind kind);
+  void walkChain();
+  void promoteInterior(CutStep& step);
+  bool duplicate(TriMesh::VertexHandle c);
+  void buildWallColumn(TriMesh::VertexHandle c);
+  void deleteStrip(TriMesh::VertexHandle a, TriMesh::VertexHandle b);
+  bool buildStrip(TriMesh::VertexHandle a, TriMesh::VertexHandle b, CutStep& step);
+  bool addStripSide(const std::vector<TriMesh::VertexHandle>& a, const std::vector<TriMesh::VertexHandle>& b,
+                    std::vector<TriMesh::FaceHandle>& faces);
+  void redeform(CutStep& step);
+  void fail(const std::string& message);
+  bool onSurface(const Eigen::Vector3d& p) const;
+
+  SurfaceMesh& mesh_;
+  CutterOptions options_;
+  OpenMesh::VPropHandleT<VertexData> vertex_data_;
+  VertexGrid grid_;
+  double contact_tolerance_m_ = 0.0;
+  std::unique_ptr<Incision> incision_;
+  int incision_index_ = -1;
+  int next_column_ = 0;
+  double time_s_ = 0.0;
+  std::uint32_t stamp_ = 0;
+  std::vector<std::vector<TriMesh::VertexHandle>> cells_;  // bound vertices by floor(v)
+  std::vector<TriMesh::VertexHandle> all_bound_;           // every vertex bound to this incision
+  std::vector<TriMesh::VertexHandle> seam_created_;        // seam vertices in order of creation
+  std::deque<TriMesh::VertexHandle> chain_;
+  std::map<int, WallColumn> columns_;                      // by the seam vertex's index
+  std::map<std::pair<int, int>, std::vector<TriMesh::FaceHandle>> strips_;
+  std::vector<TriMesh::VertexHandle> dirty_;
+  std::vector<int> changed_columns_, candidates_;
+  CutStats stats_;
+  bool failed_ = false;
+};
+
+}  // namespace incise::cutting

@@ -1,0 +1,471 @@
+#include "incise/cutting/surface_cutter.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include "incise/cutting/volume_inversion.h"
+
+namespace incise::cutting {
+
+namespace {
+
+using VH = TriMesh::VertexHandle;
+using FH = TriMesh::FaceHandle;
+
+double meanEdgeLength(const TriMesh& mesh) {
+  double sum = 0.0;
+  int count = 0;
+  for (const auto e : mesh.edges()) {
+    if (mesh.status(e).deleted()) continue;
+    sum += mesh.calc_edge_length(e);
+    ++count;
+  }
+  return count ? sum / count : 0.0;
+}
+
+std::pair<int, int> segmentKey(VH a, VH b) { return {a.idx(), b.idx()}; }
+
+}  // namespace
+
+SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
+    : mesh_(mesh), options_(options), grid_(1.0) {
+  if (options.wall_rows < 1 || options.wall_rows > 64)
+    throw std::invalid_argument("SurfaceCutter: wall_rows = " + std::to_string(options.wall_rows) + " is outside [1, 64]");
+  if (!(options.contact_tolerance_m >= 0.0))
+    throw std::invalid_argument("SurfaceCutter: contact_tolerance_m must be >= 0");
+  Incision::validateOptions(options.incision);
+  const ManifoldReport report = checkManifold(mesh.mesh());
+  if (!report.closed_two_manifold)
+    throw MeshError("SurfaceCutter: the tissue surface is not a closed two-manifold: " + report.first_problem);
+  TriMesh& m = mesh_.mesh();
+  m.add_property(vertex_data_, "incise:cutter");
+  const double edge_m = meanEdgeLength(m);
+  contact_tolerance_m_ = options.contact_tolerance_m > 0.0 ? options.contact_tolerance_m : 3.0 * edge_m;
+  grid_ = VertexGrid(std::max(edge_m, 1e-9) * 2.0);
+  for (const auto v : m.vertices()) grid_.insert(v.idx(), toEigen(m.point(v)));
+}
+
+bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
+  std::vector<int> near;
+  const Eigen::Vector3d r = Eigen::Vector3d::Constant(contact_tolerance_m_);
+  grid_.query(Eigen::AlignedBox3d(p - r, p + r), near);
+  for (int id : near)
+    if ((toEigen(mesh_.mesh().point(VH(id))) - p).norm() <= contact_tolerance_m_) return true;
+  return false;
+}
+
+CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept {
+  if (active()) finish();
+  CutStep refused;
+  if (!first.point_m.allFinite() || !first.normal.allFinite() || !std::isfinite(first.time_s) ||
+      !blade_direction.allFinite()) {
+    refused.sample = SampleStatus::RefusedNaN;
+    return refused;
+  }
+  if (first.normal.norm() < 1e-12 || blade_direction.cross(first.normal).norm() < 1e-12 * blade_direction.norm()) {
+    refused.sample = SampleStatus::RefusedNormal;
+    return refused;
+  }
+  std::unique_ptr<Incision> incision;
+  try {
+    incision = std::make_unique<Incision>(options_.incision, first, blade_direction);
+  } catch (const std::exception& e) {  // options were validated at construction: only allocation is left
+    fail(std::string("SurfaceCutter::begin: ") + e.what());
+    refused.failed = true;
+    return refused;
+  }
+  // The previous incision's vertices have moved: the grid indexes where they are now.
+  if (incision_) {
+    for (const VH v : all_bound_) grid_.move(v.idx(), data(v).rest_m, toEigen(mesh_.mesh().point(v)));
+  }
+  incision_ = std::move(incision);
+  ++incision_index_;
+  ++stats_.incisions;
+  next_column_ = options_.incision.order - 1;  // the first slab of the v domain
+  time_s_ = first.time_s;
+  cells_.assign(static_cast<size_t>(options_.incision.max_columns), {});
+  all_bound_.clear();
+  seam_created_.clear();
+  chain_.clear();
+  columns_.clear();
+  strips_.clear();
+  dirty_.clear();
+  stats_.seam_vertices = 0;
+  failed_ = false;
+  CutStep step;
+  if (!onSurface(first.point_m)) {
+    step.left_surface = true;
+    incision_->finish();
+  }
+  return process(step);
+}
+
+CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return extend(std::span(&sample, 1)); }
+
+CutStep SurfaceCutter::extend(std::span<const StrokeSample> samples) noexcept {
+  CutStep step;
+  if (!active()) {
+    step.sample = SampleStatus::Ended;
+    return step;
+  }
+  for (const StrokeSample& sample : samples) {
+    if (!sample.point_m.allFinite()) {
+      step.sample = SampleStatus::RefusedNaN;
+      continue;
+    }
+    if (!onSurface(sample.point_m)) {
+      step.left_surface = true;
+      incision_->finish();
+      break;
+    }
+    step.sample = incision_->extend(sample);
+    if (step.sample == SampleStatus::Accepted) time_s_ = std::max(time_s_, sample.time_s);
+    if (step.sample == SampleStatus::Ended) break;
+  }
+  return process(step);
+}
+
+CutStep SurfaceCutter::advance(double t_s) noexcept {
+  CutStep step;
+  if (!incision_ || failed_ || !std::isfinite(t_s)) return step;
+  time_s_ = std::max(time_s_, t_s);
+  return process(step);
+}
+
+CutStep SurfaceCutter::finish() noexcept {
+  CutStep step;
+  if (!incision_) return step;
+  incision_->finish();
+  return process(step);
+}
+
+CutStep SurfaceCutter::process(CutStep step) noexcept {
+  if (!incision_ || failed_) {
+    step.failed = failed_;
+    return step;
+  }
+  try {
+    while (next_column_ < incision_->finalColumns() && !failed_) {
+      processColumn(next_column_++, step);
+      walkChain();
+      promoteInterior(step);
+    }
+    redeform(step);
+  } catch (const std::exception& e) {  // allocation failure or a broken invariant: stop, never throw
+    fail(std::string("SurfaceCutter: ") + e.what());
+  }
+  stats_.seam_vertices = static_cast<int>(chain_.size());
+  step.failed = failed_;
+  return step;
+}
+
+void SurfaceCutter::fail(const std::string& message) {
+  failed_ = true;
+  if (stats_.failure.empty()) stats_.failure = message;
+  if (incision_) incision_->finish();
+}
+
+bool SurfaceCutter::bindVertex(VH v, int column) {
+  const Eigen::Vector3d x = toEigen(mesh_.mesh().point(v));
+  const Eigen::Vector3d guess = incision_->inversionGuess(x, column);
+  // Eq. (2) read backwards is close to F0's inverse: points clearly across or beyond the lattice, or in
+  // a later slab, are not worth a Newton solve now.
+  if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0 || guess[1] >= column + 2.0) return false;
+  const InversionResult r = invertPoint(incision_->rest(), x, guess, InversionOptions{12, 1e-10});
+  // Only the slab whose lattice is final is bound here; a vertex further on waits for its own column.
+  if (!r.converged || r.uvw[1] >= column + 1.0) return false;
+  VertexData& d = data(v);
+  d = VertexData{};
+  d.uvw = r.uvw;
+  d.rest_m = x;
+  d.incision = incision_index_;
+  d.side = r.uvw[0] < 0.5 ? -1 : 1;
+  cells_[static_cast<size_t>(std::floor(r.uvw[1]))].push_back(v);
+  all_bound_.push_back(v);
+  dirty_.push_back(v);
+  return true;
+}
+
+void SurfaceCutter::processColumn(int column, CutStep& step) {
+  ++step.columns;
+  candidates_.clear();
+  grid_.query(incision_->columnBox(column), candidates_);
+  std::sort(candidates_.begin(), candidates_.end());
+  std::vector<VH> fresh;
+  for (int id : candidates_) {
+    const VH v(id);
+    if (mesh_.mesh().status(v).deleted() || bound(v)) continue;
+    if (bindVertex(v, column)) fresh.push_back(v), ++step.vertices_bound;
+  }
+  splitCrossings(fresh, column, step);
+}
+
+VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side, VertexKind kind) {
+  const VH v = mesh_.addVertex(rest_m, kind);
+  VertexData& d = data(v);
+  d = VertexData{};
+  d.uvw = uvw;
+  d.rest_m = rest_m;
+  d.incision = incision_index_;
+  d.side = static_cast<std::int8_t>(side);
+  cells_[static_cast<size_t>(std::clamp(std::floor(uvw[1]), 0.0, double(cells_.size() - 1)))].push_back(v);
+  all_bound_.push_back(v);
+  dirty_.push_back(v);
+  grid_.insert(v.idx(), rest_m);
+  return v;
+}
+
+void SurfaceCutter::splitCrossings(std::vector<VH>& fresh, int column, CutStep& step) {
+  TriMesh& m = mesh_.mesh();
+  struct Crossing {
+    double key;
+    int edge;
+  };
+  std::vector<Crossing> crossings;
+  for (const VH a : fresh) {
+    for (auto h = m.voh_iter(a); h.is_valid(); ++h) {
+      const VH b = m.to_vertex_handle(*h);
+      if (!bound(b)) continue;
+      const int sa = data(a).side, sb = data(b).side;
+      if (!((sa == -1 && sb == 1) || (sa == 1 && sb == -1))) continue;
+      crossings.push_back({std::max(data(a).uvw[1], data(b).uvw[1]), m.edge_handle(*h).idx()});
+    }
+  }
+  std::sort(crossings.begin(), crossings.end(),
+            [](const Crossing& x, const Crossing& y) { return x.key != y.key ? x.key < y.key : x.edge < y.edge; });
+  crossings.erase(std::unique(crossings.begin(), crossings.end(),
+                              [](const Crossing& x, const Crossing& y) { return x.edge == y.edge; }),
+                  crossings.end());
+  const double w_limit = incision_->bottomW() - 0.05 * (incision_->bottomW() - incision_->surfaceW());
+  for (const Crossing& c : crossings) {
+    const TriMesh::EdgeHandle e(c.edge);
+    const auto h = m.halfedge_handle(e, 0);
+    const VH a = m.from_vertex_handle(h), b = m.to_vertex_handle(h);
+    const VertexData& da = data(a);
+    const VertexData& db = data(b);
+    const double lambda = (0.5 - da.uvw[0]) / (db.uvw[0] - da.uvw[0]);
+    Eigen::Vector3d uvw = (1.0 - lambda) * da.uvw + lambda * db.uvw;
+    uvw[0] = 0.5;
+    const bool inside = uvw[1] >= incision_->startV() && uvw[2] <= w_limit &&
+                        (!incision_->finished() || uvw[1] <= incision_->lastStationV());
+    if (!inside) {
+      ++stats_.skipped_crossings;
+      continue;
+    }
+    const Eigen::Vector3d rest_m = (1.0 - lambda) * da.rest_m + lambda * db.rest_m;
+    const bool wall = !m.is_boundary(h) && !m.is_boundary(m.opposite_halfedge_handle(h)) &&
+                      mesh_.kind(m.face_handle(h)) == FaceKind::Wall &&
+                      mesh_.kind(m.face_handle(m.opposite_halfedge_handle(h))) == FaceKind::Wall;
+    const VH v = addBoundVertex(rest_m, uvw, 0, VertexKind::Seam);
+    m.split(e, v);
+    for (auto f = m.vf_iter(v); f.is_valid(); ++f) mesh_.setKind(*f, wall ? FaceKind::Wall : FaceKind::Split);
+    data(v).seam = true;
+    seam_created_.push_back(v);
+    ++step.edges_split;
+    ++stats_.edges_split;
+  }
+  (void)column;
+}
+
+void SurfaceCutter::walkChain() {
+  TriMesh& m = mesh_.mesh();
+  if (chain_.empty()) {
+    if (seam_created_.empty()) return;
+    chain_.push_back(seam_created_.front());
+    data(chain_.front()).chained = true;
+  }
+  // Extend at the tip (larger v preferred) and at the start (smaller v preferred).
+  for (const bool at_tip : {true, false}) {
+    while (true) {
+      const VH end = at_tip ? chain_.back() : chain_.front();
+      VH next;
+      for (auto n = m.vv_iter(end); n.is_valid(); ++n) {
+        if (!bound(*n) || !data(*n).seam || data(*n).chained) continue;
+        if (!next.is_valid() || (at_tip ? data(*n).uvw[1] > data(next).uvw[1] : data(*n).uvw[1] < data(next).uvw[1]))
+          next = *n;
+      }
+      if (!next.is_valid()) break;
+      data(next).chained = true;
+      if (at_tip) {
+        chain_.push_back(next);
+      } else {
+        chain_.push_front(next);
+      }
+    }
+  }
+}
+
+void SurfaceCutter::promoteInterior(CutStep& step) {
+  for (size_t i = 1; i + 1 < chain_.size() && !failed_; ++i) {
+    const VH c = chain_[i];
+    if (data(c).doubled) continue;
+    const VH prev = chain_[i - 1], next = chain_[i + 1];
+    deleteStrip(prev, c);
+    deleteStrip(c, next);
+    if (!duplicate(c)) return;
+    buildWallColumn(c);
+    ++step.vertices_duplicated;
+    ++stats_.vertices_duplicated;
+    if (!buildStrip(prev, c, step) || !buildStrip(c, next, step)) return;
+  }
+}
+
+bool SurfaceCutter::duplicate(VH c) {
+  TriMesh& m = mesh_.mesh();
+  // The faces around c in counter-clockwise order with their side (from their other vertices).
+  struct Around {
+    FH face;
+    int side;
+  };
+  std::vector<Around> around;
+  for (auto f = m.vf_ccwiter(c); f.is_valid(); ++f) {
+    int side = 0;
+    for (auto v = m.fv_iter(*f); v.is_valid(); ++v) {
+      if (*v == c || !bound(*v)) continue;
+      const int s = data(*v).side;
+      if (s == -1 || s == 1) side = s;
+    }
+    around.push_back({*f, side});
+  }
+  const auto minus = std::find_if(around.begin(), around.end(), [](const Around& a) { return a.side == -1; });
+  if (minus == around.end() || std::none_of(around.begin(), around.end(), [](const Around& a) { return a.side == 1; })) {
+    fail("seam vertex " + std::to_string(c.idx()) + " does not separate two sides");
+    return false;
+  }
+  std::rotate(around.begin(), minus, around.end());  // the + faces now form one run
+  struct Triangle {
+    VH v[3];
+    FaceKind kind;
+  };
+  std::vector<Triangle> plus;
+  for (const Around& a : around) {
+    if (a.side != 1) continue;
+    Triangle t;
+    int i = 0;
+    for (auto v = m.fv_ccwiter(a.face); v.is_valid() && i < 3; ++v) t.v[i++] = *v;
+    t.kind = mesh_.kind(a.face);
+    plus.push_back(t);
+  }
+  for (const Around& a : around)
+    if (a.side == 1) m.delete_face(a.face, false);
+  VertexData copy = data(c);
+  const VH c_plus = addBoundVertex(copy.rest_m, copy.uvw, 1, VertexKind::Seam);
+  data(c).side = -1;
+  data(c).doubled = true;
+  data(c_plus).seam = false;
+  for (Triangle& t : plus) {
+    for (VH& v : t.v)
+      if (v == c) v = c_plus;
+    if (!mesh_.mesh().add_face(t.v[0], t.v[1], t.v[2]).is_valid()) {
+      fail("could not re-attach a face to the copy of seam vertex " + std::to_string(c.idx()));
+      return false;
+    }
+    mesh_.setKind(m.find_halfedge(t.v[0], t.v[1]).is_valid() ? m.face_handle(m.find_halfedge(t.v[0], t.v[1])) : FH(),
+                  t.kind);
+  }
+  WallColumn column;
+  column.minus.push_back(c);
+  column.plus.push_back(c_plus);
+  columns_[c.idx()] = column;
+  return true;
+}
+
+void SurfaceCutter::buildWallColumn(VH c) {
+  WallColumn& column = columns_[c.idx()];
+  const VertexData d = data(c);
+  const int rows = options_.wall_rows;
+  const double w0 = d.uvw[2], w1 = incision_->bottomW();
+  for (int r = 1; r <= rows; ++r) {
+    const Eigen::Vector3d uvw(0.5, d.uvw[1], w0 + (w1 - w0) * r / rows);
+    const Eigen::Vector3d rest_m = incision_->rest().evaluateUnchecked(uvw[0], uvw[1], uvw[2]);
+    if (r == rows) {
+      const VH bottom = addBoundVertex(rest_m, uvw, 2, VertexKind::Wall);
+      column.minus.push_back(bottom);
+      column.plus.push_back(bottom);
+    } else {
+      column.minus.push_back(addBoundVertex(rest_m, uvw, -1, VertexKind::Wall));
+      column.plus.push_back(addBoundVertex(rest_m, uvw, 1, VertexKind::Wall));
+    }
+  }
+}
+
+void SurfaceCutter::deleteStrip(VH a, VH b) {
+  const auto it = strips_.find(segmentKey(a, b));
+  if (it == strips_.end()) return;
+  for (const FH f : it->second)
+    if (!mesh_.mesh().status(f).deleted()) mesh_.mesh().delete_face(f, false);
+  strips_.erase(it);
+}
+
+bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>& b, std::vector<FH>& faces) {
+  TriMesh& m = mesh_.mesh();
+  // The lip edge a[0]-b[0] has a surface face on one side: the wall uses its free (boundary) direction.
+  const auto h = m.find_halfedge(a[0], b[0]);
+  if (!h.is_valid()) return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is missing"), false;
+  const bool forward = m.is_boundary(h);
+  if (!forward && !m.is_boundary(m.opposite_halfedge_handle(h)))
+    return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is not open"), false;
+  const std::vector<VH>& x = forward ? a : b;
+  const std::vector<VH>& y = forward ? b : a;
+  for (size_t r = 1; r < x.size(); ++r) {
+    const std::array<std::array<VH, 3>, 2> tri = {{{x[r - 1], y[r - 1], y[r]}, {x[r - 1], y[r], x[r]}}};
+    for (const auto& t : tri) {
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+      const FH f = mesh_.mesh().add_face(t[0], t[1], t[2]);
+      if (!f.is_valid()) return fail("could not add a wall face at seam vertex " + std::to_string(a[0].idx())), false;
+      mesh_.setKind(f, FaceKind::Wall);
+      faces.push_back(f);
+    }
+  }
+  return true;
+}
+
+bool SurfaceCutter::buildStrip(VH a, VH b, CutStep& step) {
+  const bool a_doubled = data(a).doubled, b_doubled = data(b).doubled;
+  if (!a_doubled && !b_doubled) return true;
+  const size_t height = static_cast<size_t>(options_.wall_rows) + 1;
+  const auto side = [&](VH v, bool doubled, bool plus) {
+    if (!doubled) return std::vector<VH>(height, v);
+    const WallColumn& c = columns_.at(v.idx());
+    return plus ? c.plus : c.minus;
+  };
+  std::vector<FH> faces;
+  if (!addStripSide(side(a, a_doubled, false), side(b, b_doubled, false), faces)) return false;
+  if (!addStripSide(side(a, a_doubled, true), side(b, b_doubled, true), faces)) return false;
+  step.wall_faces += static_cast<int>(faces.size());
+  strips_[segmentKey(a, b)] = std::move(faces);
+  return true;
+}
+
+void SurfaceCutter::redeform(CutStep& step) {
+  changed_columns_.clear();
+  incision_->updateOpening(time_s_, changed_columns_);
+  if (++stamp_ == 0) stamp_ = 1;
+  TriMesh& m = mesh_.mesh();
+  const auto move = [&](VH v) {
+    VertexData& d = data(v);
+    if (d.stamp == stamp_ || m.status(v).deleted()) return;
+    d.stamp = stamp_;
+    const Eigen::Vector3d x = d.rest_m + incision_->displacementAt(d.uvw, d.side);
+    m.set_point(v, toOpenMesh(x));
+    ++step.vertices_moved;
+  };
+  const int order = options_.incision.order;
+  for (const int column : changed_columns_)
+    for (int cell = column; cell < std::min<int>(column + order, static_cast<int>(cells_.size())); ++cell)
+      for (const VH v : cells_[static_cast<size_t>(cell)]) move(v);
+  for (const VH v : dirty_) move(v);
+  dirty_.clear();
+}
+
+std::vector<TriMesh::VertexHandle> SurfaceCutter::seam() const { return {chain_.begin(), chain_.end()}; }
+
+std::optional<SurfaceCutter::Binding> SurfaceCutter::binding(TriMesh::VertexHandle v) const {
+  if (!v.is_valid() || v.idx() >= static_cast<int>(mesh_.mesh().n_vertices()) || !bound(v)) return std::nullopt;
+  const VertexData& d = data(v);
+  return Binding{d.uvw, d.rest_m, d.side};
+}
+
+}  // namespace incise::cutting
