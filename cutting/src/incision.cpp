@@ -8,6 +8,7 @@
 
 #include "incise/cutting/bspline_curve.h"
 #include "incise/cutting/knot_vector.h"
+#include "tensor_kernel.h"
 
 namespace incise::cutting {
 
@@ -163,6 +164,7 @@ Incision::Incision(const IncisionOptions& options, const StrokeSample& first, co
   rest_ = BSplineVolume({o, o, o}, {u_cut, v_knots, w_knots}, zeros);
   displacement_ = BSplineVolume({o, o, o}, {u_cut, v_knots, w_knots}, std::move(zeros));
   column_opening_.assign(static_cast<size_t>(options.max_columns), 0.0);
+  frames_.resize(static_cast<size_t>(options.max_columns));
 
   // The blade's depth in w: solve sum_k N_k(w) (floor(n/2) - k) beta = -depth by bisection on [1/2, 1].
   double lo = 0.5, hi = 1.0;
@@ -255,6 +257,7 @@ Incision::Frame Incision::columnFrame(int column) const noexcept {
 
 void Incision::setRestColumn(int column) {
   const Frame f = columnFrame(column);
+  frames_[static_cast<size_t>(column)] = f;
   const int n = options_.normal_controls;
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < static_cast<int>(across_offsets_.size()); ++i)
@@ -290,7 +293,7 @@ double Incision::stationOpening(int station, double t_s) const noexcept {
 }
 
 void Incision::setDisplacementColumn(int column, double opening_m) {
-  const Frame f = columnFrame(column);
+  const Frame& f = frames_[static_cast<size_t>(column)];
   for (int k = 0; k < options_.normal_controls; ++k)
     for (int i = 0; i < static_cast<int>(kernel_.size()); ++i)
       displacement_.setControl(i, column, k,
@@ -329,10 +332,10 @@ Eigen::Vector3d Incision::inversionGuess(const Eigen::Vector3d& x, int column) c
   int best = column;
   double best_d2 = INFINITY;
   for (int j = std::max(0, column - options_.order + 1); j <= std::min(column, options_.max_columns - 1); ++j) {
-    const double d2 = (columnFrame(j).g - x).squaredNorm();
+    const double d2 = (frames_[static_cast<size_t>(j)].g - x).squaredNorm();
     if (d2 < best_d2) best_d2 = d2, best = j;
   }
-  const Frame f = columnFrame(best);
+  const Frame& f = frames_[static_cast<size_t>(best)];
   const double half_width_m = (options_.across_controls / 2) * options_.alpha_m;
   const double half_height_m = (options_.normal_controls / 2) * options_.beta_m;
   const double u = 0.5 - 0.5 * (x - f.g).dot(f.s) / half_width_m;
@@ -342,16 +345,55 @@ Eigen::Vector3d Incision::inversionGuess(const Eigen::Vector3d& x, int column) c
   return {std::clamp(u, 0.0, 1.0), std::clamp(v, dv[0], dv[1]), std::clamp(w, 0.0, 1.0)};
 }
 
-Eigen::Vector3d Incision::displacementAt(const Eigen::Vector3d& uvw, int side) const noexcept {
+int Incision::stencil(const Eigen::Vector3d& uvw, int side, int* first, double* basis) const noexcept {
   const double eps = options_.epsilon;
+  double u[2];
+  int count = 1;
   switch (side) {
-    case -1: return displacement_.evaluateUnchecked(std::min(uvw[0], 0.5 - eps), uvw[1], uvw[2]);
-    case 1: return displacement_.evaluateUnchecked(std::max(uvw[0], 0.5), uvw[1], uvw[2]);
+    case -1: u[0] = std::min(uvw[0], 0.5 - eps); break;
+    case 1: u[0] = std::max(uvw[0], 0.5); break;
     case 2:
-      return 0.5 * (displacement_.evaluateUnchecked(0.5 - eps, uvw[1], uvw[2]) +
-                    displacement_.evaluateUnchecked(0.5, uvw[1], uvw[2]));
-    default: return displacement_.evaluateUnchecked(uvw[0], uvw[1], uvw[2]);
+      u[0] = 0.5 - eps;
+      u[1] = 0.5;
+      count = 2;
+      break;
+    default: u[0] = uvw[0]; break;
   }
+  const BSplineVolume& d = displacement_;
+  const int o = options_.order;
+  for (int c = 0; c < count; ++c) {
+    const double t[3] = {u[c], uvw[1], uvw[2]};
+    int corner[3];
+    for (int a = 0; a < 3; ++a) {
+      const auto domain = d.domain(a);
+      const double clamped = std::clamp(std::isnan(t[a]) ? domain[0] : t[a], domain[0], domain[1]);
+      const int span = findSpan(d.knots(a), o, d.controlCounts()[a], clamped);
+      basisFunctions(d.knots(a), o, span, clamped, basis + c * stencilSize() + a * o);
+      corner[a] = span - (o - 1);
+    }
+    first[c] = d.controlIndex(corner[0], corner[1], corner[2]);
+  }
+  return count;
+}
+
+Eigen::Vector3d Incision::displacementFromStencil(int count, const int* first, const double* basis) const noexcept {
+  const BSplineVolume& d = displacement_;
+  const std::array<int, 3> orders = d.orders();
+  const int o = options_.order;
+  const double* xyz = d.controls().data()->data();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int c = 0; c < count; ++c) {
+    const double* b = basis + c * stencilSize();
+    sum += detail::tensorSum(xyz, d.controlCounts()[0], d.controlCounts()[1], first[c], orders, b, b + o, b + 2 * o);
+  }
+  return count == 2 ? Eigen::Vector3d(0.5 * sum) : sum;
+}
+
+Eigen::Vector3d Incision::displacementAt(const Eigen::Vector3d& uvw, int side) const noexcept {
+  int first[2];
+  double basis[2 * 3 * kMaxOrder];
+  const int count = stencil(uvw, side, first, basis);
+  return displacementFromStencil(count, first, basis);
 }
 
 }  // namespace incise::cutting

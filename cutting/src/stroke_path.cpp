@@ -34,7 +34,8 @@ Stroke strokeAlongPath(const SurfaceMesh& surface, const StrokePathOptions& o) {
     mean_m += l;
   }
   mean_m /= std::max<double>(1.0, static_cast<double>(mesh.n_edges()));
-  VertexGrid grid(std::max(2.0 * mean_m, 1e-9));
+  // Coarse cells: every ray spans 2 * height_m, and a fine grid would probe thousands of empty cells.
+  VertexGrid grid(std::max({2.0 * mean_m, 0.05 * o.height_m, 1e-9}));
   for (const auto v : mesh.vertices()) grid.insert(v.idx(), toEigen(mesh.point(v)));
 
   const Eigen::Vector3d down = o.down.normalized();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <stdexcept>
 
@@ -31,6 +32,9 @@ std::pair<int, int> segmentKey(VH a, VH b) { return {a.idx(), b.idx()}; }
 
 SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
     : mesh_(mesh), options_(options), grid_(1.0) {
+  if (options.max_inversions_per_call < 0)
+    throw std::invalid_argument("SurfaceCutter: max_inversions_per_call = " +
+                                std::to_string(options.max_inversions_per_call) + " must be >= 0");
   if (options.wall_rows < 1 || options.wall_rows > 64)
     throw std::invalid_argument("SurfaceCutter: wall_rows = " + std::to_string(options.wall_rows) + " is outside [1, 64]");
   if (!(options.contact_tolerance_m >= 0.0))
@@ -41,10 +45,22 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
     throw MeshError("SurfaceCutter: the tissue surface is not a closed two-manifold: " + report.first_problem);
   TriMesh& m = mesh_.mesh();
   m.add_property(vertex_data_, "incise:cutter");
+  reserveHeadroom();
   const double edge_m = meanEdgeLength(m);
   contact_tolerance_m_ = options.contact_tolerance_m > 0.0 ? options.contact_tolerance_m : 3.0 * edge_m;
-  grid_ = VertexGrid(std::max(edge_m, 1e-9) * 2.0);
+  // Cells about a lattice column wide: a column step's query box spans a few cells per axis whatever the
+  // mesh's resolution (tiny cells would make the query probe thousands of empty cells on a 1M mesh).
+  const IncisionOptions& io = options.incision;
+  grid_ = VertexGrid(std::max({2.0 * edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
   for (const auto v : m.vertices()) grid_.insert(v.idx(), toEigen(m.point(v)));
+}
+
+void SurfaceCutter::reserveHeadroom() {
+  // Growing OpenMesh's arrays mid-stroke copies every vertex and face (tens of ms on a 1M-triangle mesh):
+  // keep room for a long cut's new elements, topped up between incisions, never during one.
+  TriMesh& m = mesh_.mesh();
+  const size_t vertices = kHeadroomVertices + m.n_vertices();
+  m.reserve(vertices, m.n_edges() + 3 * kHeadroomVertices, m.n_faces() + 2 * kHeadroomVertices);
 }
 
 bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
@@ -76,6 +92,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
     refused.failed = true;
     return refused;
   }
+  reserveHeadroom();
   // The previous incision's vertices have moved: the grid indexes where they are now.
   if (incision_) {
     for (const VH v : all_bound_) grid_.move(v.idx(), data(v).rest_m, toEigen(mesh_.mesh().point(v)));
@@ -84,6 +101,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   ++incision_index_;
   ++stats_.incisions;
   next_column_ = options_.incision.order - 1;  // the first slab of the v domain
+  column_started_ = false;
   time_s_ = first.time_s;
   cells_.assign(static_cast<size_t>(options_.incision.max_columns), {});
   all_bound_.clear();
@@ -92,6 +110,9 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   columns_.clear();
   strips_.clear();
   dirty_.clear();
+  stencil_count_.clear();
+  stencil_first_.clear();
+  stencil_basis_.clear();
   stats_.seam_vertices = 0;
   failed_ = false;
   CutStep step;
@@ -147,8 +168,12 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
     return step;
   }
   try {
-    while (next_column_ < incision_->finalColumns() && !failed_) {
-      processColumn(next_column_++, step);
+    // Column steps in order, each resumable: a call stops when its inversion budget is spent and the next
+    // call carries on where it stopped, so the work done (and so the mesh) does not depend on the budget.
+    int budget = options_.max_inversions_per_call > 0 ? options_.max_inversions_per_call : INT_MAX;
+    while (next_column_ < incision_->finalColumns() && !failed_ && budget > 0) {
+      if (!processColumn(next_column_, budget, step)) break;
+      ++next_column_;
       walkChain();
       promoteInterior(step);
     }
@@ -167,13 +192,17 @@ void SurfaceCutter::fail(const std::string& message) {
   if (incision_) incision_->finish();
 }
 
-bool SurfaceCutter::bindVertex(VH v, int column) {
+bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
   const Eigen::Vector3d x = toEigen(mesh_.mesh().point(v));
   const Eigen::Vector3d guess = incision_->inversionGuess(x, column);
   // Eq. (2) read backwards is close to F0's inverse: points clearly across or beyond the lattice, or in
   // a later slab, are not worth a Newton solve now.
   if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0 || guess[1] >= column + 2.0) return false;
-  const InversionResult r = invertPoint(incision_->rest(), x, guess, InversionOptions{12, 1e-10});
+  --budget;
+  // Search only where F0 is final (v < column + 1), so the result cannot depend on columns that are still
+  // extrapolated, i.e. on when this step runs.
+  const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, column + 1.0, 1.0));
+  const InversionResult r = invertPoint(incision_->rest(), x, guess, final_part, InversionOptions{12, 1e-10});
   // Only the slab whose lattice is final is bound here; a vertex further on waits for its own column.
   if (!r.converged || r.uvw[1] >= column + 1.0) return false;
   VertexData& d = data(v);
@@ -182,24 +211,31 @@ bool SurfaceCutter::bindVertex(VH v, int column) {
   d.rest_m = x;
   d.incision = incision_index_;
   d.side = r.uvw[0] < 0.5 ? -1 : 1;
+  setStencil(v);
   cells_[static_cast<size_t>(std::floor(r.uvw[1]))].push_back(v);
   all_bound_.push_back(v);
   dirty_.push_back(v);
   return true;
 }
 
-void SurfaceCutter::processColumn(int column, CutStep& step) {
-  ++step.columns;
-  candidates_.clear();
-  grid_.query(incision_->columnBox(column), candidates_);
-  std::sort(candidates_.begin(), candidates_.end());
-  std::vector<VH> fresh;
-  for (int id : candidates_) {
-    const VH v(id);
-    if (mesh_.mesh().status(v).deleted() || bound(v)) continue;
-    if (bindVertex(v, column)) fresh.push_back(v), ++step.vertices_bound;
+bool SurfaceCutter::processColumn(int column, int& budget, CutStep& step) {
+  if (!column_started_) {
+    column_started_ = true;
+    ++step.columns;
+    candidates_.clear();
+    fresh_.clear();
+    next_candidate_ = 0;
+    grid_.query(incision_->columnBox(column), candidates_);  // ascending ids
   }
-  splitCrossings(fresh, column, step);
+  for (; next_candidate_ < candidates_.size(); ++next_candidate_) {
+    const VH v(candidates_[next_candidate_]);
+    if (mesh_.mesh().status(v).deleted() || bound(v)) continue;
+    if (budget <= 0) return false;  // resume here next call
+    if (bindVertex(v, column, budget)) fresh_.push_back(v), ++step.vertices_bound;
+  }
+  splitCrossings(fresh_, step);
+  column_started_ = false;
+  return true;
 }
 
 VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side, VertexKind kind) {
@@ -210,6 +246,7 @@ VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vec
   d.rest_m = rest_m;
   d.incision = incision_index_;
   d.side = static_cast<std::int8_t>(side);
+  setStencil(v);
   cells_[static_cast<size_t>(std::clamp(std::floor(uvw[1]), 0.0, double(cells_.size() - 1)))].push_back(v);
   all_bound_.push_back(v);
   dirty_.push_back(v);
@@ -217,7 +254,7 @@ VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vec
   return v;
 }
 
-void SurfaceCutter::splitCrossings(std::vector<VH>& fresh, int column, CutStep& step) {
+void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) {
   TriMesh& m = mesh_.mesh();
   struct Crossing {
     double key;
@@ -266,7 +303,6 @@ void SurfaceCutter::splitCrossings(std::vector<VH>& fresh, int column, CutStep& 
     ++step.edges_split;
     ++stats_.edges_split;
   }
-  (void)column;
 }
 
 void SurfaceCutter::walkChain() {
@@ -354,6 +390,8 @@ bool SurfaceCutter::duplicate(VH c) {
   const VH c_plus = addBoundVertex(copy.rest_m, copy.uvw, 1, VertexKind::Seam);
   data(c).side = -1;
   data(c).doubled = true;
+  setStencil(c);  // now evaluated on the u < 1/2 side: move it even if no column changes again
+  dirty_.push_back(c);
   data(c_plus).seam = false;
   for (Triangle& t : plus) {
     for (VH& v : t.v)
@@ -439,6 +477,20 @@ bool SurfaceCutter::buildStrip(VH a, VH b, CutStep& step) {
   return true;
 }
 
+void SurfaceCutter::setStencil(VH v) {
+  VertexData& d = data(v);
+  const int size = incision_->stencilSize();
+  if (d.stencil < 0) {
+    d.stencil = static_cast<int>(stencil_count_.size());
+    stencil_count_.push_back(0);
+    stencil_first_.resize(stencil_first_.size() + 2);
+    stencil_basis_.resize(stencil_basis_.size() + 2 * static_cast<size_t>(size));
+  }
+  const size_t s = static_cast<size_t>(d.stencil);
+  stencil_count_[s] = static_cast<std::uint8_t>(
+      incision_->stencil(d.uvw, d.side, &stencil_first_[2 * s], &stencil_basis_[2 * s * static_cast<size_t>(size)]));
+}
+
 void SurfaceCutter::redeform(CutStep& step) {
   changed_columns_.clear();
   incision_->updateOpening(time_s_, changed_columns_);
@@ -448,7 +500,10 @@ void SurfaceCutter::redeform(CutStep& step) {
     VertexData& d = data(v);
     if (d.stamp == stamp_ || m.status(v).deleted()) return;
     d.stamp = stamp_;
-    const Eigen::Vector3d x = d.rest_m + incision_->displacementAt(d.uvw, d.side);
+    const size_t s = static_cast<size_t>(d.stencil);
+    const Eigen::Vector3d x =
+        d.rest_m + incision_->displacementFromStencil(stencil_count_[s], &stencil_first_[2 * s],
+                                                      &stencil_basis_[2 * s * static_cast<size_t>(incision_->stencilSize())]);
     m.set_point(v, toOpenMesh(x));
     ++step.vertices_moved;
   };

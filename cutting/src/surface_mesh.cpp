@@ -45,11 +45,11 @@ std::string str(double x) {
 
 // A triangle list as read from a file, before any OpenMesh mesh exists. Indices 0-based.
 struct RawMesh {
-  std::string file;                  // the path as given, for messages
+  std::string file;  // the path as given, for messages
   std::vector<Eigen::Vector3d> points;
-  std::vector<int> point_lines;      // source line of each point
+  std::vector<int> point_lines;  // source line of each point
   std::vector<Triangle> triangles;
-  std::vector<int> triangle_lines;   // source line of each triangle
+  std::vector<int> triangle_lines;  // source line of each triangle
 
   std::string at(int line) const { return file + ":" + std::to_string(line) + ": "; }
   std::string faceAt(int t) const { return at(triangle_lines[static_cast<size_t>(t)]); }
@@ -97,8 +97,8 @@ int parseFaceIndex(std::string_view token, int vertices_so_far, const std::strin
   if (value < 0) {
     const long long resolved = vertices_so_far + value;
     if (resolved < 0)
-      fail(where + "face index " + std::to_string(value) + " out of range (" + std::to_string(vertices_so_far) +
-           " vertices so far)");
+      fail(where + "face index " + std::to_string(value) + " out of range (" +
+           std::to_string(vertices_so_far) + " vertices so far)");
     return static_cast<int>(resolved);
   }
   if (value > std::numeric_limits<int>::max())
@@ -108,8 +108,7 @@ int parseFaceIndex(std::string_view token, int vertices_so_far, const std::strin
 
 void parseVertex(const std::vector<std::string_view>& tokens, double scale, int line, RawMesh& raw) {
   const std::string where = raw.at(line);
-  if (tokens.size() < 4)
-    fail(where + "expected 3 coordinates, got " + std::to_string(tokens.size() - 1));
+  if (tokens.size() < 4) fail(where + "expected 3 coordinates, got " + std::to_string(tokens.size() - 1));
   Eigen::Vector3d p;
   for (int a = 0; a < 3; ++a) p[a] = parseCoordinate(tokens[static_cast<size_t>(a + 1)], where);
   p *= scale;
@@ -134,7 +133,8 @@ void parseFace(const std::vector<std::string_view>& tokens, int line, RawMesh& r
 }
 
 bool ignoredStatement(std::string_view keyword) {
-  static constexpr std::array<std::string_view, 8> kIgnored = {"vn", "vt", "vp", "g", "o", "s", "usemtl", "mtllib"};
+  static constexpr std::array<std::string_view, 8> kIgnored = {"vn", "vt", "vp",     "g",
+                                                               "o",  "s",  "usemtl", "mtllib"};
   return std::find(kIgnored.begin(), kIgnored.end(), keyword) != kIgnored.end();
 }
 
@@ -173,7 +173,9 @@ RawMesh readObj(const std::filesystem::path& path, double scale) {
 // ---------------------------------------------------------------------------------------------------------
 // Triangle-list checks (before building the OpenMesh mesh, which would silently drop non-manifold faces)
 
-std::string vertexPair(int a, int b) { return "(" + std::to_string(a + 1) + ", " + std::to_string(b + 1) + ")"; }
+std::string vertexPair(int a, int b) {
+  return "(" + std::to_string(a + 1) + ", " + std::to_string(b + 1) + ")";
+}
 
 void checkDegenerate(const RawMesh& raw) {
   for (size_t t = 0; t < raw.triangles.size(); ++t) {
@@ -247,9 +249,9 @@ void reportEdgeProblems(const RawMesh& raw, const std::vector<EdgeUse>& uses, co
   };
   if (p.non_manifold > 0) {
     const size_t i = p.first_non_manifold, j = groupEnd(i);
-    fail(raw.faceAt(uses[i].face) + "non-manifold edge " + vertexPair(uses[i].lo, uses[i].hi) + " shared by " +
-         std::to_string(j - i) + " faces (" + faceList(raw, uses, i, j) + "); " + std::to_string(p.non_manifold) +
-         " such edges in all" + kObjVertexNote);
+    fail(raw.faceAt(uses[i].face) + "non-manifold edge " + vertexPair(uses[i].lo, uses[i].hi) +
+         " shared by " + std::to_string(j - i) + " faces (" + faceList(raw, uses, i, j) + "); " +
+         std::to_string(p.non_manifold) + " such edges in all" + kObjVertexNote);
   }
   if (p.open > 0) {
     const size_t i = p.first_open;
@@ -322,11 +324,13 @@ void checkFans(const RawMesh& raw) {
   Links links = vertexLinks(raw);
   std::vector<char> seen;
   for (size_t v = 0; v < raw.points.size(); ++v) {
-    const auto begin = links.edges.begin() + links.offsets[v], end = links.edges.begin() + links.offsets[v + 1];
+    const auto begin = links.edges.begin() + links.offsets[v],
+               end = links.edges.begin() + links.offsets[v + 1];
     const int fans = fanCount(begin, end, seen);
     if (fans != 1)
       fail(raw.at(raw.point_lines[v]) + "non-manifold vertex " + std::to_string(v + 1) + ": its " +
-           std::to_string(end - begin) + " faces form " + std::to_string(fans) + " separate fans" + kObjVertexNote);
+           std::to_string(end - begin) + " faces form " + std::to_string(fans) + " separate fans" +
+           kObjVertexNote);
   }
 }
 
@@ -410,7 +414,8 @@ SurfaceMesh readWithOpenMesh(const std::filesystem::path& path, const std::strin
   if (!std::filesystem::exists(path)) fail(path.string() + ": cannot open (no such file)");
   TriMesh mesh;
   OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::read_mesh(mesh, path.string(), options)) fail(path.string() + ": OpenMesh could not read it");
+  if (!OpenMesh::IO::read_mesh(mesh, path.string(), options))
+    fail(path.string() + ": OpenMesh could not read it");
   const auto declared = declaredFaceCount(path, ext);
   if (declared && static_cast<long long>(mesh.n_faces()) < *declared)
     fail(path.string() + ": OpenMesh read " + std::to_string(mesh.n_faces()) + " of the " +
@@ -459,14 +464,18 @@ void checkFace(Checker& c, FaceHandle f, std::vector<int>& face_uses) {
     ++n;
   }
   int& count = c.report.degenerate_faces;
-  if (n != 3) c.problem(count, [&] { return faceProblem(f, std::to_string(n) + " vertices"); });
-  else if (v[0] == v[1] || v[0] == v[2] || v[1] == v[2]) c.problem(count, [&] { return faceProblem(f, "repeated vertex"); });
-  else if ((p[1] - p[0]).cross(p[2] - p[0]).squaredNorm() == 0.0) c.problem(count, [&] { return faceProblem(f, "zero area"); });
+  if (n != 3)
+    c.problem(count, [&] { return faceProblem(f, std::to_string(n) + " vertices"); });
+  else if (v[0] == v[1] || v[0] == v[2] || v[1] == v[2])
+    c.problem(count, [&] { return faceProblem(f, "repeated vertex"); });
+  else if ((p[1] - p[0]).cross(p[2] - p[0]).squaredNorm() == 0.0)
+    c.problem(count, [&] { return faceProblem(f, "zero area"); });
 }
 
 std::string edgeName(const TriMesh& mesh, TriMesh::EdgeHandle e) {
   const auto h = mesh.halfedge_handle(e, 0);
-  return "edge " + std::to_string(e.idx()) + " (vertices " + std::to_string(mesh.from_vertex_handle(h).idx()) + ", " +
+  return "edge " + std::to_string(e.idx()) + " (vertices " +
+         std::to_string(mesh.from_vertex_handle(h).idx()) + ", " +
          std::to_string(mesh.to_vertex_handle(h).idx()) + ")";
 }
 
@@ -479,7 +488,8 @@ void checkEdgesOf(Checker& c) {
     if (mesh.is_boundary(h0) || mesh.is_boundary(h1))
       c.problem(c.report.boundary_edges, [&] { return "boundary " + edgeName(mesh, e); });
     else if (mesh.face_handle(h0) == mesh.face_handle(h1))
-      c.problem(c.report.non_manifold_edges, [&] { return "non-manifold " + edgeName(mesh, e) + ": one face on both sides"; });
+      c.problem(c.report.non_manifold_edges,
+                [&] { return "non-manifold " + edgeName(mesh, e) + ": one face on both sides"; });
     const auto a = static_cast<std::uint32_t>(mesh.to_vertex_handle(h0).idx());
     const auto b = static_cast<std::uint32_t>(mesh.to_vertex_handle(h1).idx());
     pairs.emplace_back(std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), e.idx());
@@ -509,8 +519,8 @@ void checkVertex(Checker& c, VertexHandle v, int uses) {
   }
   if (reached != uses)
     c.problem(count, [&] {
-      return name() + ": its one-ring reaches " + std::to_string(reached) + " of the " + std::to_string(uses) +
-             " faces using it (more than one fan)";
+      return name() + ": its one-ring reaches " + std::to_string(reached) + " of the " +
+             std::to_string(uses) + " faces using it (more than one fan)";
     });
   else if (gaps > 1)
     c.problem(count, [&] { return name() + ": " + std::to_string(gaps) + " boundary gaps in its one-ring"; });
@@ -520,12 +530,14 @@ int componentCount(const TriMesh& mesh) {
   std::vector<int> parent(mesh.n_vertices());
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](int x) {
-    while (parent[static_cast<size_t>(x)] != x) x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+    while (parent[static_cast<size_t>(x)] != x)
+      x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
     return x;
   };
   for (const auto e : mesh.edges()) {
     const auto h = mesh.halfedge_handle(e, 0);
-    parent[static_cast<size_t>(find(mesh.from_vertex_handle(h).idx()))] = find(mesh.to_vertex_handle(h).idx());
+    parent[static_cast<size_t>(find(mesh.from_vertex_handle(h).idx()))] =
+        find(mesh.to_vertex_handle(h).idx());
   }
   int roots = 0;
   for (const VertexHandle v : mesh.vertices()) roots += find(v.idx()) == v.idx();
@@ -562,7 +574,9 @@ class AtomicFile {
     buffer_ += text;
     if (buffer_.size() >= kChunk) flush();
   }
-  void number(double x) { append(std::to_chars(scratch_, scratch_ + sizeof scratch_, x, std::chars_format::general, 17)); }
+  void number(double x) {
+    append(std::to_chars(scratch_, scratch_ + sizeof scratch_, x, std::chars_format::general, 17));
+  }
   void number(long long x) { append(std::to_chars(scratch_, scratch_ + sizeof scratch_, x)); }
 
   void commit() {
@@ -577,7 +591,9 @@ class AtomicFile {
 
  private:
   static constexpr size_t kChunk = 1 << 20;
-  void append(std::to_chars_result r) { write(std::string_view(scratch_, static_cast<size_t>(r.ptr - scratch_))); }
+  void append(std::to_chars_result r) {
+    write(std::string_view(scratch_, static_cast<size_t>(r.ptr - scratch_)));
+  }
   void flush() {
     if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
       fail("cannot write " + tmp_.string() + ": " + std::strerror(errno));
@@ -598,13 +614,15 @@ std::vector<int> compactVertices(const TriMesh& mesh, const std::filesystem::pat
   int next = 0;
   for (const VertexHandle v : mesh.vertices()) {
     if (!toEigen(mesh.point(v)).allFinite())
-      fail("cannot save " + path.string() + ": vertex " + std::to_string(v.idx()) + " has a non-finite position");
+      fail("cannot save " + path.string() + ": vertex " + std::to_string(v.idx()) +
+           " has a non-finite position");
     index[static_cast<size_t>(v.idx())] = next++;
   }
   return index;
 }
 
-void writeFaceVertices(AtomicFile& out, const TriMesh& mesh, FaceHandle f, const std::vector<int>& index, int base) {
+void writeFaceVertices(AtomicFile& out, const TriMesh& mesh, FaceHandle f, const std::vector<int>& index,
+                       int base) {
   for (const VertexHandle v : mesh.fv_range(f)) {
     out.write(" ");
     out.number(static_cast<long long>(index[static_cast<size_t>(v.idx())] + base));
@@ -632,8 +650,9 @@ void writePoint(AtomicFile& out, const OpenMesh::Vec3d& p) {
 }
 
 void writePlyHeader(AtomicFile& out, const TriMesh& mesh) {
-  out.write("ply\nformat ascii 1.0\ncomment incise surface mesh; vertex kind 0 original, 1 seam, 2 wall; "
-            "face kind 0 original, 1 split, 2 wall\nelement vertex ");
+  out.write(
+      "ply\nformat ascii 1.0\ncomment incise surface mesh; vertex kind 0 original, 1 seam, 2 wall; "
+      "face kind 0 original, 1 split, 2 wall\nelement vertex ");
   out.number(static_cast<long long>(countOf(mesh.vertices())));
   out.write("\nproperty double x\nproperty double y\nproperty double z\nproperty uchar kind\nelement face ");
   out.number(static_cast<long long>(countOf(mesh.faces())));
@@ -646,18 +665,24 @@ void writePlyHeader(AtomicFile& out, const TriMesh& mesh) {
 
 const char* toString(VertexKind kind) noexcept {
   switch (kind) {
-    case VertexKind::Original: return "original";
-    case VertexKind::Seam: return "seam";
-    case VertexKind::Wall: return "wall";
+    case VertexKind::Original:
+      return "original";
+    case VertexKind::Seam:
+      return "seam";
+    case VertexKind::Wall:
+      return "wall";
   }
   return "unknown";
 }
 
 const char* toString(FaceKind kind) noexcept {
   switch (kind) {
-    case FaceKind::Original: return "original";
-    case FaceKind::Split: return "split";
-    case FaceKind::Wall: return "wall";
+    case FaceKind::Original:
+      return "original";
+    case FaceKind::Split:
+      return "split";
+    case FaceKind::Wall:
+      return "wall";
   }
   return "unknown";
 }
@@ -667,16 +692,18 @@ SurfaceMesh::SurfaceMesh() { attachKinds(); }
 SurfaceMesh::SurfaceMesh(TriMesh mesh) : mesh_(std::move(mesh)) { attachKinds(); }
 
 void SurfaceMesh::attachKinds() {
-  if (!mesh_.get_property_handle(vertex_kind_, kVertexKindProperty)) mesh_.add_property(vertex_kind_, kVertexKindProperty);
-  if (!mesh_.get_property_handle(face_kind_, kFaceKindProperty)) mesh_.add_property(face_kind_, kFaceKindProperty);
+  if (!mesh_.get_property_handle(vertex_kind_, kVertexKindProperty))
+    mesh_.add_property(vertex_kind_, kVertexKindProperty);
+  if (!mesh_.get_property_handle(face_kind_, kFaceKindProperty))
+    mesh_.add_property(face_kind_, kFaceKindProperty);
 }
 
 namespace {
 template <typename Handle>
 void checkHandle(Handle h, size_t count, const char* what) {
   if (!h.is_valid() || static_cast<size_t>(h.idx()) >= count)
-    throw std::out_of_range(std::string("SurfaceMesh: invalid ") + what + " handle " + std::to_string(h.idx()) +
-                            " (" + std::to_string(count) + " " + what + "s)");
+    throw std::out_of_range(std::string("SurfaceMesh: invalid ") + what + " handle " +
+                            std::to_string(h.idx()) + " (" + std::to_string(count) + " " + what + "s)");
 }
 }  // namespace
 
@@ -702,8 +729,8 @@ void SurfaceMesh::setKind(TriMesh::FaceHandle f, FaceKind kind) {
 
 TriMesh::VertexHandle SurfaceMesh::addVertex(const Eigen::Vector3d& p, VertexKind kind) {
   if (!p.allFinite())
-    throw std::invalid_argument("SurfaceMesh::addVertex: non-finite point (" + str(p.x()) + ", " + str(p.y()) + ", " +
-                                str(p.z()) + ")");
+    throw std::invalid_argument("SurfaceMesh::addVertex: non-finite point (" + str(p.x()) + ", " +
+                                str(p.y()) + ", " + str(p.z()) + ")");
   const VertexHandle v = mesh_.add_vertex(toOpenMesh(p));
   mesh_.property(vertex_kind_, v) = kind;
   return v;
@@ -818,12 +845,14 @@ std::string toJson(const MeshSummary& s) {
 }
 
 TriMesh subdivideLoop(const TriMesh& mesh, int iterations) {
-  if (iterations < 0) throw std::invalid_argument("subdivideLoop: iterations must be >= 0, got " + std::to_string(iterations));
+  if (iterations < 0)
+    throw std::invalid_argument("subdivideLoop: iterations must be >= 0, got " + std::to_string(iterations));
   TriMesh result = mesh;
   result.garbage_collection();
   if (iterations == 0) return result;
   size_t max_valence = 0;
-  for (const VertexHandle v : result.vertices()) max_valence = std::max<size_t>(max_valence, result.valence(v));
+  for (const VertexHandle v : result.vertices())
+    max_valence = std::max<size_t>(max_valence, result.valence(v));
   OpenMesh::Subdivider::Uniform::LoopT<TriMesh, double> loop;
   loop.init_weights(std::max<size_t>(max_valence + 1, 50));
   loop.attach(result);

@@ -57,8 +57,8 @@ std::int64_t VertexGrid::key(const Eigen::Vector3d& p) const noexcept {
 
 void VertexGrid::checkPoint(const Eigen::Vector3d& p, int id, const char* who) const {
   if (!p.allFinite())
-    throw std::invalid_argument(std::string("VertexGrid::") + who + ": non-finite point " + str(p) + " for id " +
-                                std::to_string(id));
+    throw std::invalid_argument(std::string("VertexGrid::") + who + ": non-finite point " + str(p) +
+                                " for id " + std::to_string(id));
 }
 
 void VertexGrid::insert(int id, const Eigen::Vector3d& p) {
@@ -119,7 +119,8 @@ void VertexGrid::query(const Eigen::AlignedBox3d& box, std::vector<int>& out) co
     for (std::int64_t k = k0; k <= k1; ++k)
       for (std::int64_t j = j0; j <= j1; ++j)
         for (std::int64_t i = i0; i <= i1; ++i)
-          if (const auto cell = cells_.find(pack(i, j, k)); cell != cells_.end()) appendHits(cell->second, box, out);
+          if (const auto cell = cells_.find(pack(i, j, k)); cell != cells_.end())
+            appendHits(cell->second, box, out);
   }
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
 }

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include <Eigen/QR>
+#include <Eigen/LU>
 
 #include "incise/cutting/knot_vector.h"
 
@@ -73,9 +73,16 @@ Eigen::Vector3d inversionStart(const BSplineVolume& volume, const Eigen::Vector3
 
 InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& p, const Eigen::Vector3d& start,
                             const InversionOptions& options) {
+  return invertPoint(volume, p, start, volume.parameterBox(), options);
+}
+
+InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& p, const Eigen::Vector3d& start,
+                            const Eigen::AlignedBox3d& search_box, const InversionOptions& options) {
   checkFinite(p, "invertPoint", "point p =");
   checkFinite(start, "invertPoint", "start =");
-  const Eigen::AlignedBox3d box = volume.parameterBox();
+  const Eigen::AlignedBox3d box = search_box.intersection(volume.parameterBox());
+  if (box.isEmpty() || !box.min().allFinite() || !box.max().allFinite())
+    throw std::invalid_argument("invertPoint: the search box does not meet the parameter domain");
   Eigen::Vector3d x = clampTo(box, start);
   Eigen::Vector3d r = p - volume.evaluateUnchecked(x[0], x[1], x[2]);
   double residual = r.norm();
@@ -83,7 +90,8 @@ InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& 
   while (residual > options.tolerance && iterations < options.max_iterations) {
     // x is finite and inside the box, so jacobian() cannot throw.
     const Eigen::Matrix3d jac = volume.jacobian(x);
-    const Eigen::Vector3d dx = jac.colPivHouseholderQr().solve(r);
+    // A 3x3 partial-pivot LU costs a third of a pivoting QR; a singular J gives a non-finite step (stop).
+    const Eigen::Vector3d dx = jac.partialPivLu().solve(r);
     if (!dx.allFinite()) break;
     ++iterations;
     // Backtracking: a full step may jump over a C^-1 cut or out of the region where F is near-linear.

@@ -342,3 +342,26 @@ TEST_CASE("surface_cutter: new elements record what they are", "[cutting]") {
   REQUIRE_THAT(objBytes(mesh, "kinds"), Contains("g wall"));
   REQUIRE_THAT(toJson(summary), Contains("\"wall_faces\""));
 }
+
+TEST_CASE("surface_cutter: a work budget per call changes when the cut appears, not what it is", "[cutting]") {
+  SurfaceMesh free_mesh = bunny(2), budget_mesh = free_mesh;
+  CutterOptions budgeted = optionsFor(2);
+  budgeted.max_inversions_per_call = 3;
+  SurfaceCutter unlimited(free_mesh, optionsFor(2)), limited(budget_mesh, budgeted);
+  const Stroke stroke = backStroke(free_mesh, 0.03);
+  unlimited.begin(stroke.first, stroke.blade_direction);
+  limited.begin(stroke.first, stroke.blade_direction);
+  bool lagged = false;
+  for (const auto& s : stroke.samples) {
+    unlimited.extend(s);
+    limited.extend(s);
+    lagged = lagged || limited.pending();
+  }
+  REQUIRE(lagged);  // the budget did hold work back
+  unlimited.finish();
+  limited.finish();
+  int calls = 0;
+  while (limited.pending() && calls < 100000) limited.advance(stroke.samples.back().time_s), ++calls;
+  REQUIRE_FALSE(limited.pending());
+  REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
+}

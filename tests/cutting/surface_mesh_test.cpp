@@ -26,8 +26,8 @@ class TempDir {
  public:
   TempDir() {
     std::random_device random;
-    path_ = fs::temp_directory_path() / ("incise-surface-mesh-test-" + std::to_string(random()) + "-" +
-                                          std::to_string(random()));
+    path_ = fs::temp_directory_path() /
+            ("incise-surface-mesh-test-" + std::to_string(random()) + "-" + std::to_string(random()));
     fs::create_directories(path_);
   }
   ~TempDir() {
@@ -98,7 +98,8 @@ TEST_CASE("surface_mesh: the bunny loads as a closed two-manifold of genus 0", "
   for (const auto f : bunny.mesh().faces()) REQUIRE(bunny.kind(f) == FaceKind::Original);
 }
 
-TEST_CASE("surface_mesh: the scale argument multiplies positions and must be finite and positive", "[cutting]") {
+TEST_CASE("surface_mesh: the scale argument multiplies positions and must be finite and positive",
+          "[cutting]") {
   const SurfaceMesh metres = loadSurfaceMesh(kBunny);
   const SurfaceMesh millimetres = loadSurfaceMesh(kBunny, 0.001);
   const auto v = TriMesh::VertexHandle(7);
@@ -107,7 +108,8 @@ TEST_CASE("surface_mesh: the scale argument multiplies positions and must be fin
   REQUIRE_THROWS_AS(loadSurfaceMesh(kBunny, std::nan("")), std::invalid_argument);
 }
 
-TEST_CASE("surface_mesh: two Loop subdivisions of the bunny give 58,784 triangles, closed with chi = 2", "[cutting]") {
+TEST_CASE("surface_mesh: two Loop subdivisions of the bunny give 58,784 triangles, closed with chi = 2",
+          "[cutting]") {
   const TriMesh mesh = subdivideLoop(loadSurfaceMesh(kBunny).mesh(), 2);
   REQUIRE(mesh.n_faces() == 58784);
   const ManifoldReport report = checkManifold(mesh);
@@ -137,7 +139,8 @@ TEST_CASE("surface_mesh: four Loop subdivisions of the bunny give 940,544 triang
   REQUIRE(report.euler_characteristic == 2);
 }
 
-TEST_CASE("surface_mesh: subdivided() keeps a closed mesh closed and makes every kind Original", "[cutting]") {
+TEST_CASE("surface_mesh: subdivided() keeps a closed mesh closed and makes every kind Original",
+          "[cutting]") {
   SurfaceMesh tet = tetrahedron();
   tet.setKind(TriMesh::VertexHandle(0), VertexKind::Seam);
   tet.setKind(TriMesh::FaceHandle(1), FaceKind::Wall);
@@ -184,7 +187,8 @@ TEST_CASE("surface_mesh: an open surface is rejected, naming a boundary edge and
   const std::string message = loadError(p);
   INFO(message);
   // Edges (2, 3), (2, 4), (3, 4) have one face each; (2, 3) comes first, from face 0 on line 5.
-  REQUIRE_THAT(message, Catch::Contains(p.string() + ":5: open surface: edge (2, 3) has 1 face (face 0 at line 5)"));
+  REQUIRE_THAT(message,
+               Catch::Contains(p.string() + ":5: open surface: edge (2, 3) has 1 face (face 0 at line 5)"));
   REQUIRE_THAT(message, Catch::Contains("3 boundary edges in all"));
   REQUIRE_THAT(message, Catch::Contains("1-based"));
 }
@@ -207,19 +211,22 @@ TEST_CASE("surface_mesh: two tetrahedra sharing only a vertex are rejected as a 
   const fs::path p = dir.write("pinched.obj", kTet + second);
   const std::string message = loadError(p);
   INFO(message);
-  REQUIRE_THAT(message, Catch::Contains(p.string() + ":4: non-manifold vertex 4: its 6 faces form 2 separate fans"));
+  REQUIRE_THAT(message,
+               Catch::Contains(p.string() + ":4: non-manifold vertex 4: its 6 faces form 2 separate fans"));
 }
 
 TEST_CASE("surface_mesh: a flipped face is rejected as inconsistent orientation", "[cutting]") {
   TempDir dir;
-  const fs::path p = dir.write("flipped.obj", kTetVertices + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + "f 2 4 3\n");
+  const fs::path p =
+      dir.write("flipped.obj", kTetVertices + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + "f 2 4 3\n");
   const std::string message = loadError(p);
   INFO(message);
   REQUIRE_THAT(message, Catch::Contains("inconsistent orientation at edge (2, 3)"));
   REQUIRE_THAT(message, Catch::Contains("face 0 at line 5, face 3 at line 8"));
 }
 
-TEST_CASE("surface_mesh: degenerate faces (repeated vertex, zero area) are rejected with file:line", "[cutting]") {
+TEST_CASE("surface_mesh: degenerate faces (repeated vertex, zero area) are rejected with file:line",
+          "[cutting]") {
   TempDir dir;
   const fs::path repeated = dir.write("repeated.obj", kTetVertices + "f 1 2 2\n" + kTetFaces[1]);
   std::string message = loadError(repeated);
@@ -244,7 +251,8 @@ TEST_CASE("surface_mesh: a face index out of range is reported with file:line an
   REQUIRE_THAT(loadError(word), Catch::Contains(word.string() + ":5: face index 'x' is not an integer"));
 }
 
-TEST_CASE("surface_mesh: bad coordinates (NaN, not a number, too few) are reported with file:line", "[cutting]") {
+TEST_CASE("surface_mesh: bad coordinates (NaN, not a number, too few) are reported with file:line",
+          "[cutting]") {
   TempDir dir;
   const fs::path nan = dir.write("nan.obj", "v 0 0 0\nv nan 0 0\n");
   REQUIRE_THAT(loadError(nan), Catch::Equals(nan.string() + ":2: coordinate 'nan' is not finite"));
@@ -257,7 +265,8 @@ TEST_CASE("surface_mesh: bad coordinates (NaN, not a number, too few) are report
   const fs::path short_line = dir.write("short.obj", "v 1 2\n");
   REQUIRE_THAT(loadError(short_line), Catch::Contains(short_line.string() + ":1: expected 3 coordinates"));
   const fs::path statement = dir.write("line.obj", kTet + "l 1 2\n");
-  REQUIRE_THAT(loadError(statement), Catch::Contains(statement.string() + ":9: unsupported OBJ statement 'l'"));
+  REQUIRE_THAT(loadError(statement),
+               Catch::Contains(statement.string() + ":9: unsupported OBJ statement 'l'"));
 }
 
 TEST_CASE("surface_mesh: a missing file, an unknown format and an empty file are MeshErrors", "[cutting]") {
@@ -271,18 +280,22 @@ TEST_CASE("surface_mesh: a missing file, an unknown format and an empty file are
 
 TEST_CASE("surface_mesh: an unreferenced vertex is rejected, naming it", "[cutting]") {
   TempDir dir;
-  const fs::path p = dir.write("extra.obj", kTetVertices + "v 5 5 5\n" + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + kTetFaces[3]);
+  const fs::path p = dir.write(
+      "extra.obj", kTetVertices + "v 5 5 5\n" + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + kTetFaces[3]);
   const std::string message = loadError(p);
-  REQUIRE_THAT(message, Catch::Contains(p.string() + ":5: unreferenced vertex 5 (used by no face); 1 unreferenced"));
+  REQUIRE_THAT(message,
+               Catch::Contains(p.string() + ":5: unreferenced vertex 5 (used by no face); 1 unreferenced"));
 }
 
 TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-manifold check", "[cutting]") {
   TempDir dir;
   const std::string verts = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
-  const SurfaceMesh tet = loadSurfaceMesh(dir.write("tet.off", "OFF\n4 4 6\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
+  const SurfaceMesh tet =
+      loadSurfaceMesh(dir.write("tet.off", "OFF\n4 4 6\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
   REQUIRE(tet.mesh().n_faces() == 4);
   REQUIRE(checkManifold(tet.mesh()).closed_two_manifold);
-  const std::string open = loadError(dir.write("open.off", "OFF\n4 3 0\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n"));
+  const std::string open =
+      loadError(dir.write("open.off", "OFF\n4 3 0\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n"));
   REQUIRE_THAT(open, Catch::Contains("open.off: boundary edge"));
   // OpenMesh's importer re-adds the third face on edge (0, 1) with copies of its vertices: the copies
   // leave boundary edges, so the file is still refused.
@@ -312,7 +325,7 @@ TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addV
   copy.setKind(g, FaceKind::Original);
   REQUIRE(copy.kind(f) == FaceKind::Wall);
   REQUIRE(s.kind(g) == FaceKind::Split);  // the copy's properties are its own
-  const SurfaceMesh adopted(s.mesh());     // a TriMesh copied out of a SurfaceMesh keeps its kinds
+  const SurfaceMesh adopted(s.mesh());    // a TriMesh copied out of a SurfaceMesh keeps its kinds
   REQUIRE(adopted.kind(a) == VertexKind::Seam);
   REQUIRE(adopted.kind(g) == FaceKind::Split);
 
@@ -327,7 +340,8 @@ TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addV
   REQUIRE(std::string(toString(VertexKind::Original)) == "original");
 }
 
-TEST_CASE("surface_mesh: addFace refuses a face OpenMesh cannot add and leaves the mesh unchanged", "[cutting]") {
+TEST_CASE("surface_mesh: addFace refuses a face OpenMesh cannot add and leaves the mesh unchanged",
+          "[cutting]") {
   SurfaceMesh s = tetrahedron();
   // A second fan at the closed tetrahedron's vertex 3 would make it non-manifold.
   const auto p = s.addVertex({1, 0, 1}), q = s.addVertex({0, 1, 1});
@@ -371,7 +385,8 @@ TEST_CASE("surface_mesh: checkManifold counts boundary, pinched vertices, degene
   SECTION("two separate tetrahedra: two components, chi = 4") {
     SurfaceMesh s = tetrahedron();
     const SurfaceMesh t = tetrahedron();
-    for (const auto v : t.mesh().vertices()) s.addVertex(toEigen(t.mesh().point(v)) + Eigen::Vector3d(3, 0, 0));
+    for (const auto v : t.mesh().vertices())
+      s.addVertex(toEigen(t.mesh().point(v)) + Eigen::Vector3d(3, 0, 0));
     for (const auto f : t.mesh().faces()) {
       std::vector<TriMesh::VertexHandle> w;
       for (const auto v : t.mesh().fv_range(f)) w.emplace_back(v.idx() + 4);
@@ -426,7 +441,8 @@ TEST_CASE("surface_mesh: saveObj puts Wall faces into a 'g wall' group", "[cutti
   REQUIRE(checkManifold(back.mesh()).closed_two_manifold);
 }
 
-TEST_CASE("surface_mesh: savePly writes per-vertex and per-face kind properties and loads back", "[cutting]") {
+TEST_CASE("surface_mesh: savePly writes per-vertex and per-face kind properties and loads back",
+          "[cutting]") {
   TempDir dir;
   SurfaceMesh bunny = loadSurfaceMesh(kBunny);
   bunny.setKind(TriMesh::FaceHandle(0), FaceKind::Wall);

@@ -36,8 +36,9 @@ std::vector<int> query(const VertexGrid& grid, const Eigen::AlignedBox3d& box) {
   return out;
 }
 
-TEST_CASE("vertex_grid: query returns exactly the brute-force set for 1000 random points and 100 random boxes",
-          "[cutting]") {
+TEST_CASE(
+    "vertex_grid: query returns exactly the brute-force set for 1000 random points and 100 random boxes",
+    "[cutting]") {
   std::mt19937 rng(12345);
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 1000; ++i) points.push_back(randomPoint(rng, -1.0, 1.0));
@@ -60,8 +61,8 @@ TEST_CASE("vertex_grid: a box on a point's exact coordinates and a huge box both
   VertexGrid grid(0.1);
   grid.insert(3, {0.2, 0.3, -0.4});
   grid.insert(1, {1e9, -1e9, 0.0});  // beyond the clamped cell range
-  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d(0.2, 0.3, -0.4), Eigen::Vector3d(0.2, 0.3, -0.4))) ==
-          std::vector<int>{3});
+  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d(0.2, 0.3, -0.4),
+                                          Eigen::Vector3d(0.2, 0.3, -0.4))) == std::vector<int>{3});
   const double big = 1e12;
   REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-big), Eigen::Vector3d::Constant(big))) ==
           std::vector<int>{1, 3});
@@ -69,7 +70,8 @@ TEST_CASE("vertex_grid: a box on a point's exact coordinates and a huge box both
           std::vector<int>{1});
   REQUIRE(query(grid, Eigen::AlignedBox3d()).empty());  // empty box
   const double nan = std::nan("");
-  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(big))).empty());
+  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(big)))
+              .empty());
 }
 
 TEST_CASE("vertex_grid: move() updates membership", "[cutting]") {
@@ -114,12 +116,14 @@ TEST_CASE("vertex_grid: bad arguments throw and leave the grid unchanged", "[cut
   REQUIRE_THROWS_AS(grid.move(4, {0.5, 0.5, 0.5}, {2, INFINITY, 2}), std::invalid_argument);
   REQUIRE_THROWS_AS(grid.remove(4, {7, 7, 7}), std::invalid_argument);
   REQUIRE(grid.size() == 1);
-  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones())) == std::vector<int>{4});
+  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones())) ==
+          std::vector<int>{4});
   grid.clear();
   REQUIRE(grid.size() == 0);
 }
 
-TEST_CASE("vertex_grid: query appends after existing content without reallocating a reserved vector", "[cutting]") {
+TEST_CASE("vertex_grid: query appends after existing content without reallocating a reserved vector",
+          "[cutting]") {
   VertexGrid grid(0.25);
   for (int i = 0; i < 50; ++i) grid.insert(49 - i, Eigen::Vector3d(0.01 * i, 0.0, 0.0));
   std::vector<int> out{-7};

@@ -127,6 +127,16 @@ class Incision {
   // 0 (right-hand, as evaluate), 2 (the mean of both sides: the bottom of the cut, where the walls meet).
   Eigen::Vector3d displacementAt(const Eigen::Vector3d& uvw, int side) const noexcept;
 
+  // The same, split in two so that a point's spans and basis values are computed once (when it is bound)
+  // and every later re-deformation is one o^3 weighted sum per evaluation (ARCHITECTURE.md, "Binding"):
+  // stencil() writes `count` (1, or 2 for side 2) evaluations: first[c], the corner control's linear index,
+  // and basis[c * stencilSize() ...], the u, v and w basis values; displacementFromStencil() sums them.
+  // displacementAt(uvw, side) == displacementFromStencil(stencil(uvw, side)) bit for bit. noexcept, no
+  // allocation; the stencil stays valid for the incision's life (its knots never change).
+  int stencilSize() const noexcept { return 3 * options_.order; }
+  int stencil(const Eigen::Vector3d& uvw, int side, int* first, double* basis) const noexcept;
+  Eigen::Vector3d displacementFromStencil(int count, const int* first, const double* basis) const noexcept;
+
  private:
   struct Station {
     Eigen::Vector3d point, normal;
@@ -164,6 +174,7 @@ class Incision {
   StrokeSample last_sample_{};
   double to_next_station_m_ = 0.0;      // arc length still to go from last_sample_ to the next station
   std::vector<double> column_opening_;  // opening_j currently in displacement_
+  std::vector<Frame> frames_;           // per column, as last written into rest_
   int first_unsettled_ = 0;             // stations before it have settled to their full opening
   bool finished_ = false;
 };

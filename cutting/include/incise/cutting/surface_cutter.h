@@ -51,6 +51,11 @@ struct CutterOptions {
   int wall_rows = 3;                 // vertices per wall column and side, the bottom included (>= 1)
   double contact_tolerance_m = 0.0;  // a sample farther than this from every vertex has left the surface;
                                      // 0 = 3 x the mesh's mean edge length
+  // The per-call work budget, in point inversions (the dominant cost of a column step, about 1-2 us each):
+  // a call stops there and the next one resumes, so a frame's cost stays bounded on dense meshes while the
+  // cut trails a little more. 0 = no limit (finish everything that is final in each call). The resulting
+  // mesh does not depend on it.
+  int max_inversions_per_call = 0;
 };
 
 // What one call did. Counts are for the call; totals live in CutStats.
@@ -95,6 +100,8 @@ class SurfaceCutter {
   CutStep finish() noexcept;
 
   bool active() const noexcept { return incision_ != nullptr && !incision_->finished(); }
+  // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
+  bool pending() const noexcept { return incision_ && !failed_ && next_column_ < incision_->finalColumns(); }
   const Incision* incision() const noexcept { return incision_.get(); }
   const CutStats& stats() const noexcept { return stats_; }
   const SurfaceMesh& surface() const noexcept { return mesh_; }
@@ -118,6 +125,7 @@ class SurfaceCutter {
     bool chained = false;  // in the chain
     bool doubled = false;  // duplicated (has a + copy and a wall column)
     std::uint32_t stamp = 0;
+    int stencil = -1;  // its displacement stencil (Incision::stencil) in the stencil_* arrays
   };
   struct WallColumn {
     std::vector<TriMesh::VertexHandle> minus, plus;  // [0] the lip, [wall_rows] the shared bottom
@@ -128,9 +136,9 @@ class SurfaceCutter {
   bool bound(TriMesh::VertexHandle v) const { return data(v).incision == incision_index_; }
 
   CutStep process(CutStep step) noexcept;
-  void processColumn(int column, CutStep& step);
-  bool bindVertex(TriMesh::VertexHandle v, int column);
-  void splitCrossings(std::vector<TriMesh::VertexHandle>& fresh, int column, CutStep& step);
+  bool processColumn(int column, int& budget, CutStep& step);  // false: budget spent, resume next call
+  bool bindVertex(TriMesh::VertexHandle v, int column, int& budget);
+  void splitCrossings(const std::vector<TriMesh::VertexHandle>& fresh, CutStep& step);
   TriMesh::VertexHandle addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side,
                                        VertexKind kind);
   void walkChain();
@@ -142,7 +150,10 @@ class SurfaceCutter {
   bool addStripSide(const std::vector<TriMesh::VertexHandle>& a, const std::vector<TriMesh::VertexHandle>& b,
                     std::vector<TriMesh::FaceHandle>& faces);
   void redeform(CutStep& step);
+  void setStencil(TriMesh::VertexHandle v);
   void fail(const std::string& message);
+  void reserveHeadroom();
+  static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
   bool onSurface(const Eigen::Vector3d& p) const;
 
   SurfaceMesh& mesh_;
@@ -153,6 +164,9 @@ class SurfaceCutter {
   std::unique_ptr<Incision> incision_;
   int incision_index_ = -1;
   int next_column_ = 0;
+  bool column_started_ = false;  // next_column_'s step is under way: candidates_ and fresh_ are live
+  size_t next_candidate_ = 0;
+  std::vector<TriMesh::VertexHandle> fresh_;
   double time_s_ = 0.0;
   std::uint32_t stamp_ = 0;
   std::vector<std::vector<TriMesh::VertexHandle>> cells_;  // bound vertices by floor(v)
@@ -162,6 +176,11 @@ class SurfaceCutter {
   std::map<int, WallColumn> columns_;                      // by the seam vertex's index
   std::map<std::pair<int, int>, std::vector<TriMesh::FaceHandle>> strips_;
   std::vector<TriMesh::VertexHandle> dirty_;
+  // Per bound vertex: 1 or 2 evaluations (count), their corner controls (2 slots) and basis values
+  // (2 x stencilSize() slots): re-deforming is then one weighted sum per evaluation.
+  std::vector<std::uint8_t> stencil_count_;
+  std::vector<int> stencil_first_;
+  std::vector<double> stencil_basis_;
   std::vector<int> changed_columns_, candidates_;
   CutStats stats_;
   bool failed_ = false;

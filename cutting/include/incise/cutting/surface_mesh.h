@@ -8,8 +8,9 @@
 // for OBJ, 0-based for PLY/OFF/STL; each message says which) and faces as "face i" (0-based index in the
 // triangulated face list, which is the loaded mesh's FaceHandle index) plus the file:line it came from.
 // Units: positions in metres in incise (the loader's `scale` converts, e.g. 0.001 for a file in mm).
-// Threads: const members and free functions on distinct or const meshes may run concurrently; mutators
-// need exclusive access. OpenMesh itself is not thread-safe for concurrent mutation.
+// Threads: const members and free functions on distinct or const meshes may run concurrently (except
+// loading .ply/.off/.stl, which goes through OpenMesh's IO singleton: one at a time); mutators need
+// exclusive access.
 // Failure: MeshError (a std::runtime_error naming the file and line, or the element) for bad files and
 // I/O failures; std::invalid_argument for bad arguments (with the value); std::out_of_range for invalid
 // handles. Loading, saving and checking allocate: not for the sim thread.
@@ -36,7 +37,8 @@
 namespace incise::cutting {
 
 // Double-precision points and normals; status bits so the incision code can delete elements and
-// garbage-collect later; face and vertex normals (filled by loadSurfaceMesh, then by mesh().update_normals()).
+// garbage-collect later; face and vertex normals (filled by loadSurfaceMesh, then by
+// mesh().update_normals()).
 struct MeshTraits : OpenMesh::DefaultTraits {
   using Point = OpenMesh::Vec3d;
   using Normal = OpenMesh::Vec3d;

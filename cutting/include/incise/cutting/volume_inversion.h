@@ -38,13 +38,19 @@ struct InversionResult {
 Eigen::Vector3d inversionStart(const BSplineVolume& volume, const Eigen::Vector3d& p);
 
 // Damped Newton on F(x) = p from `start` (clamped into the parameter box): dx = J^-1 (p - F(x)) by a
-// column-pivoting QR solve (robust to a singular J); the step is halved until the residual decreases
+// partial-pivot LU solve (a singular J gives a non-finite step: stop); the step is halved until the residual decreases
 // (at most 30 times) and x is clamped to the parameter box after every step. Stops when the residual is
 // <= options.tolerance, after options.max_iterations steps, or when no halving decreases the residual
 // (a point outside F's range, or in the gap of an opened cut).
 // Cost O(max_iterations * (1 + halvings) * o^3); no allocation.
 InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& p, const Eigen::Vector3d& start,
                             const InversionOptions& options = {});
+
+// As above, searching only `search_box` (intersected with the parameter box): the result then depends only
+// on F inside it, e.g. on the final columns of a lattice that is still growing. Throws std::invalid_argument
+// also for a search box that misses the domain.
+InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& p, const Eigen::Vector3d& start,
+                            const Eigen::AlignedBox3d& search_box, const InversionOptions& options = {});
 
 // As above from inversionStart(volume, p): adds O(#controls) for the start.
 InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& p,
