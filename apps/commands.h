@@ -1,0 +1,11 @@
+// The `incise` subcommands. Each registers its options on the CLI11 app and runs when chosen; a command
+// returns the process exit code (0 success, 1 the job ran but a check failed, 2 bad input or I/O).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace incise::apps {
+
+void addCutCommand(CLI::App& app);
+
+}  // namespace incise::apps
