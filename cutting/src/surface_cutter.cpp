@@ -15,6 +15,13 @@ namespace {
 using VH = TriMesh::VertexHandle;
 using FH = TriMesh::FaceHandle;
 
+double longestEdgeLength(const TriMesh& mesh) {
+  double longest = 0.0;
+  for (const auto e : mesh.edges())
+    if (!mesh.status(e).deleted()) longest = std::max(longest, mesh.calc_edge_length(e));
+  return longest;
+}
+
 double meanEdgeLength(const TriMesh& mesh) {
   double sum = 0.0;
   int count = 0;
@@ -48,6 +55,7 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   reserveHeadroom();
   const double edge_m = meanEdgeLength(m);
   contact_tolerance_m_ = options.contact_tolerance_m > 0.0 ? options.contact_tolerance_m : 3.0 * edge_m;
+  longest_edge_m_ = longestEdgeLength(m);
   // Cells about a lattice column wide: a column step's query box spans a few cells per axis whatever the
   // mesh's resolution (tiny cells would make the query probe thousands of empty cells on a 1M mesh).
   const IncisionOptions& io = options.incision;
@@ -73,7 +81,13 @@ bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
 }
 
 CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept {
-  if (active()) finish();
+  if (active()) finish(false);
+  // The previous incision's carried work is done now, whatever the budget: a new lattice replaces it.
+  while (pending()) {
+    unlimited_ = true;
+    process(CutStep{});
+    unlimited_ = false;
+  }
   CutStep refused;
   if (!first.point_m.allFinite() || !first.normal.allFinite() || !std::isfinite(first.time_s) ||
       !blade_direction.allFinite()) {
@@ -125,7 +139,11 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
 
 CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return extend(std::span(&sample, 1)); }
 
-CutStep SurfaceCutter::extend(std::span<const StrokeSample> samples) noexcept {
+CutStep SurfaceCutter::extend(std::span<const StrokeSample> samples) noexcept { return process(add(samples)); }
+
+CutStep SurfaceCutter::addSample(const StrokeSample& sample) noexcept { return add(std::span(&sample, 1)); }
+
+CutStep SurfaceCutter::add(std::span<const StrokeSample> samples) noexcept {
   CutStep step;
   if (!active()) {
     step.sample = SampleStatus::Ended;
@@ -145,7 +163,7 @@ CutStep SurfaceCutter::extend(std::span<const StrokeSample> samples) noexcept {
     if (step.sample == SampleStatus::Accepted) time_s_ = std::max(time_s_, sample.time_s);
     if (step.sample == SampleStatus::Ended) break;
   }
-  return process(step);
+  return step;
 }
 
 CutStep SurfaceCutter::advance(double t_s) noexcept {
@@ -155,11 +173,11 @@ CutStep SurfaceCutter::advance(double t_s) noexcept {
   return process(step);
 }
 
-CutStep SurfaceCutter::finish() noexcept {
+CutStep SurfaceCutter::finish(bool process_now) noexcept {
   CutStep step;
   if (!incision_) return step;
   incision_->finish();
-  return process(step);
+  return process_now ? process(step) : step;
 }
 
 CutStep SurfaceCutter::process(CutStep step) noexcept {
@@ -170,7 +188,7 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
   try {
     // Column steps in order, each resumable: a call stops when its inversion budget is spent and the next
     // call carries on where it stopped, so the work done (and so the mesh) does not depend on the budget.
-    int budget = options_.max_inversions_per_call > 0 ? options_.max_inversions_per_call : INT_MAX;
+    int budget = options_.max_inversions_per_call > 0 && !unlimited_ ? options_.max_inversions_per_call : INT_MAX;
     while (next_column_ < incision_->finalColumns() && !failed_ && budget > 0) {
       if (!processColumn(next_column_, budget, step)) break;
       ++next_column_;
@@ -513,6 +531,12 @@ void SurfaceCutter::redeform(CutStep& step) {
       for (const VH v : cells_[static_cast<size_t>(cell)]) move(v);
   for (const VH v : dirty_) move(v);
   dirty_.clear();
+}
+
+std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+  // New vertices sit inside old faces and walls are narrower than the lattice: the longest original edge
+  // plus the widest opening covers every face the segment can meet.
+  return intersectSegment(mesh_.mesh(), grid_, a, b, longest_edge_m_ + options_.incision.opening_m);
 }
 
 std::vector<TriMesh::VertexHandle> SurfaceCutter::seam() const { return {chain_.begin(), chain_.end()}; }

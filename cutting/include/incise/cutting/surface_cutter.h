@@ -42,6 +42,7 @@
 
 #include "incise/cutting/incision.h"
 #include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/surface_query.h"
 #include "incise/cutting/vertex_grid.h"
 
 namespace incise::cutting {
@@ -87,19 +88,31 @@ class SurfaceCutter {
   SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options);
 
   // Starts a new incision at `first` (a point on the surface with its outward normal) with the blade moving
-  // along `blade_direction`; the previous incision, if any, is finished first. A non-finite sample or a
+  // along `blade_direction`; the previous incision, if any, is finished first and its carried work done
+  // (whatever the budget: this call may take as long as that work). A non-finite sample or a
   // zero normal is refused with a status (no incision starts). Never throws.
   CutStep begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept;
-  // Adds stroke samples to the current incision and processes every column they make final. A sample off
-  // the surface finishes the incision. Never throws.
+  // Adds stroke samples to the current incision and processes every column they make final (within the
+  // per-call budget). A sample off the surface finishes the incision. Never throws.
   CutStep extend(const StrokeSample& sample) noexcept;
   CutStep extend(std::span<const StrokeSample> samples) noexcept;
+  // Adds a sample without processing: the work waits for the next advance() (a frame's one cutting call).
+  CutStep addSample(const StrokeSample& sample) noexcept;
   // Lets the wound's opening evolve to time t_s without new samples (no-op without an active incision).
   CutStep advance(double t_s) noexcept;
-  // Finishes the current incision: the cut reaches the last station. Never throws.
-  CutStep finish() noexcept;
+  // Finishes the current incision: the cut reaches the last station. Never throws. With process = false
+  // the remaining work waits for advance().
+  CutStep finish(bool process = true) noexcept;
 
   bool active() const noexcept { return incision_ != nullptr && !incision_->finished(); }
+  // Lattice columns that are final, and how many of them have been cut: the cut is visible up to
+  // columnsDone(). Both 0 without an incision.
+  int columnsFinal() const noexcept { return incision_ ? incision_->finalColumns() : 0; }
+  int columnsDone() const noexcept { return incision_ ? next_column_ : 0; }
+  // The first crossing of the segment a -> b with the tissue surface (contact with the tool), through the
+  // cutter's vertex grid. Positions are those of the vertices when the current incision started (a cut
+  // moves vertices by about its opening). Cost O(vertices near the segment).
+  std::optional<SurfacePoint> intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
   bool pending() const noexcept { return incision_ && !failed_ && next_column_ < incision_->finalColumns(); }
   const Incision* incision() const noexcept { return incision_.get(); }
@@ -136,6 +149,7 @@ class SurfaceCutter {
   bool bound(TriMesh::VertexHandle v) const { return data(v).incision == incision_index_; }
 
   CutStep process(CutStep step) noexcept;
+  CutStep add(std::span<const StrokeSample> samples) noexcept;
   bool processColumn(int column, int& budget, CutStep& step);  // false: budget spent, resume next call
   bool bindVertex(TriMesh::VertexHandle v, int column, int& budget);
   void splitCrossings(const std::vector<TriMesh::VertexHandle>& fresh, CutStep& step);
@@ -161,6 +175,7 @@ class SurfaceCutter {
   OpenMesh::VPropHandleT<VertexData> vertex_data_;
   VertexGrid grid_;
   double contact_tolerance_m_ = 0.0;
+  double longest_edge_m_ = 0.0;
   std::unique_ptr<Incision> incision_;
   int incision_index_ = -1;
   int next_column_ = 0;
@@ -184,6 +199,7 @@ class SurfaceCutter {
   std::vector<int> changed_columns_, candidates_;
   CutStats stats_;
   bool failed_ = false;
+  bool unlimited_ = false;  // process() ignores the budget (finishing a previous incision's work)
 };
 
 }  // namespace incise::cutting
