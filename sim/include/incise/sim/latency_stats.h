@@ -1,0 +1,92 @@
+// Per-frame latency statistics: the sim thread records one FrameTiming per frame, the benchmark, the CLI and
+// the viewer HUD read the same summary (p50 / p99 / p99.9 / max / mean and deadline misses).
+//
+// Units: microseconds for times (the _us fields), frames for pose_to_visible_frames.
+// Storage: a fixed capacity of frames, reserved in the constructor; record() never allocates. When the
+// capacity is reached, record() keeps counting frames and deadline misses and keeps the per-quantity maxima
+// and stops storing samples: count, percentiles and mean then describe the first `capacity` frames, while
+// `max`, `frames` and `deadline_misses` cover every recorded frame (`frames_stored` < `frames` says so).
+// Threads: not synchronised. One thread records (the sim thread); summary() is called by the same thread or
+// after the recording thread has been joined (a FixedRateLoop stopped).
+// Cost: record() O(1), noexcept; summary() O(n log n) on sorted copies, allocates (not for the sim thread).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace incise::sim {
+
+// What one sim frame cost. pose_to_visible_frames: frames from the pose sample that caused a cut to the
+// snapshot that shows it; -1 when no new cut became visible this frame (such frames do not enter its stats).
+struct FrameTiming {
+  double haptic_us = 0.0;
+  double cut_us = 0.0;
+  double frame_us = 0.0;
+  double period_error_us = 0.0;  // how late the frame started vs its deadline
+  int pose_to_visible_frames = -1;
+  bool deadline_missed = false;
+};
+
+// One quantity. count, p50, p99, p999 (nearest-rank on the stored samples: the smallest sample with at
+// least p % of the samples <= it) and mean: stored samples, 0 when count = 0. max: every recorded sample,
+// 0 when there was none.
+struct SampleSummary {
+  std::size_t count = 0;
+  double p50 = 0.0;
+  double p99 = 0.0;
+  double p999 = 0.0;
+  double max = 0.0;
+  double mean = 0.0;
+};
+
+struct LatencySummary {
+  SampleSummary haptic_us;
+  SampleSummary cut_us;
+  SampleSummary frame_us;
+  SampleSummary period_error_us;
+  SampleSummary pose_to_visible_frames;  // frames with a value >= 0 only
+  std::int64_t frames = 0;               // every record() call
+  std::int64_t frames_stored = 0;        // min(frames, capacity)
+  std::int64_t deadline_misses = 0;      // every recorded frame with deadline_missed
+};
+
+class LatencyStats {
+ public:
+  static constexpr std::size_t kDefaultCapacity = 120'000;  // two minutes at 1 kHz, ~5 MB
+
+  // Reserves room for `capacity_frames` samples (may throw std::bad_alloc; 0 is allowed: maxima and counts
+  // only).
+  explicit LatencyStats(std::size_t capacity_frames = kDefaultCapacity);
+
+  // Sim thread. O(1), never allocates; see the header comment for what happens once full.
+  void record(const FrameTiming& timing) noexcept;
+
+  // Forgets every frame; keeps the reserved capacity. No allocation.
+  void clear() noexcept;
+
+  // Percentiles of the stored samples, counters over all frames. Allocates; not for the sim thread.
+  LatencySummary summary() const;
+
+  std::size_t capacity() const noexcept { return capacity_; }
+  std::int64_t frames() const noexcept { return frames_; }
+  std::int64_t deadlineMisses() const noexcept { return deadline_misses_; }
+
+ private:
+  std::size_t capacity_;
+  std::vector<FrameTiming> samples_;  // reserved to capacity_, never grown past it
+  std::int64_t frames_ = 0;
+  std::int64_t deadline_misses_ = 0;
+  // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible.
+  std::array<double, 5> max_{};
+  std::array<std::int64_t, 5> max_count_{};
+};
+
+// {"frames", "frames_stored", "deadline_misses", then per quantity {"count", "p50", "p99", "p999", "max",
+// "mean"} under "haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames"}, keys in that
+// order, indented by `indent` spaces (-1: one line).
+std::string toJson(const LatencySummary& summary, int indent = 2);
+
+}  // namespace incise::sim

@@ -1,0 +1,69 @@
+// Scenarios: one JSON file describes a run — the tissue, the tool and tissue parameters, the incision's
+// lattice, the pose source, the rate and the budget — shared by the tests, the CLI and the benchmarks.
+// The format is documented in scenarios/README.md; every key is optional except tissue.mesh and
+// pose_source; relative paths are relative to the scenario file.
+//
+//   { "name": "bunny-straight",
+//     "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01, "subdivide": 2,
+//                 "stiffness_N_per_m": 400, "damping_N_s_per_m": 2, "cutting_resistance_N": 0.6 },
+//     "tool": { "blade_length_m": 0.03, "cut_button": 0, "max_force_N": 8 },
+//     "incision": { "depth_m": 0.004, "opening_m": 0.002, "alpha_m": 0.0015, "beta_m": 0.002,
+//                   "spacing_m": 0.0005, "order": 4, "retraction_time_s": 0.05, "wall_rows": 3 },
+//     "pose_source": { "kind": "trace", "path": "traces/bunny-straight.csv" },
+//     "rate_hz": 1000, "cut_budget_us": 300, "settle_s": 0.2 }
+//
+// A generated pose source ("kind": "strokes") lists strokes over the tissue — start_m [x, y, z] above the
+// surface, direction, length_m, bend_m, speed_m_per_s, pause_s before it — and is how the shipped traces
+// were made (`incise record`).
+//
+// Threads: any. Failure: loadScenario throws ScenarioError with "file:line:column: ..." for JSON syntax
+// errors and "file: key.path: ..." for a missing, mistyped or out-of-range value or a missing file.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "incise/cutting/surface_mesh.h"
+#include "incise/sim/world.h"
+
+namespace incise::sim {
+
+struct ScenarioError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct StrokeSpec {
+  Eigen::Vector3d start_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  double length_m = 0.05;
+  double bend_m = 0.0;
+  double speed_m_per_s = 0.05;
+  double pause_s = 0.1;  // tool idle above the surface before the stroke
+};
+
+struct Scenario {
+  std::string name;
+  std::filesystem::path file;
+  std::filesystem::path mesh;
+  double scale = 1.0;
+  int subdivide = 0;
+  WorldOptions world;
+  double rate_hz = 1000.0;
+  double settle_s = 0.2;  // simulated time after the last pose, for the wound to settle
+  enum class Source { Trace, Strokes } source = Source::Trace;
+  std::filesystem::path trace;
+  std::vector<StrokeSpec> strokes;
+
+  std::int64_t periodUs() const { return static_cast<std::int64_t>(std::llround(1e6 / rate_hz)); }
+};
+
+Scenario loadScenario(const std::filesystem::path& file);
+
+// The scenario's tissue mesh, loaded, scaled and subdivided (throws cutting::MeshError).
+cutting::SurfaceMesh loadTissue(const Scenario& scenario);
+
+}  // namespace incise::sim

@@ -1,0 +1,143 @@
+// The simulation thread's frame and the replay driver (ARCHITECTURE.md, "Data flow and threads"): poses
+// come in through a single-producer single-consumer queue, the world takes a step, the force goes to a
+// ForceSink, the results leave through a triple-buffered Snapshot that another thread takes without ever
+// blocking the loop, and every frame's timings go to LatencyStats.
+//
+// A frame, in order (Simulation::frame): 1. drain every queued pose (oldest first) into a fixed array;
+// 2. World::updateTool -> haptic force -> ForceSink (timed: haptic_us); 3. World::cut at the frame's time
+// (timed: cut_us); 4. publish the Snapshot (timed: publish_us); 5. record the frame in LatencyStats. Frame
+// k's time is t0 + k * period: simulated, never read from a clock, so the cut is the same whichever frame
+// saw which pose. Pose-to-visible latency: frames from the frame whose poses made new lattice columns
+// final to the frame whose snapshot shows them cut.
+//
+// Threads: pushPose from one producer thread (a device or the replay feeder); frame from the sim thread;
+// takeSnapshot from one reader thread. Allocation: none per frame (fixed arrays, reserved stats). Failure:
+// nothing here throws on the sim thread; a full queue drops the pose and counts it.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "incise/devices/pose_sample.h"
+#include "incise/sim/fixed_rate_loop.h"
+#include "incise/sim/latency_stats.h"
+#include "incise/sim/spsc_queue.h"
+#include "incise/sim/triple_buffer.h"
+#include "incise/sim/world.h"
+
+namespace incise::sim {
+
+namespace detail {
+// A pose as plain values: the queue's copies must not throw, and Eigen's assignments are not noexcept.
+struct QueuedPose {
+  double time_s = 0.0, tip[3] = {}, q[4] = {1.0, 0.0, 0.0, 0.0}, pressure = 0.0;
+  std::uint32_t buttons = 0;
+  bool has_pressure = false;
+};
+}  // namespace detail
+
+// Receives the haptic force every frame, on the sim thread: must not block (a device driver queues it).
+class ForceSink {
+ public:
+  virtual ~ForceSink() = default;
+  virtual void apply(const Eigen::Vector3d& force_N, double t_s) noexcept = 0;
+};
+
+struct StepProfile {
+  double haptic_us = 0.0, cut_us = 0.0, publish_us = 0.0, frame_us = 0.0;
+  int poses = 0;          // poses taken this frame
+  int queue_backlog = 0;  // poses still queued after draining (0 unless the queue filled during the frame)
+};
+
+// What a reader sees of a frame: small and fixed-size, copied whole into the triple buffer.
+struct Snapshot {
+  std::int64_t frame = -1;
+  double t_s = 0.0;
+  HapticState haptic;
+  int incisions = 0;
+  int columns_final = 0;  // lattice columns of the current incision that the stroke has fixed
+  int columns_done = 0;   // ... and that are cut: the cut is visible up to here
+  int edges_split = 0;    // totals over all incisions
+  int seam_vertices_opened = 0;
+  StepProfile profile;
+};
+
+class Simulation {
+ public:
+  static constexpr std::size_t kQueueCapacity = 4096;
+  static constexpr int kMaxPosesPerFrame = 256;
+
+  // `world` and `sink` (may be null) must outlive the simulation. `t0_s` is the time of frame 0. Frame
+  // statistics go to `stats` when given (to gather several runs), else to the simulation's own.
+  Simulation(World& world, ForceSink* sink, std::int64_t period_us, double t0_s, LatencyStats* stats = nullptr);
+
+  bool pushPose(const devices::PoseSample& pose) noexcept;  // producer thread; false: queue full, dropped
+  void frame(const FrameInfo& info) noexcept;               // sim thread
+  bool takeSnapshot(Snapshot& out) noexcept;                // reader thread: true when newer than the last
+  double frameTime(std::int64_t frame) const noexcept { return t0_s_ + static_cast<double>(frame) * dt_s_; }
+
+  const LatencyStats& stats() const noexcept { return *stats_; }
+  std::int64_t posesDropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }
+  std::int64_t posesTaken() const noexcept { return taken_.load(std::memory_order_relaxed); }
+  const World& world() const noexcept { return world_; }
+
+ private:
+  int poseToVisible(std::int64_t frame) noexcept;
+
+  World& world_;
+  ForceSink* sink_;
+  double dt_s_;
+  double period_us_;
+  double t0_s_;
+  using QueuedPose = detail::QueuedPose;
+  static QueuedPose toQueued(const devices::PoseSample& pose) noexcept;
+  static devices::PoseSample fromQueued(const QueuedPose& pose) noexcept;
+  SpscQueue<QueuedPose, kQueueCapacity> queue_;
+  std::array<devices::PoseSample, kMaxPosesPerFrame> frame_poses_{};
+  TripleBuffer<Snapshot> snapshots_;
+  LatencyStats own_stats_{1};
+  LatencyStats* stats_;
+  std::atomic<std::int64_t> dropped_{0}, taken_{0};
+  // Pose-to-visible bookkeeping: columns made final at which frame, in order (a small ring).
+  struct Pending {
+    int column;
+    std::int64_t frame;
+  };
+  std::array<Pending, 256> pending_{};
+  std::size_t pending_head_ = 0, pending_size_ = 0;
+  int last_final_ = 0, last_incisions_ = 0;
+};
+
+struct ReplayOptions {
+  bool realtime = false;          // true: a feeder thread releases poses at their times, FixedRateLoop paces
+  std::int64_t period_us = 1000;  // false: as fast as possible, same frames, same dt
+  double settle_s = 0.2;          // simulated time after the last pose before the replay ends
+  bool realtime_priority = false;
+  // Called on the replay's thread after each frame in fast mode, or from a reader thread about every 2 ms
+  // in real time, with the newest snapshot (e.g. a viewer or a recorder). May be empty.
+  std::function<void(const Snapshot&)> observer;
+  LatencyStats* stats = nullptr;  // gather the frames here too (e.g. several replays into one benchmark)
+};
+
+struct ReplayReport {
+  LatencySummary latency;
+  LoopCounters loop;
+  std::int64_t frames = 0;
+  std::int64_t poses = 0, poses_dropped = 0;
+  double simulated_s = 0.0, wall_s = 0.0;
+  int incisions = 0;
+  int snapshots_read = 0;  // by the reader thread (real time) or observer calls (fast)
+};
+
+// Replays a trace through `world` and returns the statistics; the world is left as the replay made it
+// (its tissue holds the cut). The trace must be in time order (as TraceReader guarantees). Throws
+// std::invalid_argument for an empty trace or bad options; otherwise never throws.
+ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, const ReplayOptions& options,
+                    ForceSink* sink = nullptr);
+
+}  // namespace incise::sim

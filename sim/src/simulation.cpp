@@ -1,0 +1,204 @@
+#include "incise/sim/simulation.h"
+
+#include <chrono>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+namespace incise::sim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double microseconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::micro>(b - a).count();
+}
+
+}  // namespace
+
+Simulation::Simulation(World& world, ForceSink* sink, std::int64_t period_us, double t0_s, LatencyStats* stats)
+    : world_(world), sink_(sink), dt_s_(static_cast<double>(period_us) * 1e-6),
+      period_us_(static_cast<double>(period_us)), t0_s_(t0_s),
+      own_stats_(stats ? 1 : LatencyStats::kDefaultCapacity), stats_(stats ? stats : &own_stats_) {
+  if (period_us <= 0) throw std::invalid_argument("Simulation: period_us must be > 0");
+}
+
+Simulation::QueuedPose Simulation::toQueued(const devices::PoseSample& pose) noexcept {
+  QueuedPose q;
+  q.time_s = pose.time_s;
+  for (int a = 0; a < 3; ++a) q.tip[a] = pose.tip_m[a];
+  q.q[0] = pose.orientation.w(), q.q[1] = pose.orientation.x(), q.q[2] = pose.orientation.y(), q.q[3] = pose.orientation.z();
+  q.buttons = pose.buttons;
+  q.has_pressure = pose.pressure.has_value();
+  q.pressure = pose.pressure.value_or(0.0);
+  return q;
+}
+
+devices::PoseSample Simulation::fromQueued(const QueuedPose& q) noexcept {
+  devices::PoseSample pose;
+  pose.time_s = q.time_s;
+  pose.tip_m = Eigen::Vector3d(q.tip[0], q.tip[1], q.tip[2]);
+  pose.orientation = Eigen::Quaterniond(q.q[0], q.q[1], q.q[2], q.q[3]);
+  pose.buttons = q.buttons;
+  if (q.has_pressure) pose.pressure = q.pressure;
+  return pose;
+}
+
+bool Simulation::pushPose(const devices::PoseSample& pose) noexcept {
+  if (queue_.tryPush(toQueued(pose))) return true;
+  dropped_.fetch_add(1, std::memory_order_relaxed);
+  return false;
+}
+
+int Simulation::poseToVisible(std::int64_t frame) noexcept {
+  const cutting::SurfaceCutter& cutter = world_.cutter();
+  if (world_.incisions() != last_incisions_) {  // a new lattice: its columns count from 0 again
+    last_incisions_ = world_.incisions();
+    last_final_ = 0;
+    pending_size_ = 0;
+  }
+  int latency = -1;
+  const int done = cutter.columnsDone();
+  while (pending_size_ > 0 && pending_[pending_head_].column <= done) {
+    latency = std::max(latency, static_cast<int>(frame - pending_[pending_head_].frame));
+    pending_head_ = (pending_head_ + 1) % pending_.size();
+    --pending_size_;
+  }
+  return latency;
+}
+
+void Simulation::frame(const FrameInfo& info) noexcept {
+  const auto start = Clock::now();
+  const double t_s = frameTime(info.frame);
+  int count = 0;
+  QueuedPose queued;
+  while (count < kMaxPosesPerFrame && queue_.tryPop(queued)) frame_poses_[static_cast<std::size_t>(count++)] = fromQueued(queued);
+  taken_.fetch_add(count, std::memory_order_relaxed);
+
+  const HapticState haptic = world_.updateTool(std::span(frame_poses_.data(), static_cast<std::size_t>(count)), info.dt_s);
+  if (sink_) sink_->apply(haptic.force_N, t_s);
+  const auto haptic_end = Clock::now();
+
+  // Columns this frame's poses made final: remember when, to measure when they are cut.
+  const cutting::SurfaceCutter& cutter = world_.cutter();
+  if (world_.incisions() != last_incisions_) poseToVisible(info.frame);  // reset on a new incision
+  if (cutter.columnsFinal() > last_final_ && pending_size_ < pending_.size()) {
+    last_final_ = cutter.columnsFinal();
+    pending_[(pending_head_ + pending_size_++) % pending_.size()] = {last_final_, info.frame};
+  }
+  const cutting::CutStep cut = world_.cut(t_s);
+  (void)cut;
+  const auto cut_end = Clock::now();
+  const int visible = poseToVisible(info.frame);
+
+  Snapshot& s = snapshots_.writeSlot();
+  s.frame = info.frame;
+  s.t_s = t_s;
+  s.haptic = haptic;
+  s.incisions = world_.incisions();
+  s.columns_final = cutter.columnsFinal();
+  s.columns_done = cutter.columnsDone();
+  s.edges_split = cutter.stats().edges_split;
+  s.seam_vertices_opened = cutter.stats().vertices_duplicated;
+  s.profile.haptic_us = microseconds(start, haptic_end);
+  s.profile.cut_us = microseconds(haptic_end, cut_end);
+  s.profile.poses = count;
+  s.profile.queue_backlog = static_cast<int>(queue_.sizeApprox());
+  const auto publish_start = Clock::now();
+  snapshots_.publish();
+  const auto end = Clock::now();
+
+  FrameTiming timing;
+  timing.haptic_us = s.profile.haptic_us;
+  timing.cut_us = s.profile.cut_us;
+  timing.frame_us = microseconds(start, end);
+  timing.period_error_us = info.period_error_us;
+  timing.pose_to_visible_frames = visible;
+  timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
+  (void)publish_start;
+  stats_->record(timing);
+}
+
+bool Simulation::takeSnapshot(Snapshot& out) noexcept {
+  if (!snapshots_.update()) return false;
+  out = snapshots_.read();
+  return true;
+}
+
+ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, const ReplayOptions& options,
+                    ForceSink* sink) {
+  if (trace.empty()) throw std::invalid_argument("replay: the trace is empty");
+  if (options.period_us <= 0 || !(options.settle_s >= 0.0)) throw std::invalid_argument("replay: bad period or settle time");
+  const double t0_s = trace.front().time_s;
+  const double end_s = trace.back().time_s + options.settle_s;
+  Simulation sim(world, sink, options.period_us, t0_s, options.stats);
+  FixedRateLoopOptions loop_options;
+  loop_options.period_us = options.period_us;
+  loop_options.realtime_priority = options.realtime_priority;
+  FixedRateLoop loop(loop_options);
+  ReplayReport report;
+
+  std::atomic<std::size_t> fed{0};
+  const auto finished = [&](const FrameInfo& info) {
+    return fed.load(std::memory_order_acquire) == trace.size() && sim.posesTaken() + sim.posesDropped() ==
+           static_cast<std::int64_t>(trace.size()) && !world.cutter().pending() && sim.frameTime(info.frame) >= end_s;
+  };
+  const auto wall_start = Clock::now();
+  if (!options.realtime) {
+    Snapshot snapshot;
+    loop.runFast(
+        [&](const FrameInfo& info) {
+          const double t_s = sim.frameTime(info.frame);
+          std::size_t i = fed.load(std::memory_order_relaxed);
+          while (i < trace.size() && trace[i].time_s <= t_s + 1e-12) sim.pushPose(trace[i++]);
+          fed.store(i, std::memory_order_release);
+          sim.frame(info);
+          if (options.observer && sim.takeSnapshot(snapshot)) options.observer(snapshot), ++report.snapshots_read;
+          if (finished(info)) loop.requestStop();
+        },
+        std::numeric_limits<std::int64_t>::max());
+  } else {
+    std::atomic<bool> done{false};
+    const auto start = Clock::now() + std::chrono::milliseconds(5);
+    std::thread feeder([&] {  // the "device": releases each pose at its time
+      for (std::size_t i = 0; i < trace.size(); ++i) {
+        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                   std::chrono::duration<double>(trace[i].time_s - t0_s)));
+        while (!sim.pushPose(trace[i]) && !done.load()) std::this_thread::yield();
+        fed.store(i + 1, std::memory_order_release);
+      }
+    });
+    std::thread reader([&] {  // a viewer: takes snapshots while the loop runs
+      Snapshot snapshot;
+      while (!done.load(std::memory_order_acquire)) {
+        if (sim.takeSnapshot(snapshot)) {
+          ++report.snapshots_read;
+          if (options.observer) options.observer(snapshot);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+    });
+    std::this_thread::sleep_until(start);
+    loop.start([&](const FrameInfo& info) {
+      sim.frame(info);
+      if (finished(info)) loop.requestStop();
+    });
+    while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    loop.stop();
+    done.store(true, std::memory_order_release);
+    feeder.join();
+    reader.join();
+  }
+  report.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  report.latency = sim.stats().summary();
+  report.loop = loop.counters();
+  report.frames = report.latency.frames;
+  report.poses = sim.posesTaken();
+  report.poses_dropped = sim.posesDropped();
+  report.simulated_s = static_cast<double>(report.frames) * static_cast<double>(options.period_us) * 1e-6;
+  report.incisions = world.incisions();
+  return report;
+}
+
+}  // namespace incise::sim

@@ -1,0 +1,89 @@
+#include "incise/sim/stroke_poses.h"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "incise/cutting/stroke_path.h"
+
+namespace incise::sim {
+
+namespace {
+
+constexpr double kHoverM = 0.005;
+constexpr double kDescentS = 0.03;
+
+// The blade along -normal, its cutting edge (local +x) along the direction of travel.
+Eigen::Quaterniond bladeOrientation(const Eigen::Vector3d& normal, const Eigen::Vector3d& direction) {
+  const Eigen::Vector3d z = normal.normalized();
+  Eigen::Vector3d x = direction - direction.dot(z) * z;
+  x = x.norm() > 1e-12 ? x.normalized() : z.unitOrthogonal();
+  Eigen::Matrix3d r;
+  r << x, z.cross(x), z;
+  return Eigen::Quaterniond(r).normalized();
+}
+
+class Timeline {
+ public:
+  explicit Timeline(double rate_hz) : dt_s_(1.0 / rate_hz) {}
+  void add(std::vector<devices::PoseSample>& poses, const Eigen::Vector3d& tip, const Eigen::Quaterniond& q, bool cut) {
+    devices::PoseSample p;
+    p.time_s = dt_s_ * static_cast<double>(count_++);
+    p.tip_m = tip;
+    p.orientation = q;
+    p.buttons = cut ? 1u : 0u;
+    poses.push_back(p);
+  }
+  // Poses from a to b over duration_s (both ends included once).
+  void move(std::vector<devices::PoseSample>& poses, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+            const Eigen::Quaterniond& q, double duration_s, bool cut) {
+    const int steps = std::max(1, static_cast<int>(std::lround(duration_s / dt_s_)));
+    for (int k = 0; k <= steps; ++k) add(poses, a + (b - a) * (double(k) / steps), q, cut);
+  }
+  double dt() const { return dt_s_; }
+  double now() const { return dt_s_ * static_cast<double>(count_); }
+
+ private:
+  double dt_s_;
+  std::int64_t count_ = 0;
+};
+
+}  // namespace
+
+std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tissue, const std::vector<StrokeSpec>& strokes,
+                                                 const WorldOptions& world, double rate_hz) {
+  std::vector<devices::PoseSample> poses;
+  Timeline timeline(rate_hz);
+  const double tip_depth_m = 0.9 * world.cutter.incision.depth_m;
+  for (const StrokeSpec& spec : strokes) {
+    cutting::StrokePathOptions path;
+    path.start_m = spec.start_m;
+    path.direction = spec.direction;
+    path.length_m = spec.length_m;
+    path.bend_m = spec.bend_m;
+    path.speed_m_per_s = spec.speed_m_per_s;
+    path.rate_hz = rate_hz;
+    const cutting::Stroke stroke = cutting::strokeAlongPath(tissue, path);
+    const Eigen::Vector3d n0 = stroke.first.normal;
+    const Eigen::Quaterniond q0 = bladeOrientation(n0, stroke.blade_direction);
+    const Eigen::Vector3d above = stroke.first.point_m + kHoverM * n0;
+    const Eigen::Vector3d in = stroke.first.point_m - tip_depth_m * n0;
+    timeline.move(poses, above, above, q0, spec.pause_s, false);
+    timeline.move(poses, above, in, q0, kDescentS, true);
+    Eigen::Vector3d tip = in;
+    Eigen::Quaterniond q = q0;
+    for (size_t k = 0; k < stroke.samples.size(); ++k) {
+      const cutting::StrokeSample& s = stroke.samples[k];
+      const Eigen::Vector3d travel = k + 1 < stroke.samples.size() ? Eigen::Vector3d(stroke.samples[k + 1].point_m - s.point_m)
+                                                                   : stroke.blade_direction;
+      q = bladeOrientation(s.normal, travel);
+      tip = s.point_m - tip_depth_m * s.normal;
+      timeline.add(poses, tip, q, true);
+    }
+    const Eigen::Vector3d out = tip + (tip_depth_m + kHoverM) * (q * Eigen::Vector3d::UnitZ());
+    timeline.move(poses, tip, out, q, kDescentS, false);
+  }
+  return poses;
+}
+
+}  // namespace incise::sim

@@ -1,0 +1,109 @@
+#include "incise/sim/world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace incise::sim {
+
+namespace {
+
+void requireNonNegative(double value, const char* name) {
+  if (!(std::isfinite(value) && value >= 0.0))
+    throw std::invalid_argument(std::string("World: ") + name + " = " + std::to_string(value) + " must be finite and >= 0");
+}
+
+cutting::CutterOptions withBudget(cutting::CutterOptions cutter, const WorldOptions& options) {
+  cutter.max_inversions_per_call = std::max(1, static_cast<int>(options.cut_budget_us / options.us_per_inversion));
+  return cutter;
+}
+
+}  // namespace
+
+World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options_(options) {
+  requireNonNegative(options.tissue.stiffness_N_per_m, "stiffness_N_per_m");
+  requireNonNegative(options.tissue.damping_N_s_per_m, "damping_N_s_per_m");
+  requireNonNegative(options.tissue.cutting_resistance_N, "cutting_resistance_N");
+  requireNonNegative(options.tissue.max_force_N, "max_force_N");
+  if (!(options.tool.blade_length_m > 0.0 && std::isfinite(options.tool.blade_length_m)))
+    throw std::invalid_argument("World: blade_length_m must be finite and > 0");
+  if (options.tool.cut_button < -1 || options.tool.cut_button > 31)
+    throw std::invalid_argument("World: cut_button = " + std::to_string(options.tool.cut_button) + " is outside [-1, 31]");
+  if (!(options.cut_budget_us > 0.0 && options.us_per_inversion > 0.0))
+    throw std::invalid_argument("World: cut_budget_us and us_per_inversion must be > 0");
+  tissue_ = std::make_unique<cutting::SurfaceMesh>(std::move(tissue));
+  cutter_ = std::make_unique<cutting::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
+}
+
+void World::contact(const devices::PoseSample& pose, HapticState& state) noexcept {
+  const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d(0.0, 0.0, -1.0);  // handle -> tip
+  // Only the blade's last part can meet the surface while it cuts (the tip is at most a little deeper
+  // than the cut): probing that part keeps the query local, and so the haptic step short.
+  const double probe_m = std::min(options_.tool.blade_length_m, options_.cutter.incision.depth_m + 0.003);
+  const Eigen::Vector3d handle = pose.tip_m - probe_m * axis;
+  state.tip_m = pose.tip_m;
+  state.contact = false;
+  state.cutting = false;
+  std::optional<cutting::SurfacePoint> hit;
+  try {
+    hit = cutter_->intersect(handle, pose.tip_m);
+  } catch (...) {  // allocation in the grid query: treat as no contact this pose
+    hit.reset();
+  }
+  if (!hit) return;
+  state.penetration_m = std::max(0.0, (hit->point_m - pose.tip_m).dot(hit->normal));
+  state.contact = state.penetration_m > 0.0;
+  state.contact_m = hit->point_m;
+  state.normal = hit->normal;
+  const bool button = options_.tool.cut_button < 0 || ((pose.buttons >> options_.tool.cut_button) & 1u) != 0;
+  state.cutting = state.contact && button;
+}
+
+Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& velocity) const noexcept {
+  if (!state.contact) return Eigen::Vector3d::Zero();
+  const TissueParams& t = options_.tissue;
+  const double normal_speed = velocity.dot(state.normal);
+  const double normal_N = std::max(0.0, t.stiffness_N_per_m * state.penetration_m - t.damping_N_s_per_m * normal_speed);
+  Eigen::Vector3d f = normal_N * state.normal;
+  const Eigen::Vector3d tangential = velocity - normal_speed * state.normal;
+  if (state.cutting && tangential.norm() > 1e-6) f -= t.cutting_resistance_N * tangential.normalized();
+  const double magnitude = f.norm();
+  return magnitude > t.max_force_N ? Eigen::Vector3d(f * (t.max_force_N / magnitude)) : f;
+}
+
+HapticState World::updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept {
+  HapticState state;
+  for (const devices::PoseSample& pose : poses) {
+    if (!pose.tip_m.allFinite() || !pose.orientation.coeffs().allFinite() || !std::isfinite(pose.time_s) ||
+        (has_pose_ && !(pose.time_s > last_pose_.time_s))) {
+      ++state.poses_rejected;
+      continue;
+    }
+    ++state.poses;
+    contact(pose, state);
+    const cutting::StrokeSample sample{state.contact_m, state.normal, pose.time_s};
+    if (state.cutting) {
+      if (!cutter_->active()) {
+        cutter_->begin(sample, pose.orientation * Eigen::Vector3d::UnitX());
+      } else {
+        cutter_->addSample(sample);  // the work is done in cut(), under the frame's budget
+      }
+    } else if (cutter_->active()) {
+      cutter_->finish(false);  // the blade left the tissue (or the button was released)
+    }
+    if (has_pose_) velocity_m_per_s_ = (pose.tip_m - last_pose_.tip_m) / (pose.time_s - last_pose_.time_s);
+    last_pose_ = pose;
+    has_pose_ = true;
+  }
+  if (state.poses == 0 && has_pose_) {  // no new pose: the tool stays where it was
+    contact(last_pose_, state);
+  }
+  state.force_N = force(state, velocity_m_per_s_);
+  (void)dt_s;
+  return state;
+}
+
+cutting::CutStep World::cut(double t_s) noexcept { return cutter_->advance(t_s); }
+
+}  // namespace incise::sim

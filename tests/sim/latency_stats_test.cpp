@@ -1,0 +1,132 @@
+#include <incise/sim/latency_stats.h>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+using incise::sim::FrameTiming;
+using incise::sim::LatencyStats;
+using incise::sim::LatencySummary;
+using incise::sim::SampleSummary;
+
+namespace {
+
+FrameTiming uniform(double value, bool missed = false) {
+  FrameTiming t;
+  t.haptic_us = value;
+  t.cut_us = value;
+  t.frame_us = value;
+  t.period_error_us = value;
+  t.pose_to_visible_frames = static_cast<int>(value);
+  t.deadline_missed = missed;
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("latency_stats: nearest-rank percentiles of 1..1000 are 500, 990, 999 and the max 1000", "[sim]") {
+  LatencyStats stats(1000);
+  for (int i = 1000; i >= 1; --i) stats.record(uniform(i));  // any order: the summary sorts
+  const LatencySummary s = stats.summary();
+  CHECK(s.frames == 1000);
+  CHECK(s.frames_stored == 1000);
+  CHECK(s.deadline_misses == 0);
+  for (const SampleSummary* q : {&s.haptic_us, &s.cut_us, &s.frame_us, &s.period_error_us, &s.pose_to_visible_frames}) {
+    CHECK(q->count == 1000);
+    CHECK(q->p50 == 500.0);
+    CHECK(q->p99 == 990.0);
+    CHECK(q->p999 == 999.0);
+    CHECK(q->max == 1000.0);
+    CHECK(q->mean == Approx(500.5));
+  }
+}
+
+TEST_CASE("latency_stats: percentiles of a few samples take the nearest rank, never interpolate", "[sim]") {
+  LatencyStats stats(16);
+  for (double v : {10.0, 20.0, 30.0}) stats.record(uniform(v));
+  const SampleSummary s = stats.summary().frame_us;
+  CHECK(s.p50 == 20.0);   // ceil(1.5) = 2nd
+  CHECK(s.p99 == 30.0);   // ceil(2.97) = 3rd
+  CHECK(s.p999 == 30.0);
+  CHECK(s.mean == Approx(20.0));
+}
+
+TEST_CASE("latency_stats: deadline misses are counted and frames without a new cut stay out of pose-to-visible",
+          "[sim]") {
+  LatencyStats stats(100);
+  for (int i = 0; i < 10; ++i) {
+    FrameTiming t = uniform(100.0, /*missed=*/i % 4 == 0);  // frames 0, 4, 8 miss
+    t.pose_to_visible_frames = (i < 3) ? i + 1 : -1;         // a new cut in frames 0..2 only
+    stats.record(t);
+  }
+  const LatencySummary s = stats.summary();
+  CHECK(s.frames == 10);
+  CHECK(s.deadline_misses == 3);
+  CHECK(stats.deadlineMisses() == 3);
+  CHECK(s.frame_us.count == 10);
+  CHECK(s.pose_to_visible_frames.count == 3);
+  CHECK(s.pose_to_visible_frames.max == 3.0);
+  CHECK(s.pose_to_visible_frames.p50 == 2.0);
+  CHECK(s.pose_to_visible_frames.mean == Approx(2.0));
+}
+
+TEST_CASE("latency_stats: once full it stops storing but keeps counting frames, misses and maxima", "[sim]") {
+  LatencyStats stats(10);
+  CHECK(stats.capacity() == 10);
+  for (int i = 1; i <= 20; ++i) stats.record(uniform(i, /*missed=*/i > 15));
+  const LatencySummary s = stats.summary();
+  CHECK(s.frames == 20);
+  CHECK(s.frames_stored == 10);
+  CHECK(s.deadline_misses == 5);  // all after the capacity was reached
+  CHECK(s.frame_us.count == 10);  // percentiles and mean: the first 10 frames
+  CHECK(s.frame_us.p50 == 5.0);
+  CHECK(s.frame_us.p99 == 10.0);
+  CHECK(s.frame_us.mean == Approx(5.5));
+  CHECK(s.frame_us.max == 20.0);  // max: every frame
+
+  SECTION("clear() starts over with the same capacity") {
+    stats.clear();
+    stats.record(uniform(3.0));
+    const LatencySummary t = stats.summary();
+    CHECK(t.frames == 1);
+    CHECK(t.frames_stored == 1);
+    CHECK(t.deadline_misses == 0);
+    CHECK(t.frame_us.max == 3.0);
+    CHECK(t.frame_us.p50 == 3.0);
+  }
+}
+
+TEST_CASE("latency_stats: the summary of no frames is all zeros", "[sim]") {
+  const LatencySummary s = LatencyStats(0).summary();
+  CHECK(s.frames == 0);
+  CHECK(s.deadline_misses == 0);
+  CHECK(s.frame_us.count == 0);
+  CHECK(s.frame_us.p99 == 0.0);
+  CHECK(s.frame_us.max == 0.0);
+}
+
+TEST_CASE("latency_stats: negative samples keep their own maximum", "[sim]") {
+  LatencyStats stats(4);
+  stats.record(uniform(-5.0));
+  stats.record(uniform(-2.0));
+  CHECK(stats.summary().period_error_us.max == -2.0);
+}
+
+TEST_CASE("latency_stats: toJson writes the counters and every quantity's statistics", "[sim]") {
+  LatencyStats stats(1000);
+  for (int i = 1; i <= 1000; ++i) stats.record(uniform(i, i == 1000));
+  const nlohmann::json j = nlohmann::json::parse(incise::sim::toJson(stats.summary()));
+  CHECK(j.at("frames") == 1000);
+  CHECK(j.at("frames_stored") == 1000);
+  CHECK(j.at("deadline_misses") == 1);
+  for (const char* name : {"haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames"}) {
+    INFO(name);
+    const nlohmann::json& q = j.at(name);
+    CHECK(q.at("count") == 1000);
+    CHECK(q.at("p50").get<double>() == 500.0);
+    CHECK(q.at("p99").get<double>() == 990.0);
+    CHECK(q.at("p999").get<double>() == 999.0);
+    CHECK(q.at("max").get<double>() == 1000.0);
+    CHECK(q.at("mean").get<double>() == Approx(500.5));
+  }
+  CHECK(incise::sim::toJson(stats.summary(), -1).find('\n') == std::string::npos);
+}

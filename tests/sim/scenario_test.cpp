@@ -1,0 +1,81 @@
+#include "incise/sim/scenario.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace incise;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// Writes `text` as a scenario next to the shipped ones' meshes (so "meshes/bunny.obj" resolves).
+std::filesystem::path scenarioFile(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "incise_scenario_test";
+  std::filesystem::create_directories(dir / "meshes");
+  const auto bunny = dir / "meshes" / "bunny.obj";
+  if (!std::filesystem::exists(bunny)) std::filesystem::copy_file(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", bunny);
+  const auto path = dir / (name + ".json");
+  std::ofstream(path) << text;
+  return path;
+}
+
+const char* kGood = R"({
+  "name": "t",
+  "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01 },
+  "pose_source": { "kind": "strokes", "strokes": [ { "start_m": [0, 0, 0.01], "length_m": 0.02 } ] }
+})";
+
+}  // namespace
+
+TEST_CASE("scenario: the shipped scenarios load", "[sim]") {
+  for (const char* name : {"bunny-straight", "bunny-curved", "bunny-crossing"}) {
+    INFO(name);
+    const sim::Scenario s = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
+    REQUIRE(s.name == name);
+    REQUIRE(s.source == sim::Scenario::Source::Trace);
+    REQUIRE(std::filesystem::exists(s.trace));
+    REQUIRE(s.periodUs() == 1000);
+    REQUIRE(s.world.cutter.incision.depth_m == 0.004);
+    REQUIRE(s.subdivide == 2);
+  }
+}
+
+TEST_CASE("scenario: defaults fill what a scenario leaves out", "[sim]") {
+  const sim::Scenario s = sim::loadScenario(scenarioFile("good", kGood));
+  REQUIRE(s.source == sim::Scenario::Source::Strokes);
+  REQUIRE(s.strokes.size() == 1);
+  REQUIRE(s.strokes[0].length_m == 0.02);
+  REQUIRE(s.rate_hz == 1000.0);
+  REQUIRE(s.world.cutter.incision.order == 4);
+}
+
+TEST_CASE("scenario: bad scenarios name the file and the key or line", "[sim]") {
+  REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile("syntax", "{\n  \"name\": \"x\",\n  \"tissue\": { ]\n}")),
+                      Contains("syntax.json:3:") && Contains("JSON syntax error"));
+  REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile("nomesh", R"({"tissue": {}, "pose_source": {"kind": "trace", "path": "x.csv"}})")),
+                      Contains("nomesh.json: tissue.mesh: is missing"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("missing", R"({"tissue": {"mesh": "meshes/nope.obj"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      Contains("tissue.mesh: file") && Contains("nope.obj does not exist"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("notrace", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "trace", "path": "traces/gone.csv"}})")),
+      Contains("pose_source.path: file") && Contains("gone.csv does not exist"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("range", R"({"tissue": {"mesh": "meshes/bunny.obj", "subdivide": 9}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      Contains("tissue.subdivide: 9 is outside [0, 5]"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("type", R"({"tissue": {"mesh": "meshes/bunny.obj", "scale": "big"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      Contains("tissue.scale: must be a number"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("fold", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "incision": {"opening_m": 0.02}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      Contains("incision: ") && Contains("Theorem 1"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("kind", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "hid"}})")),
+      Contains("pose_source.kind: must be \"trace\" or \"strokes\""));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("stroke", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "strokes", "strokes": [{"start_m": [0, 1]}]}})")),
+      Contains("pose_source.strokes[0].start_m: must be an array of 3 numbers"));
+  REQUIRE_THROWS_WITH(sim::loadScenario("/nonexistent/scenario.json"), Contains("scenario.json: cannot open"));
+}
