@@ -7,5 +7,8 @@
 namespace incise::apps {
 
 void addCutCommand(CLI::App& app);
+void addReplayCommand(CLI::App& app);
+void addRecordCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
 
 }  // namespace incise::apps

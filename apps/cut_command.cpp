@@ -11,6 +11,7 @@
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
 #include "json_output.h"
+#include "scenario_run.h"
 
 namespace incise::apps {
 
@@ -34,10 +35,7 @@ struct CutArgs {
 
 Eigen::Vector3d vec(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
-[[noreturn]] void failWith(const std::string& message) {
-  std::fprintf(stderr, "incise cut: %s\n", message.c_str());
-  std::exit(2);
-}
+[[noreturn]] void failWith(const std::string& message) { apps::failWith("cut", message); }
 
 nlohmann::json optionsJson(const CutArgs& a) {
   const IncisionOptions& i = a.cutter.incision;

@@ -10,6 +10,9 @@
 int main(int argc, char** argv) {
   CLI::App app{"incise: real-time surgical cutting by discontinuous free-form deformation (DFFD)"};
   app.require_subcommand(1);
+  incise::apps::addReplayCommand(app);
+  incise::apps::addRecordCommand(app);
+  incise::apps::addBenchCommand(app);
   incise::apps::addCutCommand(app);
   try {
     app.parse(argc, argv);

@@ -1,0 +1,32 @@
+// What replay, record and bench share: a scenario's tissue, world and poses, and the default scenario.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "incise/devices/pose_sample.h"
+#include "incise/sim/scenario.h"
+#include "incise/sim/world.h"
+
+namespace incise::apps {
+
+inline const char* kDefaultScenario = INCISE_SCENARIOS_DIR "/bunny-straight.json";
+
+struct LoadedScenario {
+  sim::Scenario scenario;
+  std::unique_ptr<sim::World> world;
+  std::vector<devices::PoseSample> poses;
+};
+
+// Loads everything a run needs; throws (ScenarioError, MeshError, TraceError, invalid_argument) with a
+// message that names the file (and line) at fault.
+LoadedScenario loadScenarioRun(const std::string& path);
+
+// The poses of a scenario's pose source (a recorded trace, or generated strokes over the tissue).
+std::vector<devices::PoseSample> scenarioPoses(const sim::Scenario& scenario, const cutting::SurfaceMesh& tissue);
+
+// Prints "incise <command>: <message>" to stderr and exits with code 2 (bad input or I/O).
+[[noreturn]] void failWith(const char* command, const std::string& message);
+
+}  // namespace incise::apps
