@@ -1,6 +1,15 @@
 # Compile options every incise target gets: warnings, optional sanitizers, optional -march=native.
 # Use: incise_target_options(<target>).
 
+option(INCISE_TSAN "Build with ThreadSanitizer (the threaded sim tests run under it)" OFF)
+if(INCISE_SANITIZE AND INCISE_TSAN)
+  message(FATAL_ERROR "INCISE_SANITIZE and INCISE_TSAN cannot be combined")
+endif()
+if(INCISE_TSAN)
+  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=thread)
+endif()
+
 if(INCISE_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
@@ -11,9 +20,34 @@ function(incise_target_options target)
   # No silent fusing of a*b+c: whether GCC fuses depends on the inlining context, which would make the
   # same point evaluate to different bits on different paths. Eigen's explicit FMA kernels still apply.
   target_compile_options(${target} PRIVATE -ffp-contract=off)
-  if(INCISE_NATIVE AND NOT INCISE_SANITIZE)
+  if(INCISE_NATIVE AND NOT INCISE_SANITIZE AND NOT INCISE_TSAN)
     # AVX-512 is left off: GCC 12 warns falsely inside Eigen's 512-bit kernels, and the 256-bit
     # kernels are as fast for 3-vectors.
     target_compile_options(${target} PRIVATE -march=native -mno-avx512f)
   endif()
+endfunction()
+
+# incise_add_module(<name> SOURCES <files...> [PUBLIC <deps...>] [PRIVATE <deps...>])
+# One folder = one library target `incise_<name>` = alias `incise::<name>`, public headers under
+# <folder>/include, installed and exported in the incise package. PRIVATE dependencies stay out of the
+# installed link interface (they are used in .cpp files only).
+function(incise_add_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  set(target incise_${name})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(incise::${name} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME ${target})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC})
+  foreach(dependency IN LISTS ARG_PRIVATE)
+    target_link_libraries(${target} PRIVATE $<BUILD_INTERFACE:${dependency}>)
+  endforeach()
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  incise_target_options(${target})
+  install(TARGETS ${target} EXPORT inciseTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endfunction()

@@ -1,5 +1,7 @@
 #include "incise/cutting/bspline_volume.h"
 
+#include "format.h"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -10,18 +12,13 @@
 
 namespace incise::cutting {
 
+using detail::str;
+
 namespace {
 
 constexpr const char* kAxisName[3] = {"u", "v", "w"};
 
-std::string str(double x) {
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
 
-std::string str(const Eigen::Vector3d& p) { return "(" + str(p[0]) + ", " + str(p[1]) + ", " + str(p[2]) + ")"; }
 
 void checkAxis(int axis, const char* who) {
   if (axis < 0 || axis > 2)

@@ -1,5 +1,7 @@
 #include "incise/cutting/incision.h"
 
+#include "format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -12,14 +14,10 @@
 
 namespace incise::cutting {
 
+using detail::str;
+
 namespace {
 
-std::string str(double x) {
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
 
 [[noreturn]] void refuse(const std::string& what) { throw std::invalid_argument("Incision: " + what); }
 

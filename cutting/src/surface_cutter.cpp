@@ -72,22 +72,23 @@ void SurfaceCutter::reserveHeadroom() {
 }
 
 bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
-  std::vector<int> near;
   const Eigen::Vector3d r = Eigen::Vector3d::Constant(contact_tolerance_m_);
-  grid_.query(Eigen::AlignedBox3d(p - r, p + r), near);
-  for (int id : near)
-    if ((toEigen(mesh_.mesh().point(VH(id))) - p).norm() <= contact_tolerance_m_) return true;
+  query_.clear();
+  grid_.query(Eigen::AlignedBox3d(p - r, p + r), query_);
+  for (int id : query_)  // rest positions, as intersect(): independent of the cut's progress
+    if ((restPosition(VH(id)) - p).norm() <= contact_tolerance_m_) return true;
   return false;
 }
 
 CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept {
   if (active()) finish(false);
-  // The previous incision's carried work is done now, whatever the budget: a new lattice replaces it.
-  while (pending()) {
-    unlimited_ = true;
-    process(CutStep{});
-    unlimited_ = false;
-  }
+  // The previous incision's carried work is done now, whatever the budget, and its wound opened to the
+  // new stroke's first time (not to whenever a frame last advanced it): a new lattice replaces it.
+  if (incision_ && std::isfinite(first.time_s)) time_s_ = std::max(time_s_, first.time_s);
+  unlimited_ = true;
+  if (incision_) process(CutStep{});
+  while (pending()) process(CutStep{});
+  unlimited_ = false;
   CutStep refused;
   if (!first.point_m.allFinite() || !first.normal.allFinite() || !std::isfinite(first.time_s) ||
       !blade_direction.allFinite()) {
@@ -533,10 +534,46 @@ void SurfaceCutter::redeform(CutStep& step) {
   dirty_.clear();
 }
 
+Eigen::Vector3d SurfaceCutter::restPosition(VH v) const {
+  return bound(v) ? data(v).rest_m : toEigen(mesh_.mesh().point(v));
+}
+
+bool SurfaceCutter::currentWall(FH f) const {
+  if (mesh_.kind(f) != FaceKind::Wall) return false;
+  for (auto v = mesh_.mesh().cfv_iter(f); v.is_valid(); ++v)
+    if (bound(*v) && mesh_.kind(*v) == VertexKind::Wall) return true;
+  return false;
+}
+
 std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
-  // New vertices sit inside old faces and walls are narrower than the lattice: the longest original edge
-  // plus the widest opening covers every face the segment can meet.
-  return intersectSegment(mesh_.mesh(), grid_, a, b, longest_edge_m_ + options_.incision.opening_m);
+  // Against the surface at rest for the current incision: its own walls left out, every other vertex
+  // where it was when the incision began. That surface does not depend on how far the current cut's
+  // work has got, so contact (and so the cut) is the same whichever frame handles a pose.
+  if (!a.allFinite() || !b.allFinite()) return std::nullopt;
+  Eigen::AlignedBox3d box(a.cwiseMin(b), a.cwiseMax(b));
+  box.min().array() -= longest_edge_m_;
+  box.max().array() += longest_edge_m_;
+  query_.clear();
+  grid_.query(box, query_);
+  std::optional<SurfacePoint> best;
+  double best_t = 1.0;
+  const TriMesh& m = mesh_.mesh();
+  for (const int id : query_) {
+    const VH v(id);
+    if (m.status(v).deleted()) continue;
+    for (auto f = m.cvf_iter(v); f.is_valid(); ++f) {
+      if (currentWall(*f)) continue;
+      auto corner = m.cfv_iter(*f);
+      const Eigen::Vector3d p0 = restPosition(*corner++);
+      const Eigen::Vector3d p1 = restPosition(*corner++);
+      const Eigen::Vector3d p2 = restPosition(*corner);
+      const auto t = segmentTriangle(a, b, p0, p1, p2);
+      if (!t || *t > best_t) continue;
+      best_t = *t;
+      best = SurfacePoint{a + *t * (b - a), (p1 - p0).cross(p2 - p0).normalized(), *f, *t * (b - a).norm()};
+    }
+  }
+  return best;
 }
 
 std::vector<TriMesh::VertexHandle> SurfaceCutter::seam() const { return {chain_.begin(), chain_.end()}; }

@@ -1,5 +1,7 @@
 #include "incise/cutting/surface_mesh.h"
 
+#include "format.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -26,6 +28,8 @@
 
 namespace incise::cutting {
 
+using detail::str;
+
 namespace {
 
 constexpr const char* kVertexKindProperty = "incise:vertex_kind";
@@ -36,12 +40,6 @@ using VertexHandle = TriMesh::VertexHandle;
 using FaceHandle = TriMesh::FaceHandle;
 using Triangle = std::array<int, 3>;
 
-std::string str(double x) {
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
 
 // A triangle list as read from a file, before any OpenMesh mesh exists. Indices 0-based.
 struct RawMesh {

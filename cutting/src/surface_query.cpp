@@ -52,6 +52,21 @@ std::optional<SurfacePoint> closestSurfacePoint(const TriMesh& mesh, const Verte
   return best;
 }
 
+std::optional<double> segmentTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& p0,
+                                      const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) noexcept {
+  const Eigen::Vector3d d = b - a, e1 = p1 - p0, e2 = p2 - p0;
+  const Eigen::Vector3d q = d.cross(e2);
+  const double det = e1.dot(q);
+  if (std::abs(det) < 1e-300) return std::nullopt;
+  const Eigen::Vector3d s = a - p0;
+  const double u = s.dot(q) / det;
+  const Eigen::Vector3d r = s.cross(e1);
+  const double w = d.dot(r) / det;
+  const double t = e2.dot(r) / det;
+  if (u < 0.0 || w < 0.0 || u + w > 1.0 || t < 0.0 || t > 1.0) return std::nullopt;
+  return t;
+}
+
 std::optional<SurfacePoint> intersectSegment(const TriMesh& mesh, const VertexGrid& grid, const Eigen::Vector3d& a,
                                              const Eigen::Vector3d& b, double radius_m) {
   if (!a.allFinite() || !b.allFinite() || !(radius_m >= 0.0)) return std::nullopt;
@@ -60,7 +75,6 @@ std::optional<SurfacePoint> intersectSegment(const TriMesh& mesh, const VertexGr
   box.max().array() += radius_m;
   std::vector<int> near;
   grid.query(box, near);
-  const Eigen::Vector3d d = b - a;
   std::optional<SurfacePoint> best;
   double best_t = 1.0;
   for (const int id : near) {
@@ -71,18 +85,10 @@ std::optional<SurfacePoint> intersectSegment(const TriMesh& mesh, const VertexGr
       const Eigen::Vector3d p0 = toEigen(mesh.point(*corner++));
       const Eigen::Vector3d p1 = toEigen(mesh.point(*corner++));
       const Eigen::Vector3d p2 = toEigen(mesh.point(*corner));
-      const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
-      const Eigen::Vector3d q = d.cross(e2);
-      const double det = e1.dot(q);
-      if (std::abs(det) < 1e-300) continue;
-      const Eigen::Vector3d s = a - p0;
-      const double u = s.dot(q) / det;
-      const Eigen::Vector3d r = s.cross(e1);
-      const double w = d.dot(r) / det;
-      const double t = e2.dot(r) / det;
-      if (u < 0.0 || w < 0.0 || u + w > 1.0 || t < 0.0 || t > best_t) continue;
-      best_t = t;
-      best = SurfacePoint{a + t * d, e1.cross(e2).normalized(), *f, t * d.norm()};
+      const auto t = segmentTriangle(a, b, p0, p1, p2);
+      if (!t || *t > best_t) continue;
+      best_t = *t;
+      best = SurfacePoint{a + *t * (b - a), (p1 - p0).cross(p2 - p0).normalized(), *f, *t * (b - a).norm()};
     }
   }
   return best;

@@ -1,5 +1,7 @@
 #include "incise/cutting/vertex_grid.h"
 
+#include "format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -8,17 +10,13 @@
 
 namespace incise::cutting {
 
+using detail::str;
+
 namespace {
 
 constexpr std::int64_t kMaxCell = (std::int64_t{1} << 20) - 1;  // 21 bits per axis, signed
 constexpr std::int64_t kMinCell = -(std::int64_t{1} << 20);
 
-std::string str(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
 
 }  // namespace
 

@@ -1,5 +1,7 @@
 #include "incise/cutting/volume_binding.h"
 
+#include "format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,14 +14,10 @@
 
 namespace incise::cutting {
 
+using detail::str;
+
 namespace {
 
-std::string str(double x) {
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
 
 // Deforms the points in slots [begin, end). Slots hold the points sorted by support cell, so consecutive
 // slots read the same control points; the kernel choice is hoisted out of the loop.

@@ -1,5 +1,7 @@
 #include "incise/cutting/volume_inversion.h"
 
+#include "format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,16 +15,12 @@
 
 namespace incise::cutting {
 
+using detail::str;
+
 namespace {
 
 constexpr int kMaxHalvings = 30;
 
-std::string str(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
-  return s.str();
-}
 
 void checkFinite(const Eigen::Vector3d& x, const char* who, const char* what) {
   if (!x.allFinite())

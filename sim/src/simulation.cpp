@@ -171,11 +171,13 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
     });
     std::thread reader([&] {  // a viewer: takes snapshots while the loop runs
       Snapshot snapshot;
-      while (!done.load(std::memory_order_acquire)) {
+      while (true) {
+        const bool last = done.load(std::memory_order_acquire);  // after the loop stopped: one final take
         if (sim.takeSnapshot(snapshot)) {
           ++report.snapshots_read;
           if (options.observer) options.observer(snapshot);
         }
+        if (last) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
       }
     });

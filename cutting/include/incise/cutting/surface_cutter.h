@@ -110,8 +110,10 @@ class SurfaceCutter {
   int columnsFinal() const noexcept { return incision_ ? incision_->finalColumns() : 0; }
   int columnsDone() const noexcept { return incision_ ? next_column_ : 0; }
   // The first crossing of the segment a -> b with the tissue surface (contact with the tool), through the
-  // cutter's vertex grid. Positions are those of the vertices when the current incision started (a cut
-  // moves vertices by about its opening). Cost O(vertices near the segment).
+  // cutter's vertex grid, against the surface at rest for the current incision: vertices where they were
+  // when it began, its own walls left out. That surface does not depend on how far the cut's work has got,
+  // so contact is the same whichever frame handles a pose (the previous incisions' cuts are part of it).
+  // Cost O(vertices within one edge of the segment). No allocation once warmed up.
   std::optional<SurfacePoint> intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
   bool pending() const noexcept { return incision_ && !failed_ && next_column_ < incision_->finalColumns(); }
@@ -146,7 +148,7 @@ class SurfaceCutter {
 
   VertexData& data(TriMesh::VertexHandle v) { return mesh_.mesh().property(vertex_data_, v); }
   const VertexData& data(TriMesh::VertexHandle v) const { return mesh_.mesh().property(vertex_data_, v); }
-  bool bound(TriMesh::VertexHandle v) const { return data(v).incision == incision_index_; }
+  bool bound(TriMesh::VertexHandle v) const { return incision_index_ >= 0 && data(v).incision == incision_index_; }
 
   CutStep process(CutStep step) noexcept;
   CutStep add(std::span<const StrokeSample> samples) noexcept;
@@ -167,6 +169,8 @@ class SurfaceCutter {
   void setStencil(TriMesh::VertexHandle v);
   void fail(const std::string& message);
   void reserveHeadroom();
+  Eigen::Vector3d restPosition(TriMesh::VertexHandle v) const;
+  bool currentWall(TriMesh::FaceHandle f) const;
   static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
   bool onSurface(const Eigen::Vector3d& p) const;
 
@@ -197,6 +201,7 @@ class SurfaceCutter {
   std::vector<int> stencil_first_;
   std::vector<double> stencil_basis_;
   std::vector<int> changed_columns_, candidates_;
+  mutable std::vector<int> query_;  // scratch for intersect() and onSurface()
   CutStats stats_;
   bool failed_ = false;
   bool unlimited_ = false;  // process() ignores the budget (finishing a previous incision's work)

@@ -27,6 +27,10 @@ struct SurfacePoint {
 Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                        const Eigen::Vector3d& c) noexcept;
 
+// Where the segment a + t (b - a), t in [0, 1], crosses triangle (p0, p1, p2): t, or nullopt (Moller-Trumbore).
+std::optional<double> segmentTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& p0,
+                                      const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) noexcept;
+
 // The closest point to p among the faces around the grid's vertices within radius_m of p. The grid must
 // index the mesh's vertex handles by idx() at their current positions.
 std::optional<SurfacePoint> closestSurfacePoint(const TriMesh& mesh, const VertexGrid& grid, const Eigen::Vector3d& p,

@@ -11,8 +11,9 @@
 // time is not made up beyond a limit: the loop never stays more than max_catch_up_frames deadlines behind.
 // With the default 0 the deadlines that passed during the frame are skipped (counted in skipped_deadlines)
 // and the loop realigns to the next future deadline; with c > 0 up to c frames run back to back to catch up
-// (each starts late; it is an overrun too when it still ends after its next deadline). Skipped deadlines run no frame: FrameInfo::frame and t_s count
-// frames actually run, so simulated time falls behind wall time by the skipped periods.
+// (each starts late; it is an overrun too when it still ends after its next deadline). Skipped deadlines
+// run no frame: FrameInfo::frame and t_s count frames actually run, so simulated time falls behind wall
+// time by the skipped periods (inputs stamped with wall time then land in later frames than in runFast).
 // Units: period_us and spin_us in microseconds, dt_s and t_s in seconds, period errors in microseconds.
 // Threads: start(), stop(), runFast() from one controlling thread; requestStop(), running(), counters() and
 // the realtime status from any thread, the step included. The step runs on the loop's own thread (start) or
@@ -55,7 +56,7 @@ struct LoopCounters {
   std::int64_t frames = 0;             // step calls since start() (or during runFast)
   std::int64_t overruns = 0;           // frames that ended after the next deadline
   std::int64_t skipped_deadlines = 0;  // deadlines that ran no frame
-  double max_period_error_us = 0.0;    // the latest frame start vs its deadline
+  double max_period_error_us = 0.0;    // the largest period_error_us so far
 };
 
 class FixedRateLoop {

@@ -49,7 +49,7 @@ class SpscQueue {
     return true;
   }
 
-  // Consumer thread only. Moves the oldest element into `out`; false (out untouched) when empty.
+  // Consumer thread only. Copies the oldest element into `out` and removes it; false (out untouched) when empty.
   bool tryPop(T& out) noexcept {
     const std::size_t head = head_.load(std::memory_order_relaxed);
     if (head == tail_cache_) {

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# The incise CLI end to end: the main job works and writes its outputs; bad input gives a clear message,
+# exit code 2 and no output at all (nothing half-written).
+#   cli_test.sh INCISE_BINARY SCENARIOS_DIR
+set -u
+incise=$1
+scenarios=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+check() {  # check NAME CONDITION...
+  local name=$1; shift
+  if "$@"; then echo "ok   $name"; else echo "FAIL $name"; failures=$((failures + 1)); fi
+}
+expect_exit() {  # expect_exit CODE PATTERN -- COMMAND...: exit code and a message on stderr matching PATTERN
+  local code=$1 pattern=$2; shift 3
+  "$@" > "$work/stdout" 2> "$work/stderr"
+  local got=$?
+  [ "$got" -eq "$code" ] && grep -q -- "$pattern" "$work/stderr" || { echo "  exit $got, stderr: $(cat "$work/stderr")"; return 1; }
+}
+
+# The main job on the default scenario.
+check "replay runs the default scenario" "$incise" replay --out "$work/ok"
+check "replay writes the cut mesh" test -s "$work/ok/cut.obj"
+check "replay writes the report" grep -q '"geometry_hash"' "$work/ok/report.json"
+check "no temporary file is left" bash -c "! ls '$work/ok' | grep -q tmp"
+
+# Bad scenarios: exit 2, a message naming the file, nothing in the output directory.
+printf '{\n  "tissue": { "mesh": "meshes/bunny.obj" },\n  "pose_source": { "kind": "trace", "path": "traces/missing.csv" }\n}\n' > "$work/missing-trace.json"
+mkdir -p "$work/meshes" && cp "$scenarios/meshes/bunny.obj" "$work/meshes/"
+check "a scenario naming a missing file is refused" expect_exit 2 "missing.csv does not exist" -- "$incise" replay "$work/missing-trace.json" --out "$work/out1"
+check "... and writes nothing" test ! -e "$work/out1"
+
+printf '{ "tissue": { "mesh": "meshes/bunny.obj" ,, }' > "$work/syntax.json"
+check "a JSON syntax error names file:line:column" expect_exit 2 "syntax.json:1:" -- "$incise" replay "$work/syntax.json" --out "$work/out2"
+
+# A trace with NaN, a missing column, time going back: file:line and column.
+mkdir -p "$work/traces"
+header="time_s,tip_x_m,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure"
+printf '%s\n0,0,0.1,0,1,0,0,0,0,\n0.001,0,nan,0,1,0,0,0,0,\n' "$header" > "$work/traces/nan.csv"
+printf 'time_s,tip_x_m,tip_y_m,q_w,q_x,q_y,q_z,buttons,pressure\n' > "$work/traces/columns.csv"
+printf '%s\n0.002,0,0.1,0,1,0,0,0,0,\n0.001,0,0.1,0,1,0,0,0,0,\n' "$header" > "$work/traces/back.csv"
+for case in nan:"nan.csv:3: column 3 (tip_y_m)" columns:"tip_z_m" back:"back.csv:3"; do
+  name=${case%%:*}; pattern=${case#*:}
+  printf '{ "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01 }, "pose_source": { "kind": "trace", "path": "traces/%s.csv" } }' "$name" > "$work/$name.json"
+  check "a trace with $name is refused with its place" expect_exit 2 "$pattern" -- "$incise" replay "$work/$name.json" --out "$work/out-$name"
+  check "... and writes nothing ($name)" test ! -e "$work/out-$name"
+done
+# A truncated last line is what a killed recorder leaves: the trace before it replays.
+printf '%s\n0,0,0.2,0,1,0,0,0,0,\n0.001,0,0.2,0,1,0,0,0,0,\n0.002,0,0.2' "$header" > "$work/traces/cut.csv"
+printf '{ "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01 }, "pose_source": { "kind": "trace", "path": "traces/cut.csv" } }' > "$work/cut.json"
+check "a trace with a truncated last line replays" "$incise" replay "$work/cut.json" --out "$work/out-cut"
+
+# A tissue that is not a closed two-manifold.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$work/meshes/open.obj"
+printf '{ "tissue": { "mesh": "meshes/open.obj" }, "pose_source": { "kind": "trace", "path": "traces/nan.csv" } }' > "$work/open.json"
+check "an open tissue is refused with the edge at fault" expect_exit 2 "open surface: edge" -- "$incise" replay "$work/open.json" --out "$work/out3"
+check "... and writes nothing (open)" test ! -e "$work/out3"
+
+# record then replay: the generator round trip.
+check "record writes a trace from generated strokes" "$incise" record "$scenarios/generate/bunny-straight.json" --out "$work/rec.csv"
+check "the recorded trace has the documented header" bash -c "head -1 '$work/rec.csv' | grep -qx '$header'"
+check "the shipped trace is what the generator makes" cmp -s "$work/rec.csv" "$scenarios/traces/bunny-straight.csv"
+
+check "an unknown option is refused" expect_exit 2 "not expected" -- "$incise" replay --bogus
+echo "cli: $failures check(s) failed"
+[ "$failures" -eq 0 ]
