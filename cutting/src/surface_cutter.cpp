@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <climits>
+#include <limits>
 #include <cmath>
 #include <stdexcept>
 
@@ -82,9 +83,10 @@ bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
 
 CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept {
   if (active()) finish(false);
-  // The previous incision's carried work is done now, whatever the budget, and its wound opened to the
-  // new stroke's first time (not to whenever a frame last advanced it): a new lattice replaces it.
-  if (incision_ && std::isfinite(first.time_s)) time_s_ = std::max(time_s_, first.time_s);
+  // The previous incision's carried work is done now, whatever the budget, and its wound set to its
+  // final, settled opening: a state that depends on the samples alone, not on how far frames had advanced
+  // its time response when this stroke began. A new lattice replaces it.
+  if (incision_) time_s_ = std::numeric_limits<double>::max();
   unlimited_ = true;
   if (incision_) process(CutStep{});
   while (pending()) process(CutStep{});

@@ -152,7 +152,8 @@ void FixedRateLoop::stop() {
 
 std::int64_t FixedRateLoop::runFast(const StepFunction& step, std::int64_t frames) {
   if (!step) throw std::invalid_argument("FixedRateLoop::runFast: empty step function");
-  if (frames < 0) throw std::invalid_argument("FixedRateLoop::runFast: frames must be >= 0, got " + std::to_string(frames));
+  if (frames < 0)
+    throw std::invalid_argument("FixedRateLoop::runFast: frames must be >= 0, got " + std::to_string(frames));
   if (running()) throw std::logic_error("FixedRateLoop::runFast: the loop thread is running");
   resetCounters();
   stop_requested_.store(false, std::memory_order_relaxed);

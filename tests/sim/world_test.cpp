@@ -104,8 +104,7 @@ TEST_CASE("world: a stroke of poses cuts the tissue, bad poses are skipped", "[s
   sim::World world(tissue, options);
   int rejected = 0;
   for (size_t k = 0; k < poses.size(); ++k) {
-    sim::HapticState h = world.updateTool(std::span(&poses[k], 1), 0.001);
-    world.cut(poses[k].time_s);
+    sim::HapticState h = world.step(std::span(&poses[k], 1), 0.001, poses[k].time_s).haptic;
     if (k == poses.size() / 2) {  // a NaN pose and one from the past, in the middle of the cut
       devices::PoseSample bad[2] = {poses[k], poses[k - 10]};
       bad[0].tip_m.x() = NAN;

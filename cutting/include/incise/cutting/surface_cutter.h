@@ -88,8 +88,9 @@ class SurfaceCutter {
   SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options);
 
   // Starts a new incision at `first` (a point on the surface with its outward normal) with the blade moving
-  // along `blade_direction`; the previous incision, if any, is finished first and its carried work done
-  // (whatever the budget: this call may take as long as that work). A non-finite sample or a
+  // along `blade_direction`; the previous incision, if any, is finished first, its carried work done
+  // (whatever the budget: this call may take as long as that work) and its wound settled at its final
+  // opening (a cut begun within retraction_time_s of the last one makes that one snap open). A non-finite sample or a
   // zero normal is refused with a status (no incision starts). Never throws.
   CutStep begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept;
   // Adds stroke samples to the current incision and processes every column they make final (within the

@@ -66,9 +66,23 @@ struct HapticState {
   int poses_rejected = 0;  // non-finite or not after the previous one in time
 };
 
+struct StepResult {
+  HapticState haptic;
+  cutting::CutStep cut;
+};
+
 class World {
  public:
   World(cutting::SurfaceMesh tissue, const WorldOptions& options);
+
+  // One whole frame at time t_s: updateTool(poses, dt_s) then cut(t_s). Callers that time the two
+  // parts (Simulation) call them separately.
+  StepResult step(std::span<const devices::PoseSample> poses, double dt_s, double t_s) noexcept {
+    StepResult result;
+    result.haptic = updateTool(poses, dt_s);
+    result.cut = cut(t_s);
+    return result;
+  }
 
   HapticState updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept;
   cutting::CutStep cut(double t_s) noexcept;
