@@ -218,12 +218,13 @@ bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
   const Eigen::Vector3d guess = incision_->inversionGuess(x, column);
   // Eq. (2) read backwards is close to F0's inverse: points clearly across or beyond the lattice, or in
   // a later slab, are not worth a Newton solve now.
-  if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0 || guess[1] >= column + 2.0) return false;
+  if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0 || guess[1] >= column + 1.5) return false;
   --budget;
   // Search only where F0 is final (v < column + 1), so the result cannot depend on columns that are still
   // extrapolated, i.e. on when this step runs.
   const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, column + 1.0, 1.0));
-  const InversionResult r = invertPoint(incision_->rest(), x, guess, final_part, InversionOptions{12, 1e-10});
+  // A point beyond the final part cannot converge: few halvings end that search early.
+  const InversionResult r = invertPoint(incision_->rest(), x, guess, final_part, InversionOptions{12, 1e-10, 6});
   // Only the slab whose lattice is final is bound here; a vertex further on waits for its own column.
   if (!r.converged || r.uvw[1] >= column + 1.0) return false;
   VertexData& d = data(v);

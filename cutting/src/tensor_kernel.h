@@ -7,8 +7,14 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 #include <Eigen/Core>
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define INCISE_TENSOR_AVX2 1
+#endif
 
 #include "incise/cutting/knot_vector.h"
 
@@ -24,28 +30,71 @@ template <int Ou, int Ov = 0, int Ow = 0>
   const int o_v = Ov > 0 ? Ov : o_v_runtime;
   const int o_w = Ow > 0 ? Ow : o_w_runtime;
   // Weighted sum of whole rows first (3 * Ou lanes), then one reduction by Nu.
-  using Rows = Eigen::Matrix<double, 3, Ou>;  // a row of Ou control points, column per point
-  Rows acc = Rows::Zero();
+  // Rows of Ou control points are 3 * Ou contiguous doubles. Explicit fused multiply-adds: the build
+  // forbids the compiler from fusing on its own (-ffp-contract=off, so that every path gives the same
+  // bits), and std::fma vectorises to the same vfmadd instructions it would have chosen.
+  constexpr int kLanes = 3 * Ou;
+  double acc[kLanes] = {};
   if constexpr (Ow > 0) {
-    // One accumulator per w-plane: Ow independent multiply-add chains instead of one long one, so the
-    // FMA latency overlaps (this is what takes the bound path past 5e7 points/s).
-    Rows plane_acc[Ow];
+    // One accumulator per w-plane: Ow independent chains of multiply-adds, so their latency overlaps.
+    double plane_acc[Ow][kLanes] = {};
     for (int k = 0; k < Ow; ++k) {
-      plane_acc[k].setZero();
       const double* plane = xyz + 3 * (first + n_u * n_v * k);
-      for (int j = 0; j < o_v; ++j)
-        plane_acc[k].noalias() += (Nw[k] * Nv[j]) * Eigen::Map<const Rows>(plane + 3 * n_u * j);
+      for (int j = 0; j < o_v; ++j) {
+        const double weight = Nw[k] * Nv[j];
+        const double* row = plane + 3 * n_u * j;
+        for (int m = 0; m < kLanes; ++m) plane_acc[k][m] = std::fma(weight, row[m], plane_acc[k][m]);
+      }
     }
-    for (int k = 0; k < Ow; ++k) acc += plane_acc[k];
+    for (int k = 0; k < Ow; ++k)
+      for (int m = 0; m < kLanes; ++m) acc[m] += plane_acc[k][m];
   } else {
     for (int k = 0; k < o_w; ++k) {
       const double* plane = xyz + 3 * (first + n_u * n_v * k);
-      for (int j = 0; j < o_v; ++j)
-        acc.noalias() += (Nw[k] * Nv[j]) * Eigen::Map<const Rows>(plane + 3 * n_u * j);
+      for (int j = 0; j < o_v; ++j) {
+        const double weight = Nw[k] * Nv[j];
+        const double* row = plane + 3 * n_u * j;
+        for (int m = 0; m < kLanes; ++m) acc[m] = std::fma(weight, row[m], acc[m]);
+      }
     }
   }
-  return acc * Eigen::Map<const Eigen::Matrix<double, Ou, 1>>(Nu);
+  Eigen::Vector3d out(0.0, 0.0, 0.0);
+  for (int i = 0; i < Ou; ++i)
+    for (int c = 0; c < 3; ++c) out[c] = std::fma(Nu[i], acc[3 * i + c], out[c]);
+  return out;
 }
+
+#if INCISE_TENSOR_AVX2
+// Order 4 on every axis with AVX2: a row of 4 control points is 12 doubles, three 256-bit lanes; one set
+// of lanes per w-plane keeps 4 independent multiply-add chains. Explicit FMAs (the build forbids the
+// compiler from fusing on its own), so the result is the same bits wherever this is inlined.
+template <>
+[[gnu::always_inline]] inline Eigen::Vector3d tensorSumFixed<4, 4, 4>(const double* xyz, int n_u, int n_v, int first,
+                                                                       int, int, const double* Nu, const double* Nv,
+                                                                       const double* Nw) noexcept {
+  __m256d lanes[4][3];
+  for (int k = 0; k < 4; ++k) {
+    const double* plane = xyz + 3 * (first + n_u * n_v * k);
+    lanes[k][0] = lanes[k][1] = lanes[k][2] = _mm256_setzero_pd();
+    for (int j = 0; j < 4; ++j) {
+      const __m256d weight = _mm256_set1_pd(Nw[k] * Nv[j]);
+      const double* row = plane + 3 * n_u * j;
+      lanes[k][0] = _mm256_fmadd_pd(weight, _mm256_loadu_pd(row), lanes[k][0]);
+      lanes[k][1] = _mm256_fmadd_pd(weight, _mm256_loadu_pd(row + 4), lanes[k][1]);
+      lanes[k][2] = _mm256_fmadd_pd(weight, _mm256_loadu_pd(row + 8), lanes[k][2]);
+    }
+  }
+  double acc[12];
+  for (int l = 0; l < 3; ++l) {
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(lanes[0][l], lanes[1][l]), _mm256_add_pd(lanes[2][l], lanes[3][l]));
+    _mm256_storeu_pd(acc + 4 * l, sum);
+  }
+  Eigen::Vector3d out(0.0, 0.0, 0.0);
+  for (int i = 0; i < 4; ++i)
+    for (int c = 0; c < 3; ++c) out[c] = std::fma(Nu[i], acc[3 * i + c], out[c]);
+  return out;
+}
+#endif
 
 inline Eigen::Vector3d tensorSumAny(const double* xyz, int n_u, int n_v, int first, int o_u, int o_v,
                                     int o_w, const double* Nu, const double* Nv, const double* Nw) noexcept {

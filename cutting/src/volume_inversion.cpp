@@ -19,7 +19,6 @@ using detail::str;
 
 namespace {
 
-constexpr int kMaxHalvings = 30;
 
 
 void checkFinite(const Eigen::Vector3d& x, const char* who, const char* what) {
@@ -95,7 +94,7 @@ InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& 
     // Backtracking: a full step may jump over a C^-1 cut or out of the region where F is near-linear.
     bool improved = false;
     double scale = 1.0;
-    for (int h = 0; h <= kMaxHalvings && !improved; ++h, scale *= 0.5) {
+    for (int h = 0; h <= options.max_halvings && !improved; ++h, scale *= 0.5) {
       const Eigen::Vector3d trial = clampTo(box, x + scale * dx);
       const Eigen::Vector3d trial_r = p - volume.evaluateUnchecked(trial[0], trial[1], trial[2]);
       const double trial_residual = trial_r.norm();

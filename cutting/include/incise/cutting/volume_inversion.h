@@ -20,8 +20,9 @@
 namespace incise::cutting {
 
 struct InversionOptions {
-  int max_iterations = 30;   // Newton steps, each with at most 30 step halvings
+  int max_iterations = 30;   // Newton steps, each with at most max_halvings step halvings
   double tolerance = 1e-10;  // on |F(x) - p|, in the caller's length unit; keep it above the rounding of p
+  int max_halvings = 30;     // a step halved this often without lowering the residual ends the search
 };
 
 struct InversionResult {
