@@ -51,11 +51,13 @@ nlohmann::json runMesh(const SurfaceMesh& base, int subdivisions, int budget) {
     cutter.extend(sample);
     sample_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
   }
-  int trailing_calls = 0;  // samples' worth of carried work still to do when the stroke ends
+  int trailing_calls = 0;  // calls' worth of carried work still to do when the stroke ends (and after finish)
   while (cutter.pending() && trailing_calls < 1000) cutter.advance(stroke.samples.back().time_s), ++trailing_calls;
   start = Clock::now();
   cutter.finish();
   const double finish_us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+  // The columns the end of the stroke made final, still under the budget: the cut reaches the last sample.
+  while (cutter.pending() && trailing_calls < 100000) cutter.advance(stroke.samples.back().time_s), ++trailing_calls;
   const ManifoldReport report = checkManifold(mesh.mesh());
   return {
       {"subdivisions", subdivisions},

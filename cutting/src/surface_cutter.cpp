@@ -68,8 +68,9 @@ void SurfaceCutter::reserveHeadroom() {
   // Growing OpenMesh's arrays mid-stroke copies every vertex and face (tens of ms on a 1M-triangle mesh):
   // keep room for a long cut's new elements, topped up between incisions, never during one.
   TriMesh& m = mesh_.mesh();
-  const size_t vertices = kHeadroomVertices + m.n_vertices();
-  m.reserve(vertices, m.n_edges() + 3 * kHeadroomVertices, m.n_faces() + 2 * kHeadroomVertices);
+  if (m.n_vertices() + kHeadroomVertices / 2 <= reserved_vertices_) return;  // room left: no copy
+  reserved_vertices_ = kHeadroomVertices + m.n_vertices();
+  m.reserve(reserved_vertices_, m.n_edges() + 3 * kHeadroomVertices, m.n_faces() + 2 * kHeadroomVertices);
 }
 
 bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
@@ -144,9 +145,11 @@ CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return exte
 
 CutStep SurfaceCutter::extend(std::span<const StrokeSample> samples) noexcept { return process(add(samples)); }
 
-CutStep SurfaceCutter::addSample(const StrokeSample& sample) noexcept { return add(std::span(&sample, 1)); }
+CutStep SurfaceCutter::addSample(const StrokeSample& sample, bool on_surface) noexcept {
+  return add(std::span(&sample, 1), on_surface);
+}
 
-CutStep SurfaceCutter::add(std::span<const StrokeSample> samples) noexcept {
+CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, bool on_surface) noexcept {
   CutStep step;
   if (!active()) {
     step.sample = SampleStatus::Ended;
@@ -157,7 +160,7 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples) noexcept {
       step.sample = SampleStatus::RefusedNaN;
       continue;
     }
-    if (!onSurface(sample.point_m)) {
+    if (!on_surface && !onSurface(sample.point_m)) {
       step.left_surface = true;
       incision_->finish();
       break;
@@ -561,10 +564,18 @@ std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, c
   std::optional<SurfacePoint> best;
   double best_t = 1.0;
   const TriMesh& m = mesh_.mesh();
+  if (face_stamp_.size() < m.n_faces()) face_stamp_.resize(m.n_faces() + m.n_faces() / 4, 0);
+  if (++face_query_ == 0) {
+    std::fill(face_stamp_.begin(), face_stamp_.end(), 0u);
+    face_query_ = 1;
+  }
   for (const int id : query_) {
     const VH v(id);
     if (m.status(v).deleted()) continue;
     for (auto f = m.cvf_iter(v); f.is_valid(); ++f) {
+      std::uint32_t& stamp = face_stamp_[static_cast<size_t>(f->idx())];
+      if (stamp == face_query_) continue;  // a face is met from each of its vertices: test it once
+      stamp = face_query_;
       if (currentWall(*f)) continue;
       auto corner = m.cfv_iter(*f);
       const Eigen::Vector3d p0 = restPosition(*corner++);

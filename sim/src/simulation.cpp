@@ -136,6 +136,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   FixedRateLoopOptions loop_options;
   loop_options.period_us = options.period_us;
   loop_options.realtime_priority = options.realtime_priority;
+  loop_options.spin_us = options.spin_us;
   FixedRateLoop loop(loop_options);
   ReplayReport report;
 

@@ -40,7 +40,7 @@ void World::contact(const devices::PoseSample& pose, HapticState& state) noexcep
   const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d(0.0, 0.0, -1.0);  // handle -> tip
   // Only the blade's last part can meet the surface while it cuts (the tip is at most a little deeper
   // than the cut): probing that part keeps the query local, and so the haptic step short.
-  const double probe_m = std::min(options_.tool.blade_length_m, options_.cutter.incision.depth_m + 0.003);
+  const double probe_m = std::min(options_.tool.blade_length_m, options_.cutter.incision.depth_m + 0.002);
   const Eigen::Vector3d handle = pose.tip_m - probe_m * axis;
   state.tip_m = pose.tip_m;
   state.contact = false;
@@ -87,7 +87,7 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
       if (!cutter_->active()) {
         cutter_->begin(sample, pose.orientation * Eigen::Vector3d::UnitX());
       } else {
-        cutter_->addSample(sample);  // the work is done in cut(), under the frame's budget
+        cutter_->addSample(sample, true);  // on the surface by contact; the work is done in cut()
       }
     } else if (cutter_->active()) {
       cutter_->finish(false);  // the blade left the tissue (or the button was released)

@@ -98,7 +98,9 @@ class SurfaceCutter {
   CutStep extend(const StrokeSample& sample) noexcept;
   CutStep extend(std::span<const StrokeSample> samples) noexcept;
   // Adds a sample without processing: the work waits for the next advance() (a frame's one cutting call).
-  CutStep addSample(const StrokeSample& sample) noexcept;
+  // `on_surface`: the caller found the point on the surface (a contact query), so the cutter does not
+  // check again.
+  CutStep addSample(const StrokeSample& sample, bool on_surface = false) noexcept;
   // Lets the wound's opening evolve to time t_s without new samples (no-op without an active incision).
   CutStep advance(double t_s) noexcept;
   // Finishes the current incision: the cut reaches the last station. Never throws. With process = false
@@ -152,7 +154,7 @@ class SurfaceCutter {
   bool bound(TriMesh::VertexHandle v) const { return incision_index_ >= 0 && data(v).incision == incision_index_; }
 
   CutStep process(CutStep step) noexcept;
-  CutStep add(std::span<const StrokeSample> samples) noexcept;
+  CutStep add(std::span<const StrokeSample> samples, bool on_surface = false) noexcept;
   bool processColumn(int column, int& budget, CutStep& step);  // false: budget spent, resume next call
   bool bindVertex(TriMesh::VertexHandle v, int column, int& budget);
   void splitCrossings(const std::vector<TriMesh::VertexHandle>& fresh, CutStep& step);
@@ -173,6 +175,7 @@ class SurfaceCutter {
   Eigen::Vector3d restPosition(TriMesh::VertexHandle v) const;
   bool currentWall(TriMesh::FaceHandle f) const;
   static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
+  size_t reserved_vertices_ = 0;                         // what reserveHeadroom last reserved room for
   bool onSurface(const Eigen::Vector3d& p) const;
 
   SurfaceMesh& mesh_;
@@ -203,6 +206,8 @@ class SurfaceCutter {
   std::vector<double> stencil_basis_;
   std::vector<int> changed_columns_, candidates_;
   mutable std::vector<int> query_;  // scratch for intersect() and onSurface()
+  mutable std::vector<std::uint32_t> face_stamp_;  // intersect(): the query that last tested each face
+  mutable std::uint32_t face_query_ = 0;
   CutStats stats_;
   bool failed_ = false;
   bool unlimited_ = false;  // process() ignores the budget (finishing a previous incision's work)

@@ -118,6 +118,7 @@ struct ReplayOptions {
   std::int64_t period_us = 1000;  // false: as fast as possible, same frames, same dt
   double settle_s = 0.2;          // simulated time after the last pose before the replay ends
   bool realtime_priority = false;
+  std::int64_t spin_us = 0;       // busy-wait this long before each deadline (sleep wake-ups are late)
   // Called on the replay's thread after each frame in fast mode, or from a reader thread about every 2 ms
   // in real time, with the newest snapshot (e.g. a viewer or a recorder). May be empty.
   std::function<void(const Snapshot&)> observer;

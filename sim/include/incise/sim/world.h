@@ -4,7 +4,7 @@
 // A frame is two calls, so that the caller can time them separately without the world reading a clock:
 //   updateTool(poses, dt_s)  every pose that arrived this frame, oldest first: the tool moves to each in
 //                            turn; contact with the tissue is found for each (the blade's last
-//                            depth + 3 mm as a segment towards its tip, against the surface through the
+//                            depth + 2 mm as a segment towards its tip, against the surface through the
 //                            cutter's spatial index); each pose in contact with the cut button held becomes a stroke sample
 //                            (the entry point, the surface normal, the pose's time); the haptic force is
 //                            computed from the newest pose: a penalty spring along the contact normal with
