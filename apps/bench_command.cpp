@@ -44,6 +44,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
     options.settle_s = run.scenario.settle_s;
     options.stats = &stats;
     options.spin_us = spin_us;
+    options.pin_threads = true;
     options.realtime_priority = true;  // SCHED_FIFO when the process may have it
     const sim::ReplayReport report = sim::replay(*run.world, run.poses, options);
     wall_s += report.wall_s;

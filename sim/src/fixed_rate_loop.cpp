@@ -82,6 +82,12 @@ void FixedRateLoop::start(StepFunction step) {
         realtime_error_.store(rc, std::memory_order_relaxed);
         realtime_status_.store(rc == 0 ? RealtimeStatus::Granted : RealtimeStatus::Denied, std::memory_order_release);
       }
+      if (options_.cpu >= 0) {  // keep the loop on its own core, away from device and viewer threads
+        cpu_set_t set;
+        CPU_ZERO(&set);
+        CPU_SET(options_.cpu, &set);
+        pthread_setaffinity_np(pthread_self(), sizeof set, &set);  // best effort: failure leaves it floating
+      }
       ready.set_value();  // the last use of `ready`: start() may return from here on
       run();
     });

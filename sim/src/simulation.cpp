@@ -1,5 +1,8 @@
 #include "incise/sim/simulation.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <chrono>
 #include <limits>
 #include <stdexcept>
@@ -137,6 +140,16 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   loop_options.period_us = options.period_us;
   loop_options.realtime_priority = options.realtime_priority;
   loop_options.spin_us = options.spin_us;
+  const int cpus = static_cast<int>(std::thread::hardware_concurrency());
+  const bool pin = options.pin_threads && cpus >= 2;
+  if (pin) loop_options.cpu = cpus - 1;
+  const auto pinToOthers = [&] {  // the feeder and the reader keep off the loop's core
+    if (!pin) return;
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    for (int c = 0; c < cpus - 1; ++c) CPU_SET(c, &set);
+    pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  };
   FixedRateLoop loop(loop_options);
   ReplayReport report;
 
@@ -163,6 +176,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
     std::atomic<bool> done{false};
     const auto start = Clock::now() + std::chrono::milliseconds(5);
     std::thread feeder([&] {  // the "device": releases each pose at its time
+      pinToOthers();
       for (std::size_t i = 0; i < trace.size(); ++i) {
         std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
                                                    std::chrono::duration<double>(trace[i].time_s - t0_s)));
@@ -171,6 +185,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
       }
     });
     std::thread reader([&] {  // a viewer: takes snapshots while the loop runs
+      pinToOthers();
       Snapshot snapshot;
       while (true) {
         const bool last = done.load(std::memory_order_acquire);  // after the loop stopped: one final take

@@ -43,6 +43,7 @@ struct FixedRateLoopOptions {
   std::int64_t spin_us = 0;        // in [0, period_us]: busy-wait this long before each deadline
   int max_catch_up_frames = 0;     // >= 0: how many missed deadlines may still run, late, back to back
   bool realtime_priority = false;  // try SCHED_FIFO for the loop thread; see realtimeStatus()
+  int cpu = -1;                    // pin the loop thread to this CPU (best effort); -1: let the OS choose
 };
 
 enum class RealtimeStatus : std::uint8_t {

@@ -119,6 +119,7 @@ struct ReplayOptions {
   double settle_s = 0.2;          // simulated time after the last pose before the replay ends
   bool realtime_priority = false;
   std::int64_t spin_us = 0;       // busy-wait this long before each deadline (sleep wake-ups are late)
+  bool pin_threads = false;       // loop thread on the last CPU, feeder and reader on the others
   // Called on the replay's thread after each frame in fast mode, or from a reader thread about every 2 ms
   // in real time, with the newest snapshot (e.g. a viewer or a recorder). May be empty.
   std::function<void(const Snapshot&)> observer;
