@@ -20,6 +20,16 @@
 
 namespace incise::cutting::detail {
 
+// a * b + c: one fused instruction where the CPU has one, else a multiply and an add (std::fma without
+// hardware support is a slow library call). Either way the same in every caller of one build.
+[[gnu::always_inline]] inline double madd(double a, double b, double c) noexcept {
+#if defined(FP_FAST_FMA) || defined(__FP_FAST_FMA)
+  return std::fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
+
 static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double), "control points must be packed xyz");
 
 // Ov, Ow: compile-time orders along v and w, or 0 to read o_v, o_w at run time.
@@ -32,7 +42,7 @@ template <int Ou, int Ov = 0, int Ow = 0>
   // Weighted sum of whole rows first (3 * Ou lanes), then one reduction by Nu.
   // Rows of Ou control points are 3 * Ou contiguous doubles. Explicit fused multiply-adds: the build
   // forbids the compiler from fusing on its own (-ffp-contract=off, so that every path gives the same
-  // bits), and std::fma vectorises to the same vfmadd instructions it would have chosen.
+  // bits); madd is one vfmadd where the CPU has FMA.
   constexpr int kLanes = 3 * Ou;
   double acc[kLanes] = {};
   if constexpr (Ow > 0) {
@@ -43,7 +53,7 @@ template <int Ou, int Ov = 0, int Ow = 0>
       for (int j = 0; j < o_v; ++j) {
         const double weight = Nw[k] * Nv[j];
         const double* row = plane + 3 * n_u * j;
-        for (int m = 0; m < kLanes; ++m) plane_acc[k][m] = std::fma(weight, row[m], plane_acc[k][m]);
+        for (int m = 0; m < kLanes; ++m) plane_acc[k][m] = madd(weight, row[m], plane_acc[k][m]);
       }
     }
     for (int k = 0; k < Ow; ++k)
@@ -54,13 +64,13 @@ template <int Ou, int Ov = 0, int Ow = 0>
       for (int j = 0; j < o_v; ++j) {
         const double weight = Nw[k] * Nv[j];
         const double* row = plane + 3 * n_u * j;
-        for (int m = 0; m < kLanes; ++m) acc[m] = std::fma(weight, row[m], acc[m]);
+        for (int m = 0; m < kLanes; ++m) acc[m] = madd(weight, row[m], acc[m]);
       }
     }
   }
   Eigen::Vector3d out(0.0, 0.0, 0.0);
   for (int i = 0; i < Ou; ++i)
-    for (int c = 0; c < 3; ++c) out[c] = std::fma(Nu[i], acc[3 * i + c], out[c]);
+    for (int c = 0; c < 3; ++c) out[c] = madd(Nu[i], acc[3 * i + c], out[c]);
   return out;
 }
 
@@ -91,7 +101,7 @@ template <>
   }
   Eigen::Vector3d out(0.0, 0.0, 0.0);
   for (int i = 0; i < 4; ++i)
-    for (int c = 0; c < 3; ++c) out[c] = std::fma(Nu[i], acc[3 * i + c], out[c]);
+    for (int c = 0; c < 3; ++c) out[c] = madd(Nu[i], acc[3 * i + c], out[c]);
   return out;
 }
 #endif
