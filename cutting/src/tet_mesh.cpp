@@ -1,0 +1,352 @@
+#include "incise/cutting/tet_mesh.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+#include <stdexcept>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+#include <tuple>
+#include <utility>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+#include "incise/cutting/surface_mesh.h"
+
+namespace incise::cutting {
+namespace {
+
+constexpr int kOpposite[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+double orientation(const TetMesh& mesh, const std::array<int, 4>& t) {
+  const Eigen::Vector3d& a = mesh.nodes_m[static_cast<size_t>(t[0])];
+  Eigen::Matrix3d m;
+  m.col(0) = mesh.nodes_m[static_cast<size_t>(t[1])] - a;
+  m.col(1) = mesh.nodes_m[static_cast<size_t>(t[2])] - a;
+  m.col(2) = mesh.nodes_m[static_cast<size_t>(t[3])] - a;
+  return m.determinant();
+}
+
+bool validTet(const TetMesh& mesh, const std::array<int, 4>& t) {
+  const int n = static_cast<int>(mesh.nodes_m.size());
+  for (int i = 0; i < 4; ++i) {
+    if (t[static_cast<size_t>(i)] < 0 || t[static_cast<size_t>(i)] >= n) return false;
+    for (int j = 0; j < i; ++j)
+      if (t[static_cast<size_t>(i)] == t[static_cast<size_t>(j)]) return false;
+  }
+  return true;
+}
+
+// One side of a face: its sorted node triple, the tet and the local index of the opposite node, and the
+// parity of the permutation that sorts the outward triple (two tets on opposite sides have opposite parity).
+struct FaceSide {
+  std::array<int, 3> key;
+  int tet, local;
+  bool odd;
+};
+
+FaceSide makeSide(const std::array<int, 3>& f, int tet, int local) {
+  std::array<int, 3> k = f;
+  bool odd = false;
+  if (k[0] > k[1]) std::swap(k[0], k[1]), odd = !odd;
+  if (k[1] > k[2]) std::swap(k[1], k[2]), odd = !odd;
+  if (k[0] > k[1]) std::swap(k[0], k[1]), odd = !odd;
+  return {k, tet, local, odd};
+}
+
+// Sides of the faces of tets with valid node indices, sorted by key (then tet, local: deterministic).
+std::vector<FaceSide> sortedSides(const TetMesh& mesh) {
+  std::vector<FaceSide> sides;
+  sides.reserve(mesh.tets.size() * 4);
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (!validTet(mesh, mesh.tets[t])) continue;
+    for (int i = 0; i < 4; ++i) sides.push_back(makeSide(faceOpposite(mesh.tets[t], i), static_cast<int>(t), i));
+  }
+  std::sort(sides.begin(), sides.end(), [](const FaceSide& x, const FaceSide& y) {
+    return std::tie(x.key, x.tet, x.local) < std::tie(y.key, y.tet, y.local);
+  });
+  return sides;
+}
+
+// Calls visit(first, count) for each run of equal keys.
+template <typename Visit>
+void forEachFace(const std::vector<FaceSide>& sides, Visit visit) {
+  for (size_t i = 0; i < sides.size();) {
+    size_t j = i + 1;
+    while (j < sides.size() && sides[j].key == sides[i].key) ++j;
+    visit(i, j - i);
+    i = j;
+  }
+}
+
+// Streamed, not concatenated: GCC 12 warns falsely (-Wrestrict, PR 105651) on "(" + std::string.
+std::string faceText(const std::array<int, 3>& k) {
+  std::ostringstream s;
+  s << '(' << k[0] << ", " << k[1] << ", " << k[2] << ')';
+  return s.str();
+}
+
+// Writes path + ".tmp" and renames it to path on commit(); removes the .tmp otherwise.
+class AtomicText {
+ public:
+  explicit AtomicText(std::filesystem::path path) : path_(std::move(path)), tmp_(path_.string() + ".tmp") {
+    file_ = std::fopen(tmp_.c_str(), "wb");
+    if (!file_) throw MeshError("cannot write " + tmp_.string() + ": " + std::strerror(errno));
+  }
+  AtomicText(const AtomicText&) = delete;
+  AtomicText& operator=(const AtomicText&) = delete;
+  ~AtomicText() {
+    if (file_) std::fclose(file_);
+    if (!renamed_) {
+      std::error_code ignored;
+      std::filesystem::remove(tmp_, ignored);
+    }
+  }
+
+  AtomicText& operator<<(std::string_view text) {
+    buffer_ += text;
+    if (buffer_.size() >= (1u << 20)) flush();
+    return *this;
+  }
+  AtomicText& operator<<(double x) {
+    char s[64];
+    const auto r = std::to_chars(s, s + sizeof s, x, std::chars_format::general, 17);
+    return *this << std::string_view(s, static_cast<size_t>(r.ptr - s));
+  }
+  AtomicText& operator<<(long long x) {
+    char s[32];
+    const auto r = std::to_chars(s, s + sizeof s, x);
+    return *this << std::string_view(s, static_cast<size_t>(r.ptr - s));
+  }
+  AtomicText& operator<<(int x) { return *this << static_cast<long long>(x); }
+  AtomicText& operator<<(size_t x) { return *this << static_cast<long long>(x); }
+
+  // Flushes and closes the .tmp (throws on failure); rename() then moves it into place.
+  void close() {
+    flush();
+    if (std::fclose(std::exchange(file_, nullptr)) != 0)
+      throw MeshError("cannot write " + tmp_.string() + ": " + std::strerror(errno));
+  }
+  void rename() {
+    std::error_code error;
+    std::filesystem::rename(tmp_, path_, error);
+    if (error) throw MeshError("cannot rename " + tmp_.string() + " to " + path_.string() + ": " + error.message());
+    renamed_ = true;
+  }
+
+ private:
+  void flush() {
+    if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
+      throw MeshError("cannot write " + tmp_.string() + ": " + std::strerror(errno));
+    buffer_.clear();
+  }
+
+  std::filesystem::path path_, tmp_;
+  std::FILE* file_ = nullptr;
+  std::string buffer_;
+  bool renamed_ = false;
+};
+
+void requireValidIndices(const TetMesh& mesh) {
+  const long long n = static_cast<long long>(mesh.nodes_m.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int v : mesh.tets[t])
+      if (v < 0 || v >= n)
+        throw std::invalid_argument("tet " + std::to_string(t) + ": node index " + std::to_string(v) +
+                                    " out of range (" + std::to_string(n) + " nodes)");
+}
+
+}  // namespace
+
+std::array<int, 3> faceOpposite(const std::array<int, 4>& tet, int i) {
+  const int* f = kOpposite[i];
+  return {tet[static_cast<size_t>(f[0])], tet[static_cast<size_t>(f[1])], tet[static_cast<size_t>(f[2])]};
+}
+
+void buildAdjacency(TetMesh& mesh) {
+  requireValidIndices(mesh);
+  mesh.neighbours.assign(mesh.tets.size(), {-1, -1, -1, -1});
+  const std::vector<FaceSide> sides = sortedSides(mesh);
+  forEachFace(sides, [&](size_t first, size_t count) {
+    if (count != 2) return;
+    const FaceSide& x = sides[first];
+    const FaceSide& y = sides[first + 1];
+    mesh.neighbours[static_cast<size_t>(x.tet)][static_cast<size_t>(x.local)] = y.tet;
+    mesh.neighbours[static_cast<size_t>(y.tet)][static_cast<size_t>(y.local)] = x.tet;
+  });
+}
+
+std::vector<std::array<int, 3>> boundaryFaces(const TetMesh& mesh) {
+  const std::vector<FaceSide> sides = sortedSides(mesh);
+  std::vector<std::pair<int, int>> found;  // (tet, local)
+  forEachFace(sides, [&](size_t first, size_t count) {
+    if (count == 1) found.emplace_back(sides[first].tet, sides[first].local);
+  });
+  std::sort(found.begin(), found.end());
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(found.size());
+  for (const auto& [t, i] : found) faces.push_back(faceOpposite(mesh.tets[static_cast<size_t>(t)], i));
+  return faces;
+}
+
+double volume(const TetMesh& mesh) {
+  requireValidIndices(mesh);
+  double sum = 0;
+  for (const auto& t : mesh.tets) sum += orientation(mesh, t) / 6.0;
+  return sum;
+}
+
+double minDihedralAngleDeg(const TetMesh& mesh) {
+  requireValidIndices(mesh);
+  double smallest = 180.0;
+  for (const auto& t : mesh.tets) {
+    std::array<Eigen::Vector3d, 4> normal;  // outward unit normal of the face opposite node i
+    for (int i = 0; i < 4; ++i) {
+      const auto f = faceOpposite(t, i);
+      const Eigen::Vector3d& a = mesh.nodes_m[static_cast<size_t>(f[0])];
+      const Eigen::Vector3d n = (mesh.nodes_m[static_cast<size_t>(f[1])] - a)
+                                    .cross(mesh.nodes_m[static_cast<size_t>(f[2])] - a);
+      const double length = n.norm();
+      if (!(length > 0)) return 0.0;  // a degenerate face: the tet is flat
+      normal[static_cast<size_t>(i)] = n / length;
+    }
+    // The dihedral angle at the edge shared by faces i and j is pi minus the angle between their normals.
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const double c = std::clamp(-normal[static_cast<size_t>(i)].dot(normal[static_cast<size_t>(j)]), -1.0, 1.0);
+        smallest = std::min(smallest, std::acos(c) * 180.0 / std::numbers::pi);
+      }
+  }
+  return smallest;
+}
+
+TetCheck checkConforming(const TetMesh& mesh) {
+  TetCheck check{true, 0, 0, 0, 0, 0, {}};
+  auto problem = [&](const std::string& text) {
+    if (check.first_problem.empty()) check.first_problem = text;
+  };
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto& tet = mesh.tets[t];
+    if (!validTet(mesh, tet)) {
+      ++check.bad_tets;
+      problem("tet " + std::to_string(t) + ": node indices out of range or repeated (" +
+              std::to_string(tet[0]) + ", " + std::to_string(tet[1]) + ", " + std::to_string(tet[2]) + ", " +
+              std::to_string(tet[3]) + ")");
+      continue;
+    }
+    const double det = orientation(mesh, tet);
+    if (!(det > 0)) {
+      ++check.inverted_tets;
+      problem("tet " + std::to_string(t) + " is inverted or flat (det " + std::to_string(det) + ")");
+    }
+  }
+  const std::vector<FaceSide> sides = sortedSides(mesh);
+  std::vector<std::array<int, 4>> implied(mesh.tets.size(), {-1, -1, -1, -1});
+  forEachFace(sides, [&](size_t first, size_t count) {
+    const FaceSide& x = sides[first];
+    if (count == 1) {
+      ++check.boundary_faces;
+    } else if (count == 2 && sides[first + 1].odd != x.odd) {
+      ++check.interior_faces;
+      const FaceSide& y = sides[first + 1];
+      implied[static_cast<size_t>(x.tet)][static_cast<size_t>(x.local)] = y.tet;
+      implied[static_cast<size_t>(y.tet)][static_cast<size_t>(y.local)] = x.tet;
+    } else {
+      ++check.non_manifold_faces;
+      problem("face " + faceText(x.key) + " shared by " + std::to_string(count) + " tets" +
+              (count == 2 ? " on the same side" : "") + " (tet " + std::to_string(x.tet) + ", tet " +
+              std::to_string(sides[first + 1].tet) + ")");
+    }
+  });
+  if (mesh.neighbours.size() == mesh.tets.size() && check.first_problem.empty()) {
+    for (size_t t = 0; t < mesh.tets.size(); ++t)
+      for (size_t i = 0; i < 4; ++i)
+        if (mesh.neighbours[t][i] != implied[t][i]) {
+          problem("tet " + std::to_string(t) + ": neighbours[" + std::to_string(i) + "] is " +
+                  std::to_string(mesh.neighbours[t][i]) + ", the faces imply " + std::to_string(implied[t][i]));
+          break;
+        }
+  }
+  check.conforming = check.first_problem.empty();
+  return check;
+}
+
+void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
+             const std::map<std::string, std::vector<int>>& cell_fields) {
+  requireValidIndices(mesh);
+  for (const auto& [name, values] : cell_fields) {
+    if (name.empty() || name.find_first_of("\"<>&") != std::string::npos)
+      throw std::invalid_argument("saveVtu: bad field name '" + name + "'");
+    if (values.size() != mesh.tets.size())
+      throw std::invalid_argument("saveVtu: field '" + name + "' has " + std::to_string(values.size()) +
+                                  " values for " + std::to_string(mesh.tets.size()) + " tets");
+  }
+  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
+    if (!mesh.nodes_m[v].allFinite())
+      throw MeshError("cannot save " + path.string() + ": node " + std::to_string(v) + " is not finite");
+
+  AtomicText out(path);
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <UnstructuredGrid>\n"
+      << "    <Piece NumberOfPoints=\"" << mesh.nodes_m.size() << "\" NumberOfCells=\"" << mesh.tets.size()
+      << "\">\n"
+      << "      <Points>\n"
+      << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const auto& p : mesh.nodes_m) out << "          " << p[0] << " " << p[1] << " " << p[2] << "\n";
+  out << "        </DataArray>\n"
+      << "      </Points>\n"
+      << "      <Cells>\n"
+      << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (const auto& t : mesh.tets) out << "          " << t[0] << " " << t[1] << " " << t[2] << " " << t[3] << "\n";
+  out << "        </DataArray>\n"
+      << "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (size_t t = 0; t < mesh.tets.size(); ++t) out << "          " << 4 * (t + 1) << "\n";
+  out << "        </DataArray>\n"
+      << "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (size_t t = 0; t < mesh.tets.size(); ++t) out << "          10\n";
+  out << "        </DataArray>\n"
+      << "      </Cells>\n";
+  if (!cell_fields.empty()) {
+    out << "      <CellData>\n";
+    for (const auto& [name, values] : cell_fields) {
+      out << "        <DataArray type=\"Int32\" Name=\"" << name << "\" format=\"ascii\">\n";
+      for (int v : values) out << "          " << v << "\n";
+      out << "        </DataArray>\n";
+    }
+    out << "      </CellData>\n";
+  }
+  out << "    </Piece>\n"
+      << "  </UnstructuredGrid>\n"
+      << "</VTKFile>\n";
+  out.close();
+  out.rename();
+}
+
+void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem) {
+  requireValidIndices(mesh);
+  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
+    if (!mesh.nodes_m[v].allFinite())
+      throw MeshError("cannot save " + stem.string() + ".node: node " + std::to_string(v) + " is not finite");
+  AtomicText node(stem.string() + ".node");
+  node << mesh.nodes_m.size() << " 3 0 0\n";
+  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
+    node << v << " " << mesh.nodes_m[v][0] << " " << mesh.nodes_m[v][1] << " " << mesh.nodes_m[v][2] << "\n";
+  AtomicText ele(stem.string() + ".ele");
+  ele << mesh.tets.size() << " 4 0\n";
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto& tet = mesh.tets[t];
+    ele << t << " " << tet[0] << " " << tet[1] << " " << tet[2] << " " << tet[3] << "\n";
+  }
+  node.close();
+  ele.close();
+  node.rename();
+  ele.rename();
+}
+
+}  // namespace incise::cutting
