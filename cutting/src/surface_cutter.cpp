@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "incise/cutting/volume_inversion.h"
+#include "face_walk.h"
 
 namespace incise::cutting {
 
@@ -561,33 +562,20 @@ std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, c
   box.max().array() += longest_edge_m_;
   query_.clear();
   grid_.query(box, query_);
-  std::optional<SurfacePoint> best;
-  double best_t = 1.0;
   const TriMesh& m = mesh_.mesh();
   if (face_stamp_.size() < m.n_faces()) face_stamp_.resize(m.n_faces() + m.n_faces() / 4, 0);
   if (++face_query_ == 0) {
     std::fill(face_stamp_.begin(), face_stamp_.end(), 0u);
     face_query_ = 1;
   }
-  for (const int id : query_) {
-    const VH v(id);
-    if (m.status(v).deleted()) continue;
-    for (auto f = m.cvf_iter(v); f.is_valid(); ++f) {
-      std::uint32_t& stamp = face_stamp_[static_cast<size_t>(f->idx())];
-      if (stamp == face_query_) continue;  // a face is met from each of its vertices: test it once
-      stamp = face_query_;
-      if (currentWall(*f)) continue;
-      auto corner = m.cfv_iter(*f);
-      const Eigen::Vector3d p0 = restPosition(*corner++);
-      const Eigen::Vector3d p1 = restPosition(*corner++);
-      const Eigen::Vector3d p2 = restPosition(*corner);
-      const auto t = segmentTriangle(a, b, p0, p1, p2);
-      if (!t || *t > best_t) continue;
-      best_t = *t;
-      best = SurfacePoint{a + *t * (b - a), (p1 - p0).cross(p2 - p0).normalized(), *f, *t * (b - a).norm()};
-    }
-  }
-  return best;
+  return detail::firstCrossing(
+      m, query_, a, b, [&](VH v) { return restPosition(v); },
+      [&](FH f) {
+        std::uint32_t& stamp = face_stamp_[static_cast<size_t>(f.idx())];
+        if (stamp == face_query_) return true;  // a face is met from each of its vertices: test it once
+        stamp = face_query_;
+        return currentWall(f);
+      });
 }
 
 std::vector<TriMesh::VertexHandle> SurfaceCutter::seam() const { return {chain_.begin(), chain_.end()}; }

@@ -1,5 +1,7 @@
 #include "incise/cutting/surface_query.h"
 
+#include "face_walk.h"
+
 #include <cmath>
 #include <vector>
 
@@ -75,23 +77,9 @@ std::optional<SurfacePoint> intersectSegment(const TriMesh& mesh, const VertexGr
   box.max().array() += radius_m;
   std::vector<int> near;
   grid.query(box, near);
-  std::optional<SurfacePoint> best;
-  double best_t = 1.0;
-  for (const int id : near) {
-    const TriMesh::VertexHandle v(id);
-    if (mesh.status(v).deleted()) continue;
-    for (auto f = mesh.cvf_iter(v); f.is_valid(); ++f) {
-      auto corner = mesh.cfv_iter(*f);
-      const Eigen::Vector3d p0 = toEigen(mesh.point(*corner++));
-      const Eigen::Vector3d p1 = toEigen(mesh.point(*corner++));
-      const Eigen::Vector3d p2 = toEigen(mesh.point(*corner));
-      const auto t = segmentTriangle(a, b, p0, p1, p2);
-      if (!t || *t > best_t) continue;
-      best_t = *t;
-      best = SurfacePoint{a + *t * (b - a), (p1 - p0).cross(p2 - p0).normalized(), *f, *t * (b - a).norm()};
-    }
-  }
-  return best;
+  return detail::firstCrossing(
+      mesh, near, a, b, [&](TriMesh::VertexHandle v) { return toEigen(mesh.point(v)); },
+      [](TriMesh::FaceHandle) { return false; });
 }
 
 }  // namespace incise::cutting
