@@ -54,13 +54,16 @@ bool Simulation::pushPose(const devices::PoseSample& pose) noexcept {
   return false;
 }
 
+void Simulation::resetOnNewIncision() noexcept {
+  if (world_.incisions() == last_incisions_) return;
+  last_incisions_ = world_.incisions();  // a new lattice: its columns count from 0 again
+  last_final_ = 0;
+  pending_size_ = 0;
+}
+
 int Simulation::poseToVisible(std::int64_t frame) noexcept {
   const cutting::SurfaceCutter& cutter = world_.cutter();
-  if (world_.incisions() != last_incisions_) {  // a new lattice: its columns count from 0 again
-    last_incisions_ = world_.incisions();
-    last_final_ = 0;
-    pending_size_ = 0;
-  }
+  resetOnNewIncision();
   int latency = -1;
   const int done = cutter.columnsDone();
   while (pending_size_ > 0 && pending_[pending_head_].column <= done) {
@@ -85,13 +88,12 @@ void Simulation::frame(const FrameInfo& info) noexcept {
 
   // Columns this frame's poses made final: remember when, to measure when they are cut.
   const cutting::SurfaceCutter& cutter = world_.cutter();
-  if (world_.incisions() != last_incisions_) poseToVisible(info.frame);  // reset on a new incision
+  resetOnNewIncision();
   if (cutter.columnsFinal() > last_final_ && pending_size_ < pending_.size()) {
     last_final_ = cutter.columnsFinal();
     pending_[(pending_head_ + pending_size_++) % pending_.size()] = {last_final_, info.frame};
   }
-  const cutting::CutStep cut = world_.cut(t_s);
-  (void)cut;
+  world_.cut(t_s);
   const auto cut_end = Clock::now();
   const int visible = poseToVisible(info.frame);
 
@@ -108,18 +110,21 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   s.profile.cut_us = microseconds(haptic_end, cut_end);
   s.profile.poses = count;
   s.profile.queue_backlog = static_cast<int>(queue_.sizeApprox());
+  // A snapshot cannot hold its own publish time: it carries the previous frame's publish and frame times.
+  s.profile.publish_us = last_publish_us_;
+  s.profile.frame_us = last_frame_us_;
   const auto publish_start = Clock::now();
   snapshots_.publish();
   const auto end = Clock::now();
+  last_publish_us_ = microseconds(publish_start, end);
 
   FrameTiming timing;
-  timing.haptic_us = s.profile.haptic_us;
-  timing.cut_us = s.profile.cut_us;
-  timing.frame_us = microseconds(start, end);
+  timing.haptic_us = microseconds(start, haptic_end);  // not from `s`: the reader owns that slot now
+  timing.cut_us = microseconds(haptic_end, cut_end);
+  timing.frame_us = last_frame_us_ = microseconds(start, end);
   timing.period_error_us = info.period_error_us;
   timing.pose_to_visible_frames = visible;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
-  (void)publish_start;
   stats_->record(timing);
 }
 

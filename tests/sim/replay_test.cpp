@@ -70,10 +70,11 @@ TEST_CASE("replay: snapshots are read from another thread while the loop runs", 
   sim::ReplayOptions options;
   options.realtime = true;
   std::int64_t last_frame = -1;
-  int seen = 0, out_of_order = 0, columns_went_back = 0, last_done = 0, last_incisions = 0;
+  int seen = 0, out_of_order = 0, columns_went_back = 0, last_done = 0, last_incisions = 0, timed = 0;
   options.observer = [&](const sim::Snapshot& snapshot) {  // runs on the reader thread
     ++seen;
     if (snapshot.frame <= last_frame) ++out_of_order;
+    if (snapshot.frame > 0 && snapshot.profile.frame_us > 0.0 && snapshot.profile.publish_us >= 0.0) ++timed;
     if (snapshot.incisions == last_incisions && snapshot.columns_done < last_done) ++columns_went_back;
     last_frame = snapshot.frame;
     last_done = snapshot.columns_done;
@@ -84,6 +85,7 @@ TEST_CASE("replay: snapshots are read from another thread while the loop runs", 
   REQUIRE(seen > 100);  // about one every 2 ms over ~1.4 s
   REQUIRE(out_of_order == 0);
   REQUIRE(columns_went_back == 0);
+  REQUIRE(timed >= seen - 1);  // every snapshot after the first carries the previous frame's times
   REQUIRE(last_frame == report.frames - 1);
 }
 

@@ -49,7 +49,8 @@ class ForceSink {
 };
 
 struct StepProfile {
-  double haptic_us = 0.0, cut_us = 0.0, publish_us = 0.0, frame_us = 0.0;
+  double haptic_us = 0.0, cut_us = 0.0;
+  double publish_us = 0.0, frame_us = 0.0;  // of the previous frame (a snapshot cannot time its own publish)
   int poses = 0;          // poses taken this frame
   int queue_backlog = 0;  // poses still queued after draining (0 unless the queue filled during the frame)
 };
@@ -88,6 +89,7 @@ class Simulation {
 
  private:
   int poseToVisible(std::int64_t frame) noexcept;
+  void resetOnNewIncision() noexcept;
 
   World& world_;
   ForceSink* sink_;
@@ -111,6 +113,7 @@ class Simulation {
   std::array<Pending, 256> pending_{};
   std::size_t pending_head_ = 0, pending_size_ = 0;
   int last_final_ = 0, last_incisions_ = 0;
+  double last_publish_us_ = 0.0, last_frame_us_ = 0.0;
 };
 
 struct ReplayOptions {
