@@ -374,8 +374,8 @@ int Incision::stencil(const Eigen::Vector3d& uvw, int side, int* first, double* 
   return count;
 }
 
-Eigen::Vector3d Incision::displacementFromStencil(int count, const int* first, const double* basis) const noexcept {
-  const BSplineVolume& d = displacement_;
+Eigen::Vector3d Incision::displacementFromStencil(const BSplineVolume& d, int count, const int* first,
+                                                  const double* basis) const noexcept {
   const std::array<int, 3> orders = d.orders();
   const int o = options_.order;
   const double* xyz = d.controls().data()->data();

@@ -194,34 +194,43 @@ std::vector<std::array<int, 3>> boundaryFaces(const TetMesh& mesh) {
   return faces;
 }
 
+double tetVolume(const TetMesh& mesh, int tet) {
+  return orientation(mesh, mesh.tets.at(static_cast<size_t>(tet))) / 6.0;
+}
+
+double tetMinDihedralAngleDeg(const TetMesh& mesh, int tet) {
+  const auto& t = mesh.tets.at(static_cast<size_t>(tet));
+  std::array<Eigen::Vector3d, 4> normal;  // outward unit normal of the face opposite node i
+  for (int i = 0; i < 4; ++i) {
+    const auto f = faceOpposite(t, i);
+    const Eigen::Vector3d& a = mesh.nodes_m[static_cast<size_t>(f[0])];
+    const Eigen::Vector3d n = (mesh.nodes_m[static_cast<size_t>(f[1])] - a)
+                                  .cross(mesh.nodes_m[static_cast<size_t>(f[2])] - a);
+    const double length = n.norm();
+    if (!(length > 0)) return 0.0;  // a degenerate face: the tet is flat
+    normal[static_cast<size_t>(i)] = n / length;
+  }
+  // The dihedral angle at the edge shared by faces i and j is pi minus the angle between their normals.
+  double smallest = 180.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const double c = std::clamp(-normal[static_cast<size_t>(i)].dot(normal[static_cast<size_t>(j)]), -1.0, 1.0);
+      smallest = std::min(smallest, std::acos(c) * 180.0 / std::numbers::pi);
+    }
+  return smallest;
+}
+
 double volume(const TetMesh& mesh) {
   requireValidIndices(mesh);
   double sum = 0;
-  for (const auto& t : mesh.tets) sum += orientation(mesh, t) / 6.0;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) sum += tetVolume(mesh, static_cast<int>(t));
   return sum;
 }
 
 double minDihedralAngleDeg(const TetMesh& mesh) {
   requireValidIndices(mesh);
   double smallest = 180.0;
-  for (const auto& t : mesh.tets) {
-    std::array<Eigen::Vector3d, 4> normal;  // outward unit normal of the face opposite node i
-    for (int i = 0; i < 4; ++i) {
-      const auto f = faceOpposite(t, i);
-      const Eigen::Vector3d& a = mesh.nodes_m[static_cast<size_t>(f[0])];
-      const Eigen::Vector3d n = (mesh.nodes_m[static_cast<size_t>(f[1])] - a)
-                                    .cross(mesh.nodes_m[static_cast<size_t>(f[2])] - a);
-      const double length = n.norm();
-      if (!(length > 0)) return 0.0;  // a degenerate face: the tet is flat
-      normal[static_cast<size_t>(i)] = n / length;
-    }
-    // The dihedral angle at the edge shared by faces i and j is pi minus the angle between their normals.
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        const double c = std::clamp(-normal[static_cast<size_t>(i)].dot(normal[static_cast<size_t>(j)]), -1.0, 1.0);
-        smallest = std::min(smallest, std::acos(c) * 180.0 / std::numbers::pi);
-      }
-  }
+  for (size_t t = 0; t < mesh.tets.size(); ++t) smallest = std::min(smallest, tetMinDihedralAngleDeg(mesh, static_cast<int>(t)));
   return smallest;
 }
 

@@ -106,6 +106,11 @@ class Incision {
   const BSplineVolume& rest() const noexcept { return rest_; }
   const BSplineVolume& displacement() const noexcept { return displacement_; }
   const IncisionOptions& options() const noexcept { return options_; }
+  // opening_j of column j as last written into displacement() (0 before it opens; 0 for j out of range):
+  // a follower that did not call updateOpening compares it with its own copy to find what moved. O(1).
+  double columnOpening(int column) const noexcept {
+    return column >= 0 && column < static_cast<int>(column_opening_.size()) ? column_opening_[static_cast<size_t>(column)] : 0.0;
+  }
 
   int stationCount() const noexcept { return static_cast<int>(stations_.size()); }
   // Columns [0, finalColumns()) are final.
@@ -135,7 +140,12 @@ class Incision {
   // allocation; the stencil stays valid for the incision's life (its knots never change).
   int stencilSize() const noexcept { return 3 * options_.order; }
   int stencil(const Eigen::Vector3d& uvw, int side, int* first, double* basis) const noexcept;
-  Eigen::Vector3d displacementFromStencil(int count, const int* first, const double* basis) const noexcept;
+  Eigen::Vector3d displacementFromStencil(int count, const int* first, const double* basis) const noexcept {
+    return displacementFromStencil(displacement_, count, first, basis);
+  }
+  // The same sum over another lattice of displacement()'s shape (a follower's delayed copy of it).
+  Eigen::Vector3d displacementFromStencil(const BSplineVolume& lattice, int count, const int* first,
+                                          const double* basis) const noexcept;
 
  private:
   struct Station {

@@ -42,6 +42,11 @@ void buildAdjacency(TetMesh& mesh);
 // (tet, local face) order. Uses the faces themselves, not mesh.neighbours. Cost O(T log T).
 std::vector<std::array<int, 3>> boundaryFaces(const TetMesh& mesh);
 
+// Signed volume of one tet (m^3) and its smallest interior dihedral angle (degrees; 0 for a flat tet).
+// std::out_of_range for a bad tet index; node indices are not checked. O(1).
+double tetVolume(const TetMesh& mesh, int tet);
+double tetMinDihedralAngleDeg(const TetMesh& mesh, int tet);
+
 // Sum of the signed tet volumes (m^3). O(T).
 double volume(const TetMesh& mesh);
 

@@ -1,0 +1,192 @@
+// Cuts a tetrahedral tissue (TetMesh, e.g. from tetrahedralize()) with the same local DFFD incisions that
+// SurfaceCutter grows on the drawn surface (Schein & Elber, "Discontinuous Free Form Deformations", §3.2
+// and §4; Incision in incision.h). The cutter follows an Incision it does not own: after the owner has
+// added samples and updated the opening, follow() does the tet work for the columns that became final.
+//
+// Per final lattice column (tets found through a grid of tet centroids, no pass over the mesh):
+//  1. the nodes of the tets under the column are parameterised by inverting F0 (as the surface cutter);
+//     phi = u - 1/2; a node closer to the cut than `snap_tolerance_m` gets phi = 0 (it lies on the cut:
+//     snapping instead of a sliver);
+//  2. a tet whose nodes all have phi and whose cut polygon (phi = 0 through it, linear in the tet) lies
+//     inside the cut (after the stroke's start, above the blade's depth, up to the last station once the
+//     stroke is finished: the surface cutter's test) is cut: a point is placed on each crossing edge (shared
+//     by every tet around that edge) and the tet is split into its - and + pieces (tet_split.h: all the
+//     cases: 1-3 edges, through a node, along a face); the tets around a new point that are not cut are
+//     subdivided conformingly without separating (the crack front);
+//  3. every node on the cut is duplicated when the tets around it fall into separate groups once cut faces
+//     no longer connect them: the u < 1/2 group keeps it, the u >= 1/2 group gets a copy; nodes on the crack
+//     front stay single and move with the mean of both sides;
+//  4. nodes move to rest + D(u, v, w) on their side (Incision::displacementAt, through cached stencils),
+//     again whenever the incision's opening changes (Incision::columnOpening).
+// The order of all this depends only on the samples, so the same samples give the same mesh (the same
+// bytes from mesh()) however they are grouped into calls, and whatever the budget.
+//
+// A new incision (a new `incision_number` in follow()) starts from the mesh as the previous one left it
+// (deformed, settled): it becomes the new rest mesh (O(T log T) once, at the new incision's first call).
+//
+// Threads: one owner (the sim thread). Cost per column: O(tets under `order` columns) plus one inversion
+// per new node; per call with no new column: O(columns) + O(nodes under columns whose opening changed).
+// Allocation: amortised growth of the node and child arrays; a new incision rebuilds the adjacency.
+// Failure: the constructor throws MeshError for a mesh that is not conforming and std::invalid_argument
+// for bad options; follow() never throws: a split that would leave a flat or inverted tet stops the cutter
+// with `failure` set in stats() (the mesh stays as the last finished column left it).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "incise/cutting/incision.h"
+#include "incise/cutting/tet_mesh.h"
+#include "incise/cutting/vertex_grid.h"
+
+namespace incise::cutting {
+
+struct TetCutterOptions {
+  double snap_tolerance_m = 0.0;  // nodes closer than this to the cut are put on it; 0 = 0.2 x the median
+                                  // edge length; < 0 is refused
+  int max_inversions_per_call = 0;  // per-call budget in node inversions (the dominant cost); 0 = none.
+                                    // Carried work resumes in the next call; the mesh does not depend on it.
+};
+
+// What one follow() call did.
+struct TetStep {
+  int columns = 0;        // lattice columns finished
+  int nodes_bound = 0;    // nodes parameterised
+  int tets_cut = 0;       // tets split along the cut
+  int tets_subdivided = 0;  // tets (re)subdivided, cut or conforming
+  int nodes_moved = 0;
+  bool failed = false;
+};
+
+struct TetCutStats {
+  int incisions = 0;
+  int tets_cut = 0;
+  int edge_points = 0;       // points placed on crossing edges
+  int snapped_nodes = 0;     // nodes put on the cut by the snap tolerance
+  int steiner_nodes = 0;     // points added inside pieces that could not be coned from a vertex
+  int duplicated_nodes = 0;  // nodes on the cut that have a copy for the u >= 1/2 side
+  std::string failure;       // empty unless the cutter stopped
+};
+
+// A materialised mesh with its per-tet fields (in the mesh's tet order).
+struct TetView {
+  TetMesh mesh;
+  std::vector<int> side;   // -1 / +1: a piece of a cut tet on that side of the cut; 0: not cut
+  std::vector<int> split;  // 0: an original tet; 1: a piece of a cut tet; 2: part of a conformingly
+                           // subdivided (crack-front) tet
+  std::vector<int> node_cut;  // per node: 0 off the cut; 1 on the cut, u < 1/2 side of a duplicated node;
+                              // 2 its copy (u >= 1/2 side); 3 on the cut's front (single, not separated)
+  double min_split_dihedral_deg = 180.0;  // over tets with split != 0, at rest
+  double min_split_volume_m3 = std::numeric_limits<double>::infinity();  // same
+  int inverted_tets = 0;  // tets with non-positive volume in this mesh
+};
+
+class TetCutter {
+ public:
+  // Load time: checks that `tissue` is conforming (checkConforming) and builds its adjacency and grid.
+  explicit TetCutter(TetMesh tissue, const TetCutterOptions& options = {});
+
+  // Catches up with `incision` (owned by the caller, e.g. SurfaceCutter::incision()): cuts the columns it
+  // has made final since the last call, within the budget unless `unlimited`, and moves the nodes whose
+  // displacement changed. `incision_number` identifies the incision (SurfaceCutter's stats().incisions):
+  // a new number starts a new one from the current mesh. Never throws.
+  TetStep follow(const Incision& incision, int incision_number, bool unlimited = false) noexcept;
+
+  // Final columns of the followed incision not yet cut (budget carried over).
+  bool pending() const noexcept;
+  // The current mesh, compacted (unused nodes dropped, nodes in creation order, tets in original-parent
+  // order): deformed or at rest. Allocates, O(N + T): for output and checks, not per frame.
+  TetView view(bool deformed = true) const;
+  const TetCutStats& stats() const noexcept { return stats_; }
+  double snapToleranceM() const noexcept { return snap_m_; }
+  // Tets in the current mesh (O(1)).
+  int tetCount() const noexcept { return tet_count_; }
+
+ private:
+  enum class NodeState : std::uint8_t { Unknown, Waiting, Bound, Outside, EdgePoint, Copy, Steiner };
+  struct Node {
+    Eigen::Vector3d uvw = Eigen::Vector3d::Zero();
+    NodeState state = NodeState::Unknown;
+    std::int8_t sign = 0;       // of phi; 0 on the cut (edge points, snapped nodes)
+    std::int8_t side = 0;       // for the displacement: -1, +1, 2 (mean), 0 (does not move)
+    bool cut_point = false;     // a vertex of some cut polygon: duplicated by groups
+    int copy = -1;              // the + side's copy of a cut point
+    int origin = -1;            // for a copy: the node it copies; else itself
+    int support = -1;           // for an edge point: its base edge
+    int stencil = -1;
+    std::uint32_t stamp = 0;
+  };
+
+  void rebuild(TetMesh mesh);
+  void startIncision(int incision_number);
+  bool processColumn(const Incision& in, int column, int& budget, TetStep& step);
+  enum class Resolve : std::uint8_t { Done, Later, OutOfBudget };
+  Resolve resolveNode(const Incision& in, int node, int column, int& budget, TetStep& step);
+  bool decideCut(const Incision& in, int tet);
+  int edgePoint(const Incision& in, int edge);
+  Eigen::Vector3d crossingUvw(int a, int b, double& lambda) const;
+  bool insideCut(const Incision& in, const Eigen::Vector3d& uvw) const;
+  void subdivide(int tet, TetStep& step);
+  void separate(int node);
+  void supportTets(int node, std::vector<int>& out) const;
+  int addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, NodeState state, int side);
+  void setSide(int node, int side);
+  void redeform(const Incision& in, TetStep& step);
+  void fail(const std::string& message);
+  int canonical(int node) const { return nodes_[static_cast<size_t>(node)].origin; }
+
+  TetCutterOptions options_;
+  double snap_m_ = 0.0;
+  const Incision* incision_ = nullptr;  // valid during follow() only
+  int incision_number_ = -1;
+  int next_column_ = 0;
+  bool column_started_ = false;
+  size_t next_candidate_ = 0;
+  int last_final_columns_ = 0;
+  std::vector<int> candidates_, affected_, cut_points_, scratch_, scratch2_, parent_, group_side_;
+  std::vector<std::array<int, 3>> faces_;  // separate(): (node, node, element) per face through the node
+  std::vector<std::uint8_t> group_seen_;
+  std::vector<double> opening_seen_;    // per column: the opening copied into lagged_
+  std::optional<BSplineVolume> lagged_;  // the incision's displacement, columns near the tets' front at 0
+  int lag_columns_ = 0;
+  double median_edge_m_ = 0.0;
+
+  // The rest mesh of the current incision ("base"), its edges and node -> tet incidence.
+  std::vector<std::array<int, 4>> base_tets_;
+  std::vector<std::array<int, 6>> tet_edges_;
+  std::vector<std::array<int, 2>> edges_;
+  std::vector<int> edge_point_;
+  std::vector<int> node_tets_first_, node_tets_;
+  std::vector<std::uint8_t> tet_state_;  // 0 untouched, 1 subdivided conformingly, 2 cut
+  VertexGrid grid_;
+  double reach_m_ = 0.0;
+
+  // Every node (base nodes first) and the current children of every base tet.
+  std::vector<Eigen::Vector3d> rest_m_, deformed_m_;
+  std::vector<Node> nodes_;
+  struct Child {
+    std::array<int, 4> nodes;
+    std::int8_t side;         // as TetView::side
+    std::uint8_t cut_faces;   // bit i: the face opposite nodes[i] lies on the cut
+  };
+  std::vector<Child> children_;  // a base tet's children: [child_first_[t], + child_count_[t])
+  std::vector<int> child_first_;
+  std::vector<std::uint8_t> child_count_;
+  std::vector<std::array<int, 3>> steiner_;  // per base tet: Steiner node per piece side (-1, 0, +1)
+  int tet_count_ = 0;
+
+  std::vector<std::vector<int>> cells_;  // nodes with a stencil by floor(v)
+  std::vector<std::uint8_t> stencil_count_;
+  std::vector<int> stencil_first_;
+  std::vector<double> stencil_basis_;
+  std::vector<int> dirty_;
+  std::uint32_t stamp_ = 0;
+  TetCutStats stats_;
+  bool failed_ = false;
+};
+
+}  // namespace incise::cutting

@@ -1,0 +1,572 @@
+#include "incise/cutting/tet_cutter.h"
+
+#include <algorithm>
+#include <climits>
+#include <functional>
+#include <tuple>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+#include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/volume_inversion.h"
+#include "tet_split.h"
+
+namespace incise::cutting {
+namespace {
+
+double medianEdgeLength(const TetMesh& mesh, double& longest) {
+  std::vector<double> lengths;
+  lengths.reserve(mesh.tets.size() * 6);
+  for (const auto& t : mesh.tets)
+    for (const auto& e : detail::kTetEdges)
+      lengths.push_back((mesh.nodes_m[static_cast<size_t>(t[e[0]])] - mesh.nodes_m[static_cast<size_t>(t[e[1]])]).norm());
+  if (lengths.empty()) return longest = 0.0;
+  longest = *std::max_element(lengths.begin(), lengths.end());
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  return lengths[lengths.size() / 2];
+}
+
+// Union-find over a few elements (the tets around one node).
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[static_cast<size_t>(i)] != i) i = parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
+  return i;
+}
+
+}  // namespace
+
+TetCutter::TetCutter(TetMesh tissue, const TetCutterOptions& options) : options_(options), grid_(1.0) {
+  if (!(options.snap_tolerance_m >= 0.0) || !std::isfinite(options.snap_tolerance_m))
+    throw std::invalid_argument("TetCutter: snap_tolerance_m = " + std::to_string(options.snap_tolerance_m) +
+                                " must be finite and >= 0");
+  if (options.max_inversions_per_call < 0)
+    throw std::invalid_argument("TetCutter: max_inversions_per_call = " + std::to_string(options.max_inversions_per_call) +
+                                " must be >= 0");
+  if (tissue.tets.empty()) throw MeshError("TetCutter: the tissue has no tets");
+  const TetCheck check = checkConforming(tissue);
+  if (!check.conforming) throw MeshError("TetCutter: the tissue is not conforming: " + check.first_problem);
+  double longest = 0.0;
+  const double median = medianEdgeLength(tissue, longest);
+  snap_m_ = options.snap_tolerance_m > 0.0 ? options.snap_tolerance_m : 0.2 * median;
+  rebuild(std::move(tissue));
+}
+
+void TetCutter::rebuild(TetMesh mesh) {
+  const size_t n_nodes = mesh.nodes_m.size(), n_tets = mesh.tets.size();
+  double longest = 0.0;
+  const double median = medianEdgeLength(mesh, longest);
+  reach_m_ = longest;
+  median_edge_m_ = median;
+  base_tets_ = mesh.tets;
+  rest_m_ = mesh.nodes_m;
+  deformed_m_ = mesh.nodes_m;
+  nodes_.assign(n_nodes, Node{});
+  for (size_t i = 0; i < n_nodes; ++i) nodes_[i].origin = static_cast<int>(i);
+  // Edges: the six of every tet, numbered by sorting (node, node, tet, local).
+  struct EdgeRef {
+    int a, b, tet, local;
+  };
+  std::vector<EdgeRef> refs;
+  refs.reserve(n_tets * 6);
+  for (size_t t = 0; t < n_tets; ++t)
+    for (int e = 0; e < 6; ++e) {
+      const int a = base_tets_[t][detail::kTetEdges[e][0]], b = base_tets_[t][detail::kTetEdges[e][1]];
+      refs.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t), e});
+    }
+  std::sort(refs.begin(), refs.end(), [](const EdgeRef& x, const EdgeRef& y) {
+    return std::tie(x.a, x.b, x.tet, x.local) < std::tie(y.a, y.b, y.tet, y.local);
+  });
+  edges_.clear();
+  tet_edges_.assign(n_tets, {});
+  for (size_t i = 0; i < refs.size(); ++i) {
+    if (i == 0 || refs[i].a != refs[i - 1].a || refs[i].b != refs[i - 1].b) edges_.push_back({refs[i].a, refs[i].b});
+    tet_edges_[static_cast<size_t>(refs[i].tet)][static_cast<size_t>(refs[i].local)] = static_cast<int>(edges_.size()) - 1;
+  }
+  edge_point_.assign(edges_.size(), -1);
+  // Node -> tets (ascending), compressed.
+  node_tets_first_.assign(n_nodes + 1, 0);
+  for (const auto& t : base_tets_)
+    for (int n : t) ++node_tets_first_[static_cast<size_t>(n) + 1];
+  std::partial_sum(node_tets_first_.begin(), node_tets_first_.end(), node_tets_first_.begin());
+  node_tets_.assign(n_tets * 4, 0);
+  std::vector<int> fill(node_tets_first_.begin(), node_tets_first_.end() - 1);
+  for (size_t t = 0; t < n_tets; ++t)
+    for (int n : base_tets_[t]) node_tets_[static_cast<size_t>(fill[static_cast<size_t>(n)]++)] = static_cast<int>(t);
+  tet_state_.assign(n_tets, 0);
+  children_.resize(n_tets);
+  for (size_t t = 0; t < n_tets; ++t) children_[t] = Child{base_tets_[t], 0, 0};
+  child_first_.resize(n_tets);
+  std::iota(child_first_.begin(), child_first_.end(), 0);
+  child_count_.assign(n_tets, 1);
+  steiner_.assign(n_tets, {-1, -1, -1});
+  tet_count_ = static_cast<int>(n_tets);
+  grid_ = VertexGrid(std::max(median, 1e-9));
+  for (size_t t = 0; t < n_tets; ++t) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int n : base_tets_[t]) c += rest_m_[static_cast<size_t>(n)] / 4.0;
+    grid_.insert(static_cast<int>(t), c);
+  }
+  stencil_count_.clear();
+  stencil_first_.clear();
+  stencil_basis_.clear();
+  dirty_.clear();
+}
+
+void TetCutter::startIncision(int incision_number) {
+  if (incision_number_ >= 0) rebuild(view(true).mesh);  // the previous wound, settled, is the new rest
+  incision_number_ = incision_number;
+  const IncisionOptions& o = incision_->options();
+  next_column_ = o.order - 1;
+  column_started_ = false;
+  last_final_columns_ = 0;
+  // The tets' cut trails the lattice's final columns by the tets ahead that are not decided yet (their
+  // nodes wait for a later column): about two tet edges, plus a B-spline support for the opening to fall
+  // to 0 there, so that no tet at the cut's leading edge is torn open before it is cut.
+  lag_columns_ = static_cast<int>(std::ceil(2.0 * median_edge_m_ / o.spacing_m)) + o.order;
+  lagged_.emplace(incision_->displacement());
+  opening_seen_.resize(static_cast<size_t>(o.max_columns));
+  for (int c = 0; c < o.max_columns; ++c) opening_seen_[static_cast<size_t>(c)] = incision_->columnOpening(c);
+  cells_.assign(static_cast<size_t>(o.max_columns), {});
+  ++stats_.incisions;
+}
+
+TetStep TetCutter::follow(const Incision& incision, int incision_number, bool unlimited) noexcept {
+  TetStep step;
+  if (failed_) {
+    step.failed = true;
+    return step;
+  }
+  try {
+    incision_ = &incision;
+    if (incision_number != incision_number_) startIncision(incision_number);
+    int budget = options_.max_inversions_per_call > 0 && !unlimited ? options_.max_inversions_per_call : INT_MAX;
+    last_final_columns_ = incision.finalColumns();
+    while (next_column_ < last_final_columns_ && budget > 0 && !failed_) {
+      if (!processColumn(incision, next_column_, budget, step)) break;
+      ++next_column_;
+    }
+    redeform(incision, step);
+  } catch (const std::exception& e) {  // allocation failure or a broken invariant: stop, never throw
+    fail(std::string("TetCutter: ") + e.what());
+  }
+  incision_ = nullptr;
+  step.failed = failed_;
+  return step;
+}
+
+bool TetCutter::pending() const noexcept { return !failed_ && next_column_ < last_final_columns_; }
+
+void TetCutter::fail(const std::string& message) {
+  failed_ = true;
+  if (stats_.failure.empty()) stats_.failure = message;
+}
+
+bool TetCutter::processColumn(const Incision& in, int column, int& budget, TetStep& step) {
+  if (!column_started_) {
+    column_started_ = true;
+    candidates_.clear();
+    affected_.clear();
+    next_candidate_ = 0;
+    Eigen::AlignedBox3d box = in.columnBox(column);
+    box.min().array() -= reach_m_;
+    box.max().array() += reach_m_;
+    grid_.query(box, candidates_);
+    std::sort(candidates_.begin(), candidates_.end());
+  }
+  for (; next_candidate_ < candidates_.size(); ++next_candidate_) {
+    const int t = candidates_[next_candidate_];
+    if (tet_state_[static_cast<size_t>(t)] == 2) continue;
+    bool resolved = true;
+    for (const int n : base_tets_[static_cast<size_t>(t)]) {
+      const Resolve r = resolveNode(in, n, column, budget, step);
+      if (r == Resolve::OutOfBudget) return false;  // resume at this tet next call
+      resolved = resolved && r == Resolve::Done;
+    }
+    if (resolved && decideCut(in, t)) ++step.tets_cut, ++stats_.tets_cut;
+  }
+  // The column's decisions are made: subdivide what they touched, then separate the cut's nodes.
+  std::sort(affected_.begin(), affected_.end());
+  affected_.erase(std::unique(affected_.begin(), affected_.end()), affected_.end());
+  cut_points_.clear();
+  for (const int t : affected_) subdivide(t, step);
+  std::sort(cut_points_.begin(), cut_points_.end());
+  cut_points_.erase(std::unique(cut_points_.begin(), cut_points_.end()), cut_points_.end());
+  for (const int x : cut_points_) separate(x);
+  column_started_ = false;
+  return true;
+}
+
+TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column, int& budget, TetStep& step) {
+  Node& d = nodes_[static_cast<size_t>(n)];
+  if (d.state != NodeState::Unknown && d.state != NodeState::Waiting) return Resolve::Done;
+  const Eigen::Vector3d& x = rest_m_[static_cast<size_t>(n)];
+  const Eigen::Vector3d guess = in.inversionGuess(x, column);
+  const auto outside = [&] {  // beyond the lattice: the guess tells the side; the node never moves
+    d.state = NodeState::Outside;
+    d.uvw = guess;
+    // Distance to the cut from Eq. (2): u spans (l - 1) alpha across the lattice.
+    const IncisionOptions& o = in.options();
+    const double distance_m = std::abs(guess[0] - 0.5) * (o.across_controls - 1) * o.alpha_m;
+    d.sign = distance_m < snap_m_ ? 0 : guess[0] < 0.5 ? -1 : 1;
+    if (d.sign == 0) ++stats_.snapped_nodes;
+    return Resolve::Done;
+  };
+  if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0) return outside();
+  if (guess[1] >= column + 1.5) {
+    d.state = NodeState::Waiting;
+    return Resolve::Later;
+  }
+  if (budget <= 0) return Resolve::OutOfBudget;
+  --budget;
+  // As SurfaceCutter::bindVertex: search only where F0 is final, so the result cannot depend on when.
+  const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, column + 1.0, 1.0));
+  const InversionResult r = invertPoint(in.rest(), x, guess, final_part, InversionOptions{12, 1e-10, 6});
+  if (r.converged && r.uvw[1] < column + 1.0) {
+    d.state = NodeState::Bound;
+    d.uvw = r.uvw;
+    const double phi = r.uvw[0] - 0.5;
+    // Distance to the cut ~ |phi| / |grad u|; grad u is the first row of the inverse Jacobian.
+    const Eigen::Matrix3d inverse = in.rest().jacobian(r.uvw).inverse();
+    const double grad_u = inverse.row(0).norm();
+    const bool snapped = std::isfinite(grad_u) && grad_u > 0.0 && std::abs(phi) / grad_u < snap_m_;
+    d.sign = snapped ? 0 : (phi < 0.0 ? -1 : 1);
+    if (snapped) ++stats_.snapped_nodes;
+    setSide(n, phi < 0.0 ? -1 : 1);
+    ++step.nodes_bound;
+    return Resolve::Done;
+  }
+  // Still no convergence `order` columns after the slab the guess points to: beyond the lattice.
+  if (column >= guess[1] + in.options().order) return outside();
+  d.state = NodeState::Waiting;
+  return Resolve::Later;
+}
+
+bool TetCutter::insideCut(const Incision& in, const Eigen::Vector3d& uvw) const {
+  // As SurfaceCutter::splitCrossings: after the stroke's start, above the blade's depth, up to the last
+  // station once finished.
+  const double w_limit = in.bottomW() - 0.05 * (in.bottomW() - in.surfaceW());
+  return uvw[1] >= in.startV() && uvw[2] <= w_limit && (!in.finished() || uvw[1] <= in.lastStationV());
+}
+
+Eigen::Vector3d TetCutter::crossingUvw(int a, int b, double& lambda) const {
+  const Eigen::Vector3d& ua = nodes_[static_cast<size_t>(a)].uvw;
+  const Eigen::Vector3d& ub = nodes_[static_cast<size_t>(b)].uvw;
+  lambda = (0.5 - ua[0]) / (ub[0] - ua[0]);
+  Eigen::Vector3d uvw = (1.0 - lambda) * ua + lambda * ub;
+  uvw[0] = 0.5;
+  return uvw;
+}
+
+bool TetCutter::decideCut(const Incision& in, int t) {
+  const auto& tet = base_tets_[static_cast<size_t>(t)];
+  int plus = 0, minus = 0, zero = 0;
+  for (const int n : tet) {
+    const int s = nodes_[static_cast<size_t>(n)].sign;
+    s > 0 ? ++plus : s < 0 ? ++minus : ++zero;
+  }
+  if (!((plus > 0 && minus > 0) || (zero == 3))) return false;
+  // The tet is cut when its cut polygon reaches into the cut (one vertex inside is enough): the tet is cut
+  // whole, so the tissue separates over the whole cut whatever the tets' size. The cut's rim then lies
+  // just beyond it — below the blade, before the start, after the end — where the opening is 0.
+  bool reaches = false;
+  for (const int n : tet) {
+    const Node& d = nodes_[static_cast<size_t>(n)];
+    if (d.sign == 0) reaches = reaches || insideCut(in, d.uvw);
+  }
+  for (const auto& e : detail::kTetEdges) {
+    const int a = std::min(tet[e[0]], tet[e[1]]), b = std::max(tet[e[0]], tet[e[1]]);
+    if (nodes_[static_cast<size_t>(a)].sign * nodes_[static_cast<size_t>(b)].sign >= 0) continue;
+    double lambda = 0.0;
+    reaches = reaches || insideCut(in, crossingUvw(a, b, lambda));
+  }
+  if (!reaches) return false;
+  tet_state_[static_cast<size_t>(t)] = 2;
+  affected_.push_back(t);
+  for (const int n : tet)
+    if (nodes_[static_cast<size_t>(n)].sign == 0) nodes_[static_cast<size_t>(n)].cut_point = true;
+  for (int e = 0; e < 6; ++e) {
+    const int a = tet[detail::kTetEdges[e][0]], b = tet[detail::kTetEdges[e][1]];
+    if (nodes_[static_cast<size_t>(a)].sign * nodes_[static_cast<size_t>(b)].sign >= 0) continue;
+    const int edge = tet_edges_[static_cast<size_t>(t)][static_cast<size_t>(e)];
+    if (edge_point_[static_cast<size_t>(edge)] >= 0) continue;
+    edgePoint(in, edge);
+    // Every tet around the edge now has a point on it: it must be subdivided to stay conforming.
+    const int lo = edges_[static_cast<size_t>(edge)][0], hi = edges_[static_cast<size_t>(edge)][1];
+    const auto first = node_tets_.begin();
+    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)], first + node_tets_first_[static_cast<size_t>(lo) + 1],
+                          first + node_tets_first_[static_cast<size_t>(hi)], first + node_tets_first_[static_cast<size_t>(hi) + 1],
+                          std::back_inserter(affected_));
+  }
+  return true;
+}
+
+int TetCutter::edgePoint(const Incision& in, int edge) {
+  (void)in;
+  const int a = edges_[static_cast<size_t>(edge)][0], b = edges_[static_cast<size_t>(edge)][1];
+  double lambda = 0.0;
+  const Eigen::Vector3d uvw = crossingUvw(a, b, lambda);
+  const Eigen::Vector3d rest = (1.0 - lambda) * rest_m_[static_cast<size_t>(a)] + lambda * rest_m_[static_cast<size_t>(b)];
+  const int id = addNode(rest, uvw, NodeState::EdgePoint, 2);
+  nodes_[static_cast<size_t>(id)].cut_point = true;
+  nodes_[static_cast<size_t>(id)].support = edge;
+  edge_point_[static_cast<size_t>(edge)] = id;
+  ++stats_.edge_points;
+  return id;
+}
+
+int TetCutter::addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, NodeState state, int side) {
+  const int id = static_cast<int>(nodes_.size());
+  rest_m_.push_back(rest_m);
+  deformed_m_.push_back(rest_m);
+  Node d;
+  d.uvw = uvw;
+  d.state = state;
+  d.origin = id;
+  nodes_.push_back(d);
+  setSide(id, side);
+  return id;
+}
+
+void TetCutter::setSide(int n, int side) {
+  Node& d = nodes_[static_cast<size_t>(n)];
+  d.side = static_cast<std::int8_t>(side);
+  dirty_.push_back(n);
+  if (side == 0) return;
+  const Incision& in = *incision_;
+  const int size = in.stencilSize();
+  if (d.stencil < 0) {
+    d.stencil = static_cast<int>(stencil_count_.size());
+    stencil_count_.push_back(0);
+    stencil_first_.resize(stencil_first_.size() + 2);
+    stencil_basis_.resize(stencil_basis_.size() + 2 * static_cast<size_t>(size));
+    const double v = std::clamp(std::floor(d.uvw[1]), 0.0, double(cells_.size() - 1));
+    cells_[static_cast<size_t>(v)].push_back(n);
+  }
+  Eigen::Vector3d uvw = d.uvw;
+  if (d.cut_point || d.state == NodeState::Copy) uvw[0] = 0.5;  // on the cut: the lips' parameters
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto domain = in.rest().domain(axis);
+    uvw[axis] = std::clamp(uvw[axis], domain[0], domain[1]);
+  }
+  const size_t s = static_cast<size_t>(d.stencil);
+  stencil_count_[s] = static_cast<std::uint8_t>(
+      in.stencil(uvw, side, &stencil_first_[2 * s], &stencil_basis_[2 * s * static_cast<size_t>(size)]));
+}
+
+namespace {
+
+// Steiner points of one base tet: one per piece side, reused when the tet is subdivided again.
+struct TetSteiner final : detail::SteinerSink {
+  std::function<int(const Eigen::Vector3d&, int)> make;
+  int add(const Eigen::Vector3d& x_m, int side) override { return make(x_m, side); }
+};
+
+}  // namespace
+
+void TetCutter::subdivide(int t, TetStep& step) {
+  const auto& tet = base_tets_[static_cast<size_t>(t)];
+  detail::SplitInput input;
+  input.cut = tet_state_[static_cast<size_t>(t)] == 2;
+  for (int i = 0; i < 4; ++i) {
+    const int n = tet[static_cast<size_t>(i)];
+    input.nodes[static_cast<size_t>(i)] = {n, rest_m_[static_cast<size_t>(n)], nodes_[static_cast<size_t>(n)].sign};
+  }
+  for (int e = 0; e < 6; ++e) {
+    const int p = edge_point_[static_cast<size_t>(tet_edges_[static_cast<size_t>(t)][static_cast<size_t>(e)])];
+    if (p >= 0) input.edge_points[static_cast<size_t>(e)] = {p, rest_m_[static_cast<size_t>(p)], 0};
+  }
+  TetSteiner sink;
+  sink.make = [&](const Eigen::Vector3d& x_m, int side) {
+    int& slot = steiner_[static_cast<size_t>(t)][static_cast<size_t>(side + 1)];
+    // Parameters by barycentric interpolation of the tet's nodes.
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 3; ++i) m.col(i) = rest_m_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])] - rest_m_[static_cast<size_t>(tet[0])];
+    const Eigen::Vector3d b = m.partialPivLu().solve(x_m - rest_m_[static_cast<size_t>(tet[0])]);
+    Eigen::Vector3d uvw = (1.0 - b.sum()) * nodes_[static_cast<size_t>(tet[0])].uvw;
+    for (int i = 0; i < 3; ++i) uvw += b[i] * nodes_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])].uvw;
+    const int move_side = side != 0 ? side : (uvw[0] < 0.5 ? -1 : 1);
+    if (slot < 0) {
+      slot = addNode(x_m, uvw, NodeState::Steiner, move_side);
+      ++stats_.steiner_nodes;
+    } else {
+      rest_m_[static_cast<size_t>(slot)] = x_m;
+      nodes_[static_cast<size_t>(slot)].uvw = uvw;
+      setSide(slot, move_side);
+    }
+    return slot;
+  };
+  detail::SubTet out[detail::kMaxChildren];
+  const detail::SplitResult r = detail::splitTet(input, sink, out);
+  if (r.degenerate)
+    fail("TetCutter: splitting tet " + std::to_string(t) + " leaves a flat tet (volume " + std::to_string(r.min_volume_m3) +
+         " m^3); the cutter stops");
+  int& first = child_first_[static_cast<size_t>(t)];
+  const int old_count = child_count_[static_cast<size_t>(t)];
+  if (r.count > old_count) first = static_cast<int>(children_.size()), children_.resize(children_.size() + static_cast<size_t>(r.count));
+  for (int c = 0; c < r.count; ++c) {
+    children_[static_cast<size_t>(first + c)] = Child{out[c].nodes, out[c].side, out[c].cut_faces};
+    for (const int n : out[c].nodes)
+      if (nodes_[static_cast<size_t>(n)].cut_point) cut_points_.push_back(n);
+  }
+  child_count_[static_cast<size_t>(t)] = static_cast<std::uint8_t>(r.count);
+  tet_count_ += r.count - old_count;
+  if (tet_state_[static_cast<size_t>(t)] == 0) tet_state_[static_cast<size_t>(t)] = 1;
+  ++step.tets_subdivided;
+}
+
+void TetCutter::supportTets(int x, std::vector<int>& out) const {
+  out.clear();
+  const Node& d = nodes_[static_cast<size_t>(x)];
+  const auto first = node_tets_.begin();
+  if (d.state == NodeState::EdgePoint) {
+    const int lo = edges_[static_cast<size_t>(d.support)][0], hi = edges_[static_cast<size_t>(d.support)][1];
+    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)], first + node_tets_first_[static_cast<size_t>(lo) + 1],
+                          first + node_tets_first_[static_cast<size_t>(hi)], first + node_tets_first_[static_cast<size_t>(hi) + 1],
+                          std::back_inserter(out));
+  } else {
+    out.assign(first + node_tets_first_[static_cast<size_t>(x)], first + node_tets_first_[static_cast<size_t>(x) + 1]);
+  }
+}
+
+void TetCutter::separate(int x) {
+  supportTets(x, scratch_);
+  // The children around x, and union-find over them through faces that contain x and are not cut faces.
+  std::vector<int>& elems = scratch2_;
+  elems.clear();
+  for (const int t : scratch_)
+    for (int c = child_first_[static_cast<size_t>(t)]; c < child_first_[static_cast<size_t>(t)] + child_count_[static_cast<size_t>(t)]; ++c)
+      for (const int n : children_[static_cast<size_t>(c)].nodes)
+        if (canonical(n) == x) {
+          elems.push_back(c);
+          break;
+        }
+  faces_.clear();
+  for (size_t k = 0; k < elems.size(); ++k) {
+    const Child& ch = children_[static_cast<size_t>(elems[k])];
+    for (int i = 0; i < 4; ++i) {
+      if (canonical(ch.nodes[static_cast<size_t>(i)]) == x || (ch.cut_faces >> i & 1u)) continue;
+      int other[2], m = 0;
+      for (int j = 0; j < 4; ++j)
+        if (j != i && canonical(ch.nodes[static_cast<size_t>(j)]) != x) other[m++] = canonical(ch.nodes[static_cast<size_t>(j)]);
+      faces_.push_back({std::min(other[0], other[1]), std::max(other[0], other[1]), static_cast<int>(k)});
+    }
+  }
+  std::sort(faces_.begin(), faces_.end(),
+            [](const auto& p, const auto& q) { return std::tie(p[0], p[1], p[2]) < std::tie(q[0], q[1], q[2]); });
+  parent_.resize(elems.size());
+  std::iota(parent_.begin(), parent_.end(), 0);
+  for (size_t i = 1; i < faces_.size(); ++i)
+    if (faces_[i][0] == faces_[i - 1][0] && faces_[i][1] == faces_[i - 1][1])
+      parent_[static_cast<size_t>(findRoot(parent_, faces_[i][2]))] = findRoot(parent_, faces_[i - 1][2]);
+  // Each group's side: +1 if it holds + pieces only, -1 if - only, 0 if both or none.
+  group_side_.assign(elems.size(), 0);
+  std::vector<std::uint8_t>& seen = group_seen_;
+  seen.assign(elems.size(), 0);
+  for (size_t k = 0; k < elems.size(); ++k) {
+    const int s = children_[static_cast<size_t>(elems[k])].side;
+    if (s != 0) seen[static_cast<size_t>(findRoot(parent_, static_cast<int>(k)))] |= s > 0 ? 2u : 1u;
+  }
+  int groups = 0, plus_groups = 0;
+  for (size_t k = 0; k < elems.size(); ++k) {
+    if (findRoot(parent_, static_cast<int>(k)) != static_cast<int>(k)) continue;
+    ++groups;
+    if (seen[k] == 2u) ++plus_groups;
+  }
+  Node& d = nodes_[static_cast<size_t>(x)];
+  const bool doubled = groups >= 2 && plus_groups > 0 && plus_groups < groups;
+  if (doubled && d.copy < 0) {
+    const Eigen::Vector3d rest = rest_m_[static_cast<size_t>(x)], uvw = d.uvw;
+    const int copy = addNode(rest, uvw, NodeState::Copy, 1);
+    nodes_[static_cast<size_t>(x)].copy = copy;
+    nodes_[static_cast<size_t>(copy)].origin = x;
+    ++stats_.duplicated_nodes;
+  }
+  // Below the blade's depth the two sides stay together (the mean of both, as the surface cutter's wall
+  // bottom): the tets there are cut apart (the blade's bottom passed through them) but the slit is shut.
+  const bool open = doubled && nodes_[static_cast<size_t>(x)].uvw[2] < incision_->bottomW();
+  setSide(x, open ? -1 : 2);
+  const int copy = nodes_[static_cast<size_t>(x)].copy;
+  if (doubled) setSide(copy, open ? 1 : 2);
+  for (size_t k = 0; k < elems.size(); ++k) {
+    const bool to_copy = doubled && seen[static_cast<size_t>(findRoot(parent_, static_cast<int>(k)))] == 2u;
+    for (int& n : children_[static_cast<size_t>(elems[k])].nodes)
+      if (canonical(n) == x) n = to_copy ? copy : x;
+  }
+}
+
+void TetCutter::redeform(const Incision& in, TetStep& step) {
+  if (++stamp_ == 0) stamp_ = 1;
+  const auto move = [&](int n) {
+    Node& d = nodes_[static_cast<size_t>(n)];
+    if (d.stamp == stamp_) return;
+    d.stamp = stamp_;
+    Eigen::Vector3d x = rest_m_[static_cast<size_t>(n)];
+    if (d.side != 0 && d.stencil >= 0) {
+      const size_t s = static_cast<size_t>(d.stencil);
+      x += in.displacementFromStencil(*lagged_, stencil_count_[s], &stencil_first_[2 * s],
+                                      &stencil_basis_[2 * s * static_cast<size_t>(in.stencilSize())]);
+    }
+    deformed_m_[static_cast<size_t>(n)] = x;
+    ++step.nodes_moved;
+  };
+  const int order = in.options().order;
+  const int columns = static_cast<int>(opening_seen_.size());
+  // Columns stay shut from `shut_from` on, where tets may not be cut yet, and open gradually over the
+  // lag_columns_ before it (a step would tear the tets behind the front); all open once all is cut.
+  const bool all_cut = in.finished() && !pending();
+  const int shut_from = next_column_ - lag_columns_;
+  const BSplineVolume& source = in.displacement();
+  const std::array<int, 3> counts = source.controlCounts();
+  for (int c = 0; c < columns; ++c) {
+    const double scale = all_cut ? 1.0 : std::clamp(double(shut_from - c) / lag_columns_, 0.0, 1.0);
+    const double opening = scale * in.columnOpening(c);
+    if (opening == opening_seen_[static_cast<size_t>(c)]) continue;
+    opening_seen_[static_cast<size_t>(c)] = opening;
+    for (int k = 0; k < counts[2]; ++k)
+      for (int i = 0; i < counts[0]; ++i) lagged_->setControl(i, c, k, scale * source.control(i, c, k));
+    for (int cell = c; cell < std::min(c + order, columns); ++cell)
+      for (const int n : cells_[static_cast<size_t>(cell)]) move(n);
+  }
+  for (const int n : dirty_) move(n);
+  dirty_.clear();
+}
+
+TetView TetCutter::view(bool deformed) const {
+  TetView v;
+  std::vector<int> remap(nodes_.size(), -1);
+  for (size_t t = 0; t < base_tets_.size(); ++t)
+    for (int c = child_first_[t]; c < child_first_[t] + child_count_[t]; ++c)
+      for (const int n : children_[static_cast<size_t>(c)].nodes) remap[static_cast<size_t>(n)] = 0;
+  const std::vector<Eigen::Vector3d>& x = deformed ? deformed_m_ : rest_m_;
+  for (size_t n = 0; n < nodes_.size(); ++n) {
+    if (remap[n] != 0) continue;
+    remap[n] = static_cast<int>(v.mesh.nodes_m.size());
+    v.mesh.nodes_m.push_back(x[n]);
+    const Node& d = nodes_[n];
+    v.node_cut.push_back(d.state == NodeState::Copy ? 2 : !d.cut_point ? 0 : d.side == -1 ? 1 : 3);
+  }
+  v.mesh.tets.reserve(static_cast<size_t>(tet_count_));
+  for (size_t t = 0; t < base_tets_.size(); ++t)
+    for (int c = child_first_[t]; c < child_first_[t] + child_count_[t]; ++c) {
+      const Child& ch = children_[static_cast<size_t>(c)];
+      v.mesh.tets.push_back({remap[static_cast<size_t>(ch.nodes[0])], remap[static_cast<size_t>(ch.nodes[1])],
+                             remap[static_cast<size_t>(ch.nodes[2])], remap[static_cast<size_t>(ch.nodes[3])]});
+      v.side.push_back(ch.side);
+      v.split.push_back(tet_state_[t] == 0 ? 0 : tet_state_[t] == 2 ? 1 : 2);
+    }
+  TetMesh rest;  // quality of the split tets is judged at rest
+  if (deformed) rest = view(false).mesh;
+  const TetMesh& at_rest = deformed ? rest : v.mesh;
+  for (size_t t = 0; t < v.mesh.tets.size(); ++t) {
+    if (tetVolume(v.mesh, static_cast<int>(t)) <= 0.0) ++v.inverted_tets;
+    if (v.split[t] == 0) continue;
+    v.min_split_dihedral_deg = std::min(v.min_split_dihedral_deg, tetMinDihedralAngleDeg(at_rest, static_cast<int>(t)));
+    v.min_split_volume_m3 = std::min(v.min_split_volume_m3, tetVolume(at_rest, static_cast<int>(t)));
+  }
+  buildAdjacency(v.mesh);
+  return v;
+}
+
+}  // namespace incise::cutting
