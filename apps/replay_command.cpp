@@ -1,8 +1,12 @@
 // `incise replay [SCENARIO] [--realtime|--fast] [--out DIR]`: the main job. Replays the scenario's poses
 // through the simulation loop (a fixed-rate 1 kHz thread in real time, or the same frames as fast as
 // possible), then writes the cut mesh, a JSON report (latency statistics, counts, the geometry's hash) and
-// prints a short summary. Outputs are written to temporary files and renamed: nothing half-written.
+// prints a short summary. With a tet tissue (the scenario's tissue.tets), also the cut tets (tets.vtu,
+// tets.node/.ele) and their figures in the report. Outputs are written to temporary files and renamed:
+// nothing half-written.
+#include <cmath>
 #include <cstdio>
+#include <map>
 #include <filesystem>
 #include <sstream>
 
@@ -33,6 +37,33 @@ nlohmann::json summaryJson(const sim::SampleSummary& s) {
   return {{"count", s.count}, {"p50", s.p50}, {"p99", s.p99}, {"p999", s.p999}, {"max", s.max}, {"mean", s.mean}};
 }
 
+// The tet tissue's outputs beside the surface mesh: tets.vtu (ParaView) and TetGen's tets.node/.ele, with
+// per-tet fields side (-1 / +1 of the cut, 0 elsewhere) and split (0 original, 1 piece of a cut tet, 2 part
+// of a crack-front tet), and the report's figures.
+nlohmann::json writeTets(const cutting::TetCutter& tets, const std::filesystem::path& out) {
+  const cutting::TetView view = tets.view(true);
+  const std::map<std::string, std::vector<int>> fields = {{"side", view.side}, {"split", view.split}};
+  cutting::saveVtu(view.mesh, out / "tets.vtu", fields);
+  cutting::saveNodeEle(view.mesh, out / "tets", fields);
+  const cutting::TetCutStats& stats = tets.stats();
+  const auto finite = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  return {{"tets", view.mesh.tets.size()},
+          {"nodes", view.mesh.nodes_m.size()},
+          {"volume_m3", cutting::volume(view.mesh)},
+          {"rest_volume_m3", cutting::volume(tets.view(false).mesh)},
+          {"min_dihedral_deg", cutting::minDihedralAngleDeg(view.mesh)},
+          {"min_split_dihedral_deg", view.min_split_dihedral_deg},
+          {"min_split_volume_m3", finite(view.min_split_volume_m3)},
+          {"inverted_tets", view.inverted_tets},
+          {"tets_cut", stats.tets_cut},
+          {"edge_points", stats.edge_points},
+          {"duplicated_nodes", stats.duplicated_nodes},
+          {"snapped_nodes", stats.snapped_nodes},
+          {"steiner_nodes", stats.steiner_nodes},
+          {"pending", tets.pending()},
+          {"failure", stats.failure}};
+}
+
 int runReplay(const ReplayArgs& a) {
   LoadedScenario run;
   try {
@@ -54,6 +85,8 @@ int runReplay(const ReplayArgs& a) {
   const std::uint64_t hash = cutting::geometryHash(tissue);
   const auto& stats = run.world->cutter().stats();
   const std::filesystem::path out(a.out);
+  bool tets_ok = true;
+  std::string tets_note;
   try {
     cutting::saveObj(tissue, out / "cut.obj");
     nlohmann::json json = {
@@ -81,19 +114,26 @@ int runReplay(const ReplayArgs& a) {
         {"loop", {{"overruns", report.loop.overruns}, {"skipped_deadlines", report.loop.skipped_deadlines},
                   {"max_period_error_us", report.loop.max_period_error_us}}},
     };
+    if (const cutting::TetCutter* tets = run.world->tets()) {
+      json["tets"] = writeTets(*tets, out);
+      tets_ok = json["tets"]["failure"].get<std::string>().empty() && json["tets"]["inverted_tets"].get<int>() == 0;
+      tets_note = "; " + std::to_string(json["tets"]["tets"].get<size_t>()) + " tets (" +
+                  std::to_string(json["tets"]["tets_cut"].get<int>()) + " cut, " +
+                  std::to_string(json["tets"]["inverted_tets"].get<int>()) + " inverted)";
+    }
     writeJsonAtomically(json, out / "report.json");
   } catch (const std::exception& e) {
     failWith("replay", e.what());
   }
   std::printf("incise replay %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened; "
               "frame p99 %.1f us, haptic p99 %.1f us, pose-to-visible p99 %.0f frames, %lld deadline misses; "
-              "closed two-manifold: %s; geometry %s; wrote %s\n",
+              "closed two-manifold: %s; geometry %s%s; wrote %s\n",
               run.scenario.name.c_str(), options.realtime ? "realtime" : "fast", static_cast<long long>(report.frames),
               static_cast<long long>(report.poses), report.incisions, stats.vertices_duplicated,
               report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
               static_cast<long long>(report.latency.deadline_misses), mesh.closed_two_manifold ? "yes" : "NO",
-              hex(hash).c_str(), a.out.c_str());
-  return mesh.closed_two_manifold && stats.failure.empty() ? 0 : 1;
+              hex(hash).c_str(), tets_note.c_str(), a.out.c_str());
+  return mesh.closed_two_manifold && stats.failure.empty() && tets_ok ? 0 : 1;
 }
 
 }  // namespace

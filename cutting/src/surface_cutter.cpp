@@ -83,16 +83,20 @@ bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
   return false;
 }
 
-CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept {
+void SurfaceCutter::settle() noexcept {
   if (active()) finish(false);
-  // The previous incision's carried work is done now, whatever the budget, and its wound set to its
-  // final, settled opening: a state that depends on the samples alone, not on how far frames had advanced
-  // its time response when this stroke began. A new lattice replaces it.
+  // The incision's carried work is done now, whatever the budget, and its wound set to its final, settled
+  // opening: a state that depends on the samples alone, not on how far frames had advanced its time
+  // response when the next stroke began.
   if (incision_) time_s_ = std::numeric_limits<double>::max();
   unlimited_ = true;
   if (incision_) process(CutStep{});
   while (pending()) process(CutStep{});
   unlimited_ = false;
+}
+
+CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept {
+  settle();  // a new lattice replaces the previous incision's
   CutStep refused;
   if (!first.point_m.allFinite() || !first.normal.allFinite() || !std::isfinite(first.time_s) ||
       !blade_direction.allFinite()) {

@@ -285,16 +285,25 @@ TetCheck checkConforming(const TetMesh& mesh) {
   return check;
 }
 
+namespace {
+
+void requireValidFields(const TetMesh& mesh, const std::map<std::string, std::vector<int>>& cell_fields,
+                        const char* who) {
+  for (const auto& [name, values] : cell_fields) {
+    if (name.empty() || name.find_first_of("\"<>& \n\t") != std::string::npos)
+      throw std::invalid_argument(std::string(who) + ": bad field name '" + name + "'");
+    if (values.size() != mesh.tets.size())
+      throw std::invalid_argument(std::string(who) + ": field '" + name + "' has " + std::to_string(values.size()) +
+                                  " values for " + std::to_string(mesh.tets.size()) + " tets");
+  }
+}
+
+}  // namespace
+
 void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
              const std::map<std::string, std::vector<int>>& cell_fields) {
   requireValidIndices(mesh);
-  for (const auto& [name, values] : cell_fields) {
-    if (name.empty() || name.find_first_of("\"<>&") != std::string::npos)
-      throw std::invalid_argument("saveVtu: bad field name '" + name + "'");
-    if (values.size() != mesh.tets.size())
-      throw std::invalid_argument("saveVtu: field '" + name + "' has " + std::to_string(values.size()) +
-                                  " values for " + std::to_string(mesh.tets.size()) + " tets");
-  }
+  requireValidFields(mesh, cell_fields, "saveVtu");
   for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
     if (!mesh.nodes_m[v].allFinite())
       throw MeshError("cannot save " + path.string() + ": node " + std::to_string(v) + " is not finite");
@@ -337,8 +346,10 @@ void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
   out.rename();
 }
 
-void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem) {
+void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem,
+                 const std::map<std::string, std::vector<int>>& cell_fields) {
   requireValidIndices(mesh);
+  requireValidFields(mesh, cell_fields, "saveNodeEle");
   for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
     if (!mesh.nodes_m[v].allFinite())
       throw MeshError("cannot save " + stem.string() + ".node: node " + std::to_string(v) + " is not finite");
@@ -347,10 +358,17 @@ void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem) {
   for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
     node << v << " " << mesh.nodes_m[v][0] << " " << mesh.nodes_m[v][1] << " " << mesh.nodes_m[v][2] << "\n";
   AtomicText ele(stem.string() + ".ele");
-  ele << mesh.tets.size() << " 4 0\n";
+  ele << mesh.tets.size() << " 4 " << cell_fields.size() << "\n";
+  if (!cell_fields.empty()) {
+    ele << "# attributes:";
+    for (const auto& field : cell_fields) ele << " " << field.first;
+    ele << "\n";
+  }
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
     const auto& tet = mesh.tets[t];
-    ele << t << " " << tet[0] << " " << tet[1] << " " << tet[2] << " " << tet[3] << "\n";
+    ele << t << " " << tet[0] << " " << tet[1] << " " << tet[2] << " " << tet[3];
+    for (const auto& field : cell_fields) ele << " " << field.second[t];
+    ele << "\n";
   }
   node.close();
   ele.close();

@@ -125,6 +125,19 @@ void readIncision(const Reader& r, cutting::CutterOptions& c) {
   c.wall_rows = r.integer("wall_rows", c.wall_rows, 1, 64);
 }
 
+void readTets(const Reader& r, TetTissueOptions& t) {
+  t.enabled = true;
+  t.mesh.radius_edge_ratio = r.number("radius_edge_ratio", t.mesh.radius_edge_ratio, 0.0, 100.0);
+  if (t.mesh.radius_edge_ratio != 0.0 && t.mesh.radius_edge_ratio < 1.0)
+    r.fail("must be 0 (no quality refinement) or >= 1", "radius_edge_ratio");
+  t.mesh.max_volume_m3 = r.number("max_volume_m3", t.mesh.max_volume_m3, 0.0, 1.0);
+  if (r.has("keep_surface")) {
+    if (!r.raw().at("keep_surface").is_boolean()) r.fail("must be true or false", "keep_surface");
+    t.mesh.keep_surface = r.raw().at("keep_surface").get<bool>();
+  }
+  t.cutter.snap_tolerance_m = r.number("snap_tolerance_m", t.cutter.snap_tolerance_m, 0.0, 1.0);
+}
+
 std::vector<StrokeSpec> readStrokes(const Reader& source) {
   if (!source.has("strokes") || !source.raw().at("strokes").is_array() || source.raw().at("strokes").empty())
     source.fail("must be a non-empty array of strokes", "strokes");
@@ -163,6 +176,7 @@ Scenario loadScenario(const std::filesystem::path& file) {
   tp.stiffness_N_per_m = tissue.number("stiffness_N_per_m", tp.stiffness_N_per_m, 0.0, 1e7);
   tp.damping_N_s_per_m = tissue.number("damping_N_s_per_m", tp.damping_N_s_per_m, 0.0, 1e5);
   tp.cutting_resistance_N = tissue.number("cutting_resistance_N", tp.cutting_resistance_N, 0.0, 1e3);
+  if (tissue.has("tets")) readTets(tissue.child("tets"), s.world.tets);
 
   const Reader tool = root.child("tool");
   s.world.tool.blade_length_m = tool.number("blade_length_m", s.world.tool.blade_length_m, 1e-4, 1.0);

@@ -34,6 +34,15 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
     throw std::invalid_argument("World: cut_budget_us and us_per_inversion must be > 0");
   tissue_ = std::make_unique<cutting::SurfaceMesh>(std::move(tissue));
   cutter_ = std::make_unique<cutting::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
+  if (options.tets.enabled) {
+    cutting::TetCutterOptions tet_options = options.tets.cutter;
+    tet_options.max_inversions_per_call = withBudget(options.cutter, options).max_inversions_per_call;
+    tets_ = std::make_unique<cutting::TetCutter>(cutting::tetrahedralize(*tissue_, options.tets.mesh), tet_options);
+  }
+}
+
+void World::followTets(bool unlimited) noexcept {
+  if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, unlimited);
 }
 
 void World::contact(const devices::PoseSample& pose, HapticState& state) noexcept {
@@ -85,6 +94,10 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
     const cutting::StrokeSample sample{state.contact_m, state.normal, pose.time_s};
     if (state.cutting) {
       if (!cutter_->active()) {
+        if (tets_) {  // the tets catch up with the previous incision before begin() replaces it
+          cutter_->settle();
+          followTets(true);
+        }
         cutter_->begin(sample, pose.orientation * Eigen::Vector3d::UnitX());
       } else {
         cutter_->addSample(sample, true);  // on the surface by contact; the work is done in cut()
@@ -104,6 +117,10 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
   return state;
 }
 
-cutting::CutStep World::cut(double t_s) noexcept { return cutter_->advance(t_s); }
+cutting::CutStep World::cut(double t_s) noexcept {
+  const cutting::CutStep step = cutter_->advance(t_s);
+  followTets(false);
+  return step;
+}
 
 }  // namespace incise::sim

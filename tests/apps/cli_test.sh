@@ -25,6 +25,14 @@ check "replay writes the cut mesh" test -s "$work/ok/cut.obj"
 check "replay writes the report" grep -q '"geometry_hash"' "$work/ok/report.json"
 check "no temporary file is left" bash -c "! ls '$work/ok' | grep -q tmp"
 
+# A tet tissue: the cut tets beside the cut surface, their figures in the report.
+check "replay runs the tet scenario" "$incise" replay "$scenarios/bunny-tets.json" --out "$work/tets"
+for f in tets.vtu tets.node tets.ele cut.obj; do check "the tet replay writes $f" test -s "$work/tets/$f"; done
+check "the report has the tet counts, volume and smallest dihedral angle" \
+  grep -q '"min_split_dihedral_deg"' "$work/tets/report.json"
+check "the .ele names its per-tet attributes" grep -q '^# attributes: side split' "$work/tets/tets.ele"
+check "the .vtu has the side field" grep -q 'Name="side"' "$work/tets/tets.vtu"
+
 # Bad scenarios: exit 2, a message naming the file, nothing in the output directory.
 printf '{\n  "tissue": { "mesh": "meshes/bunny.obj" },\n  "pose_source": { "kind": "trace", "path": "traces/missing.csv" }\n}\n' > "$work/missing-trace.json"
 mkdir -p "$work/meshes" && cp "$scenarios/meshes/bunny.obj" "$work/meshes/"
@@ -56,6 +64,13 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$work/meshes/open.obj"
 printf '{ "tissue": { "mesh": "meshes/open.obj" }, "pose_source": { "kind": "trace", "path": "traces/nan.csv" } }' > "$work/open.json"
 check "an open tissue is refused with the edge at fault" expect_exit 2 "open surface: edge" -- "$incise" replay "$work/open.json" --out "$work/out3"
 check "... and writes nothing (open)" test ! -e "$work/out3"
+
+# A tissue that intersects itself, with tets: refused before TetGen sees it, naming the two faces.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.2 0.2 -0.5\nv 0.3 0.2 0.8\nv 0.2 0.3 0.8\nv 0.25 0.25 1.5\n' > "$work/meshes/twisted.obj"
+printf 'f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\nf 5 7 6\nf 5 6 8\nf 6 7 8\nf 7 5 8\n' >> "$work/meshes/twisted.obj"
+printf '{ "tissue": { "mesh": "meshes/twisted.obj", "tets": {} }, "pose_source": { "kind": "trace", "path": "traces/cut.csv" } }' > "$work/twisted.json"
+check "a self-intersecting tissue is refused before TetGen, naming faces" expect_exit 2 "intersect" -- "$incise" replay "$work/twisted.json" --out "$work/out4"
+check "... and writes nothing (self-intersecting)" test ! -e "$work/out4"
 
 # record then replay: the generator round trip.
 check "record writes a trace from generated strokes" "$incise" record "$scenarios/generate/bunny-straight.json" --out "$work/rec.csv"

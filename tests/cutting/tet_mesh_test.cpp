@@ -389,6 +389,25 @@ TEST_CASE("tet_mesh: saveVtu and saveNodeEle write files that parse back, with n
   CHECK(ele_lines == m.tets.size());
   CHECK_FALSE(hasTmpFile(dir.path()));
 
+  // Per-tet fields become .ele attributes, in name order, after the nodes.
+  std::vector<int> side(m.tets.size()), split(m.tets.size());
+  for (size_t t = 0; t < m.tets.size(); ++t) side[t] = static_cast<int>(t % 3) - 1, split[t] = static_cast<int>(t % 2);
+  saveNodeEle(m, dir.path() / "fields", {{"split", split}, {"side", side}});
+  std::ifstream with(dir.path() / "fields.ele");
+  size_t attributes = 0;
+  with >> tets >> corners >> attributes;
+  CHECK(attributes == 2);
+  with.ignore(1000, '\n');
+  std::getline(with, line);
+  CHECK(line == "# attributes: side split");
+  for (size_t t = 0; t < m.tets.size(); ++t) {
+    int i, a, b, c, d, s1, s2;
+    REQUIRE(with >> i >> a >> b >> c >> d >> s1 >> s2);
+    CHECK(s1 == side[t]);
+    CHECK(s2 == split[t]);
+  }
+  CHECK_THROWS_AS(saveNodeEle(m, dir.path() / "bad", {{"short", {1}}}), std::invalid_argument);
+
   CHECK_THROWS_AS(saveVtu(m, dir.path() / "bad.vtu", {{"short", {1, 2}}}), std::invalid_argument);
   CHECK_THROWS_AS(saveVtu(m, dir.path() / "missing" / "x.vtu"), MeshError);
   CHECK_FALSE(fs::exists(dir.path() / "bad.vtu"));

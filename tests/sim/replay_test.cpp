@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 
@@ -57,6 +58,29 @@ TEST_CASE("replay: fast and real-time replays give the same geometry", "[sim]") 
   // Frames in real time last as long as the trace (plus settling): the loop really paced them.
   REQUIRE(realtime.report.wall_s > 0.9 * realtime.report.simulated_s);
   REQUIRE(fast.report.latency.frames == fast.report.frames);
+}
+
+TEST_CASE("replay: a tet tissue is cut, the same fast and in real time", "[sim]") {
+  const auto cut = [](bool realtime) {
+    const sim::Scenario s = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/bunny-tets.json");
+    sim::World world(sim::loadTissue(s), s.world);
+    REQUIRE(world.tets() != nullptr);
+    sim::ReplayOptions options;
+    options.realtime = realtime;
+    options.period_us = s.periodUs();
+    options.settle_s = s.settle_s;
+    sim::replay(world, devices::TraceReader::readAll(s.trace), options);
+    REQUIRE_FALSE(world.tets()->pending());
+    REQUIRE(world.tets()->stats().failure.empty());
+    return world.tets()->view(true);
+  };
+  const cutting::TetView fast = cut(false), realtime = cut(true);
+  REQUIRE(fast.split.end() - std::find(fast.split.begin(), fast.split.end(), 1) > 50);  // pieces of cut tets
+  REQUIRE(cutting::checkConforming(fast.mesh).conforming);
+  REQUIRE(fast.inverted_tets == 0);
+  REQUIRE(fast.mesh.nodes_m == realtime.mesh.nodes_m);
+  REQUIRE(fast.mesh.tets == realtime.mesh.tets);
+  REQUIRE(fast.side == realtime.side);
 }
 
 TEST_CASE("replay: the crossing scenario gives the same geometry fast and in real time", "[sim][slow]") {

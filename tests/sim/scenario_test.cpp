@@ -39,7 +39,12 @@ TEST_CASE("scenario: the shipped scenarios load", "[sim]") {
     REQUIRE(s.periodUs() == 1000);
     REQUIRE(s.world.cutter.incision.depth_m == 0.004);
     REQUIRE(s.subdivide == 2);
+    REQUIRE_FALSE(s.world.tets.enabled);
   }
+  const sim::Scenario tets = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/bunny-tets.json");
+  REQUIRE(tets.world.tets.enabled);
+  REQUIRE(tets.world.tets.mesh.max_volume_m3 == 5e-9);
+  REQUIRE(tets.world.tets.mesh.keep_surface);
 }
 
 TEST_CASE("scenario: defaults fill what a scenario leaves out", "[sim]") {
@@ -77,5 +82,14 @@ TEST_CASE("scenario: bad scenarios name the file and the key or line", "[sim]") 
   REQUIRE_THROWS_WITH(
       sim::loadScenario(scenarioFile("stroke", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "strokes", "strokes": [{"start_m": [0, 1]}]}})")),
       Contains("pose_source.strokes[0].start_m: must be an array of 3 numbers"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("tets", R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"max_volume_m3": -1}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      Contains("tissue.tets.max_volume_m3: ") && Contains("is outside"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("ratio", R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"radius_edge_ratio": 0.5}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      Contains("tissue.tets.radius_edge_ratio: must be 0 (no quality refinement) or >= 1"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile("keep", R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"keep_surface": 1}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      Contains("tissue.tets.keep_surface: must be true or false"));
   REQUIRE_THROWS_WITH(sim::loadScenario("/nonexistent/scenario.json"), Contains("scenario.json: cannot open"));
 }

@@ -93,6 +93,10 @@ class SurfaceCutter {
   // opening (a cut begun within retraction_time_s of the last one makes that one snap open). A non-finite sample or a
   // zero normal is refused with a status (no incision starts). Never throws.
   CutStep begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept;
+  // The first part of begin(): finishes the current incision, if any, does its carried work whatever the
+  // budget and sets its wound to its final, settled opening. A follower of the incision (TetCutter) calls
+  // it, then catches up, before begin() replaces the incision. Idempotent. Never throws.
+  void settle() noexcept;
   // Adds stroke samples to the current incision and processes every column they make final (within the
   // per-call budget). A sample off the surface finishes the incision. Never throws.
   CutStep extend(const StrokeSample& sample) noexcept;

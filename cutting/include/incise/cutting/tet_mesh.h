@@ -76,8 +76,10 @@ TetCheck checkConforming(const TetMesh& mesh);
 void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
              const std::map<std::string, std::vector<int>>& cell_fields = {});
 
-// TetGen's stem.node ("N 3 0 0", then "i x y z") and stem.ele ("T 4 0", then "i a b c d"), 0-based. Both
-// are written to .tmp files first, then renamed. Failure as saveVtu. Cost O(N + T).
-void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem);
+// TetGen's stem.node ("N 3 0 0", then "i x y z") and stem.ele ("T 4 A", then "i a b c d" and one
+// attribute per entry of `cell_fields`, in name order, named by a "# attributes:" comment line), 0-based.
+// Both are written to .tmp files first, then renamed. Failure as saveVtu. Cost O(N + T).
+void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem,
+                 const std::map<std::string, std::vector<int>>& cell_fields = {});
 
 }  // namespace incise::cutting

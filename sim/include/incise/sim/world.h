@@ -11,7 +11,8 @@
 //                            damping, plus a constant cutting resistance against the blade's tangential
 //                            motion while it cuts, clamped to max_force_N;
 //   cut(t_s)                 the cutter's carried work for this frame, bounded by the work budget derived
-//                            from cut_budget_us, and the wound's opening at time t_s.
+//                            from cut_budget_us, and the wound's opening at time t_s; then, with a tet
+//                            tissue, the tet cutter's work for the same incision under the same budget.
 // The cut depends only on the pose samples (their positions and times), never on which frame handled
 // them: replaying a trace as fast as possible or in real time gives the same geometry.
 //
@@ -20,7 +21,7 @@
 // Threads: one owner, the sim thread. Cost: updateTool O(poses * vertices near the blade); cut as
 // SurfaceCutter under its budget. Allocation: none per frame beyond the cutter's mesh growth (reserved).
 // Failure: the constructor throws (std::invalid_argument for bad parameters, cutting::MeshError for a
-// tissue that is not a closed two-manifold); updateTool and cut never throw (bad poses are skipped and
+// tissue that is not a closed two-manifold, intersects itself or that TetGen refuses); updateTool and cut never throw (bad poses are skipped and
 // counted).
 #pragma once
 
@@ -30,6 +31,8 @@
 #include <Eigen/Core>
 
 #include "incise/cutting/surface_cutter.h"
+#include "incise/cutting/tet_cutter.h"
+#include "incise/cutting/tetrahedralize.h"
 #include "incise/devices/pose_sample.h"
 
 namespace incise::sim {
@@ -46,8 +49,16 @@ struct TissueParams {
   double max_force_N = 8.0;            // the haptic device's limit: forces are clamped to it
 };
 
+// The tissue's volume: tetrahedralised from the surface at load (TetGen) and cut by the same incisions.
+struct TetTissueOptions {
+  bool enabled = false;
+  cutting::TetrahedralizeOptions mesh;
+  cutting::TetCutterOptions cutter;  // its per-call budget comes from cut_budget_us, as the surface's
+};
+
 struct WorldOptions {
   cutting::CutterOptions cutter;
+  TetTissueOptions tets;
   ToolParams tool;
   TissueParams tissue;
   double cut_budget_us = 300.0;  // per-frame time for cutting work, turned into an inversion budget
@@ -91,13 +102,17 @@ class World {
   const cutting::SurfaceCutter& cutter() const noexcept { return *cutter_; }
   const WorldOptions& options() const noexcept { return options_; }
   int incisions() const noexcept { return cutter_->stats().incisions; }
+  // The tissue's tets and their cutter; nullptr unless options.tets.enabled.
+  const cutting::TetCutter* tets() const noexcept { return tets_.get(); }
 
  private:
   void contact(const devices::PoseSample& pose, HapticState& state) noexcept;
+  void followTets(bool unlimited) noexcept;
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
   std::unique_ptr<cutting::SurfaceMesh> tissue_;  // stable address: the cutter keeps a reference
   std::unique_ptr<cutting::SurfaceCutter> cutter_;
+  std::unique_ptr<cutting::TetCutter> tets_;
   WorldOptions options_;
   devices::PoseSample last_pose_{};
   bool has_pose_ = false;
