@@ -112,6 +112,23 @@ void TetCutter::rebuild(TetMesh mesh) {
   stencil_first_.clear();
   stencil_basis_.clear();
   dirty_.clear();
+  reserveHeadroom();
+}
+
+void TetCutter::reserveHeadroom() {
+  // Room for a long cut's new nodes and children, so that the sim thread does not reallocate (and copy)
+  // these arrays mid-stroke; an incision beyond it still works, with amortised growth.
+  const size_t nodes = rest_m_.size() + kHeadroomNodes, children = children_.size() + 8 * kHeadroomNodes;
+  rest_m_.reserve(nodes);
+  deformed_m_.reserve(nodes);
+  nodes_.reserve(nodes);
+  children_.reserve(children);
+  stencil_count_.reserve(kHeadroomNodes * 2);
+  stencil_first_.reserve(kHeadroomNodes * 4);
+  dirty_.reserve(kHeadroomNodes);
+  for (auto* v : {&candidates_, &affected_, &cut_points_, &scratch_, &scratch2_, &parent_, &group_side_}) v->reserve(4096);
+  faces_.reserve(4096);
+  group_seen_.reserve(4096);
 }
 
 void TetCutter::startIncision(int incision_number) {
@@ -129,6 +146,8 @@ void TetCutter::startIncision(int incision_number) {
   opening_seen_.resize(static_cast<size_t>(o.max_columns));
   for (int c = 0; c < o.max_columns; ++c) opening_seen_[static_cast<size_t>(c)] = incision_->columnOpening(c);
   cells_.assign(static_cast<size_t>(o.max_columns), {});
+  for (auto& cell : cells_) cell.reserve(64);
+  stencil_basis_.reserve(kHeadroomNodes * 4 * static_cast<size_t>(incision_->stencilSize()));
   ++stats_.incisions;
 }
 

@@ -184,15 +184,19 @@ struct Tissue {
   TetMesh tets;
 };
 
-const Tissue& bunnyTissue() {
-  static const Tissue tissue = [] {
-    Tissue t{testing::bunny(1), {}};  // the coarse bunny's faces are wider than the lattice
+// The bunny Loop-subdivided once (the coarse bunny's faces are wider than the lattice), tetrahedralised
+// with tets of at most `max_volume_m3`: 2e-8 gives about 37,000 tets, 1.2e-9 about 238,000.
+const Tissue& bunnyTissue(double max_volume_m3 = 2e-8) {
+  static std::map<double, Tissue> tissues;
+  auto it = tissues.find(max_volume_m3);
+  if (it == tissues.end()) {
+    Tissue t{testing::bunny(1), {}};
     TetrahedralizeOptions o;
-    o.max_volume_m3 = 2e-8;
+    o.max_volume_m3 = max_volume_m3;
     t.tets = tetrahedralize(t.surface, o);
-    return t;
-  }();
-  return tissue;
+    it = tissues.emplace(max_volume_m3, std::move(t)).first;
+  }
+  return it->second;
 }
 
 struct Run {
@@ -203,8 +207,8 @@ struct Run {
 };
 
 // Cuts the bunny's back along a 3 cm stroke, `group` samples per call, then finishes and settles.
-Run cutBunny(int group = 1, int budget = 0, std::function<void(const TetCutter&, const SurfaceCutter&)> each = {}) {
-  const Tissue& tissue = bunnyTissue();
+Run cutBunny(int group = 1, int budget = 0, std::function<void(const TetCutter&, const SurfaceCutter&)> each = {},
+             const Tissue& tissue = bunnyTissue()) {
   Run run{tissue.surface, {}, {}, {}};
   SurfaceCutter cutter(run.surface, CutterOptions{});
   TetCutterOptions options;
@@ -236,9 +240,8 @@ const Run& bunnyRun() {
   return run;
 }
 
-TEST_CASE("tet_cutter: the cut splits tets, duplicates nodes and keeps the volume", "[cutting]") {
-  const Run& run = bunnyRun();
-  const double original = volume(bunnyTissue().tets);
+void checkCut(const Run& run, const Tissue& tissue) {
+  const double original = volume(tissue.tets);
   CHECK(run.stats.tets_cut > 40);
   CHECK(run.stats.edge_points > 15);
   CHECK(run.stats.duplicated_nodes > 20);
@@ -252,8 +255,7 @@ TEST_CASE("tet_cutter: the cut splits tets, duplicates nodes and keeps the volum
   CHECK(volume(run.deformed.mesh) > 0.99 * original);
 }
 
-TEST_CASE("tet_cutter: the mesh stays conforming and no face is shared across the cut", "[cutting]") {
-  const Run& run = bunnyRun();
+void checkSeparated(const Run& run, const Tissue& tissue) {
   for (const TetView* v : {&run.rest, &run.deformed}) {
     const TetCheck check = checkConforming(v->mesh);
     INFO(check.first_problem);
@@ -272,11 +274,10 @@ TEST_CASE("tet_cutter: the mesh stays conforming and no face is shared across th
     CHECK(at_front < 20);
   }
   // The cut opened new boundary: the wound's walls.
-  CHECK(boundaryFaces(run.rest.mesh).size() > boundaryFaces(bunnyTissue().tets).size() + 100);
+  CHECK(boundaryFaces(run.rest.mesh).size() > boundaryFaces(tissue.tets).size() + 100);
 }
 
-TEST_CASE("tet_cutter: the tets' boundary is a closed surface matching the cut surface mesh", "[cutting]") {
-  const Run& run = bunnyRun();
+void checkBoundary(const Run& run) {
   const auto faces = boundaryFaces(run.deformed.mesh);
   // Closed two-manifold: every boundary edge in exactly two boundary faces, with opposite directions.
   std::map<std::pair<int, int>, int> directed;
@@ -319,6 +320,27 @@ TEST_CASE("tet_cutter: the tets' boundary is a closed surface matching the cut s
   CHECK(worst_m < run.snap_m + 0.25 * IncisionOptions{}.opening_m);
 }
 
+TEST_CASE("tet_cutter: the cut splits tets, duplicates nodes and keeps the volume", "[cutting]") {
+  checkCut(bunnyRun(), bunnyTissue());
+}
+
+TEST_CASE("tet_cutter: the mesh stays conforming and no face is shared across the cut", "[cutting]") {
+  checkSeparated(bunnyRun(), bunnyTissue());
+}
+
+TEST_CASE("tet_cutter: the tets' boundary is a closed surface matching the cut surface mesh", "[cutting]") {
+  checkBoundary(bunnyRun());
+}
+
+TEST_CASE("tet_cutter: on a tissue of more than 200k tets every check holds", "[cutting][slow]") {
+  const Tissue& fine = bunnyTissue(1.2e-9);
+  REQUIRE(fine.tets.tets.size() > 200000);
+  const Run run = cutBunny(1, 32, {}, fine);
+  checkCut(run, fine);
+  checkSeparated(run, fine);
+  checkBoundary(run);
+}
+
 TEST_CASE("tet_cutter: same samples give the same bytes, however they are grouped and budgeted", "[cutting]") {
   const Run& one = bunnyRun();
   const Run again = cutBunny(1);
@@ -345,6 +367,41 @@ TEST_CASE("tet_cutter: volume and conformity hold after every step of the stroke
     ++checks;
   });
   CHECK(checks > 3);
+}
+
+TEST_CASE("tet_cutter: a second incision crossing the first cuts the already cut tets", "[cutting]") {
+  const Tissue& tissue = bunnyTissue();
+  SurfaceMesh surface = tissue.surface;
+  SurfaceCutter cutter(surface, CutterOptions{});
+  TetCutter tets(tissue.tets);
+  const auto stroke = [&](const Stroke& s) {
+    cutter.settle();  // the tets catch up with the previous incision before begin() replaces it
+    if (cutter.incision()) tets.follow(*cutter.incision(), cutter.stats().incisions, true);
+    cutter.begin(s.first, s.blade_direction);
+    for (const auto& sample : s.samples) {
+      cutter.extend(sample);
+      tets.follow(*cutter.incision(), cutter.stats().incisions);
+    }
+    cutter.finish();
+    cutter.advance(1e9);
+    tets.follow(*cutter.incision(), cutter.stats().incisions, true);
+  };
+  stroke(testing::backStroke(tissue.surface, 0.03));
+  const int first_cut = tets.stats().tets_cut;
+  const TetView after_first = tets.view(true);
+  stroke(testing::backStroke(tissue.surface, 0.025, 0.0, Eigen::Vector3d(0.0, 0.0, 0.005), Eigen::Vector3d::UnitZ(), 10.0));
+  REQUIRE(tets.stats().incisions == 2);
+  REQUIRE(tets.stats().failure.empty());
+  CHECK(tets.stats().tets_cut > first_cut + 20);
+  const TetView rest = tets.view(false), deformed = tets.view(true);
+  // The second incision's rest state is the first one's settled result.
+  CHECK(std::abs(volume(rest.mesh) - volume(after_first.mesh)) <= 1e-9 * volume(after_first.mesh));
+  for (const TetView* v : {&rest, &deformed}) {
+    const TetCheck check = checkConforming(v->mesh);
+    INFO(check.first_problem);
+    CHECK(check.conforming);
+    CHECK(v->inverted_tets == 0);
+  }
 }
 
 TEST_CASE("tet_cutter: bad tissue and options are refused at load", "[cutting]") {

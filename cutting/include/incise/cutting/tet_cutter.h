@@ -26,7 +26,8 @@
 //
 // Threads: one owner (the sim thread). Cost per column: O(tets under `order` columns) plus one inversion
 // per new node; per call with no new column: O(columns) + O(nodes under columns whose opening changed).
-// Allocation: amortised growth of the node and child arrays; a new incision rebuilds the adjacency.
+// Allocation: none per call within the headroom reserved at load and at each new incision (20,000 new
+// nodes); beyond it, amortised growth. A new incision rebuilds the adjacency (O(T log T), allocates).
 // Failure: the constructor throws MeshError for a mesh that is not conforming and std::invalid_argument
 // for bad options; follow() never throws: a split that would leave a flat or inverted tet stops the cutter
 // with `failure` set in stats() (the mesh stays as the last finished column left it).
@@ -122,6 +123,8 @@ class TetCutter {
   };
 
   void rebuild(TetMesh mesh);
+  void reserveHeadroom();
+  static constexpr size_t kHeadroomNodes = 20000;  // new nodes an incision may add without reallocation
   void startIncision(int incision_number);
   bool processColumn(const Incision& in, int column, int& budget, TetStep& step);
   enum class Resolve : std::uint8_t { Done, Later, OutOfBudget };
