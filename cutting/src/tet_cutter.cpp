@@ -37,7 +37,7 @@ int findRoot(std::vector<int>& parent, int i) {
 
 }  // namespace
 
-TetCutter::TetCutter(TetMesh tissue, const TetCutterOptions& options) : options_(options), grid_(1.0) {
+TetCutter::TetCutter(TetMesh tissue, const TetCutterOptions& options) : options_(options), node_grid_(1.0) {
   if (!(options.snap_tolerance_m >= 0.0) || !std::isfinite(options.snap_tolerance_m))
     throw std::invalid_argument("TetCutter: snap_tolerance_m = " + std::to_string(options.snap_tolerance_m) +
                                 " must be finite and >= 0");
@@ -57,7 +57,6 @@ void TetCutter::rebuild(TetMesh mesh) {
   const size_t n_nodes = mesh.nodes_m.size(), n_tets = mesh.tets.size();
   double longest = 0.0;
   const double median = medianEdgeLength(mesh, longest);
-  reach_m_ = longest;
   median_edge_m_ = median;
   base_tets_ = mesh.tets;
   rest_m_ = mesh.nodes_m;
@@ -102,12 +101,9 @@ void TetCutter::rebuild(TetMesh mesh) {
   child_count_.assign(n_tets, 1);
   steiner_.assign(n_tets, {-1, -1, -1});
   tet_count_ = static_cast<int>(n_tets);
-  grid_ = VertexGrid(std::max(median, 1e-9));
-  for (size_t t = 0; t < n_tets; ++t) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int n : base_tets_[t]) c += rest_m_[static_cast<size_t>(n)] / 4.0;
-    grid_.insert(static_cast<int>(t), c);
-  }
+  node_grid_ = VertexGrid(std::max(2.0 * median, 1e-9));
+  for (size_t n = 0; n < n_nodes; ++n) node_grid_.insert(static_cast<int>(n), rest_m_[n]);
+  decided_.assign(n_tets, 0);
   stencil_count_.clear();
   stencil_first_.clear();
   stencil_basis_.clear();
@@ -187,23 +183,32 @@ bool TetCutter::processColumn(const Incision& in, int column, int& budget, TetSt
     column_started_ = true;
     candidates_.clear();
     affected_.clear();
-    next_candidate_ = 0;
-    Eigen::AlignedBox3d box = in.columnBox(column);
-    box.min().array() -= reach_m_;
-    box.max().array() += reach_m_;
-    grid_.query(box, candidates_);
-    std::sort(candidates_.begin(), candidates_.end());
+    fresh_.clear();
+    next_candidate_ = next_fresh_ = 0;
+    next_fresh_tet_ = -1;
+    node_grid_.query(in.columnBox(column), candidates_);  // the nodes under this column
   }
-  for (; next_candidate_ < candidates_.size(); ++next_candidate_) {
-    const int t = candidates_[next_candidate_];
-    if (tet_state_[static_cast<size_t>(t)] == 2) continue;
-    bool resolved = true;
-    for (const int n : base_tets_[static_cast<size_t>(t)]) {
-      const Resolve r = resolveNode(in, n, column, budget, step);
-      if (r == Resolve::OutOfBudget) return false;  // resume at this tet next call
-      resolved = resolved && r == Resolve::Done;
+  // Nodes first: each one bound here becomes "fresh".
+  for (; next_candidate_ < candidates_.size(); ++next_candidate_)
+    if (resolveNode(in, candidates_[next_candidate_], column, budget, step) == Resolve::OutOfBudget) return false;
+  // Then the tets around each fresh node: a tet is decided once, when its last node is known (its other
+  // nodes are tried here too; those bound here become fresh in turn).
+  for (; next_fresh_ < fresh_.size(); ++next_fresh_, next_fresh_tet_ = -1) {
+    const size_t n = static_cast<size_t>(fresh_[next_fresh_]);
+    if (next_fresh_tet_ < 0) next_fresh_tet_ = node_tets_first_[n];
+    for (; next_fresh_tet_ < node_tets_first_[n + 1]; ++next_fresh_tet_) {
+      const int t = node_tets_[static_cast<size_t>(next_fresh_tet_)];
+      if (decided_[static_cast<size_t>(t)]) continue;
+      bool resolved = true;
+      for (const int m : base_tets_[static_cast<size_t>(t)]) {
+        const Resolve r = resolveNode(in, m, column, budget, step);
+        if (r == Resolve::OutOfBudget) return false;  // resume at this tet next call
+        resolved = resolved && r == Resolve::Done;
+      }
+      if (!resolved) continue;
+      decided_[static_cast<size_t>(t)] = 1;
+      if (decideCut(in, t)) ++step.tets_cut, ++stats_.tets_cut;
     }
-    if (resolved && decideCut(in, t)) ++step.tets_cut, ++stats_.tets_cut;
   }
   // The column's decisions are made: subdivide what they touched, then separate the cut's nodes.
   std::sort(affected_.begin(), affected_.end());
@@ -220,6 +225,7 @@ bool TetCutter::processColumn(const Incision& in, int column, int& budget, TetSt
 TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column, int& budget, TetStep& step) {
   Node& d = nodes_[static_cast<size_t>(n)];
   if (d.state != NodeState::Unknown && d.state != NodeState::Waiting) return Resolve::Done;
+  if (d.state == NodeState::Waiting && column < d.retry) return Resolve::Later;
   const Eigen::Vector3d& x = rest_m_[static_cast<size_t>(n)];
   const Eigen::Vector3d guess = in.inversionGuess(x, column);
   const auto outside = [&] {  // beyond the lattice: the guess tells the side; the node never moves
@@ -233,8 +239,9 @@ TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column,
     return Resolve::Done;
   };
   if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0) return outside();
-  if (guess[1] >= column + 1.5) {
+  if (guess[1] >= column + 1.5) {  // a later slab's node: not before that slab's column
     d.state = NodeState::Waiting;
+    d.retry = std::max(column + 1, static_cast<int>(std::floor(guess[1] - 1.5)) + 1);
     return Resolve::Later;
   }
   if (budget <= 0) return Resolve::OutOfBudget;
@@ -246,19 +253,25 @@ TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column,
     d.state = NodeState::Bound;
     d.uvw = r.uvw;
     const double phi = r.uvw[0] - 0.5;
-    // Distance to the cut ~ |phi| / |grad u|; grad u is the first row of the inverse Jacobian.
-    const Eigen::Matrix3d inverse = in.rest().jacobian(r.uvw).inverse();
-    const double grad_u = inverse.row(0).norm();
-    const bool snapped = std::isfinite(grad_u) && grad_u > 0.0 && std::abs(phi) / grad_u < snap_m_;
+    // Distance to the cut ~ |phi| / |grad u|; grad u is the first row of the inverse Jacobian (computed
+    // only near the cut: Eq. (2) spaces the u-planes about alpha apart, over (l - 1) alpha).
+    const IncisionOptions& o = in.options();
+    bool snapped = false;
+    if (std::abs(phi) * (o.across_controls - 1) * o.alpha_m < 4.0 * snap_m_) {
+      const double grad_u = in.rest().jacobian(r.uvw).inverse().row(0).norm();
+      snapped = std::isfinite(grad_u) && grad_u > 0.0 && std::abs(phi) / grad_u < snap_m_;
+    }
     d.sign = snapped ? 0 : (phi < 0.0 ? -1 : 1);
     if (snapped) ++stats_.snapped_nodes;
     setSide(n, phi < 0.0 ? -1 : 1);
     ++step.nodes_bound;
+    fresh_.push_back(n);
     return Resolve::Done;
   }
   // Still no convergence `order` columns after the slab the guess points to: beyond the lattice.
   if (column >= guess[1] + in.options().order) return outside();
   d.state = NodeState::Waiting;
+  d.retry = column + 1;
   return Resolve::Later;
 }
 

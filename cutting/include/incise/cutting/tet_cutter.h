@@ -3,8 +3,10 @@
 // and §4; Incision in incision.h). The cutter follows an Incision it does not own: after the owner has
 // added samples and updated the opening, follow() does the tet work for the columns that became final.
 //
-// Per final lattice column (tets found through a grid of tet centroids, no pass over the mesh):
-//  1. the nodes of the tets under the column are parameterised by inverting F0 (as the surface cutter);
+// Per final lattice column (nodes found through a grid, tets through node -> tet incidence; no pass over
+// the mesh):
+//  1. the nodes under the column are parameterised by inverting F0 (as the surface cutter); the tets around
+//     each node bound are decided once all their nodes are known;
 //     phi = u - 1/2; a node closer to the cut than `snap_tolerance_m` gets phi = 0 (it lies on the cut:
 //     snapping instead of a sliver);
 //  2. a tet whose nodes all have phi and whose cut polygon (phi = 0 through it, linear in the tet) lies
@@ -115,6 +117,7 @@ class TetCutter {
     std::int8_t sign = 0;       // of phi; 0 on the cut (edge points, snapped nodes)
     std::int8_t side = 0;       // for the displacement: -1, +1, 2 (mean), 0 (does not move)
     bool cut_point = false;     // a vertex of some cut polygon: duplicated by groups
+    int retry = 0;              // Waiting: the column at which to try again
     int copy = -1;              // the + side's copy of a cut point
     int origin = -1;            // for a copy: the node it copies; else itself
     int support = -1;           // for an edge point: its base edge
@@ -148,7 +151,9 @@ class TetCutter {
   int incision_number_ = -1;
   int next_column_ = 0;
   bool column_started_ = false;
-  size_t next_candidate_ = 0;
+  size_t next_candidate_ = 0, next_fresh_ = 0;
+  int next_fresh_tet_ = -1;
+  std::vector<int> fresh_;  // nodes bound during the current column, in order
   int last_final_columns_ = 0;
   std::vector<int> candidates_, affected_, cut_points_, scratch_, scratch2_, parent_, group_side_;
   std::vector<std::array<int, 3>> faces_;  // separate(): (node, node, element) per face through the node
@@ -165,8 +170,8 @@ class TetCutter {
   std::vector<int> edge_point_;
   std::vector<int> node_tets_first_, node_tets_;
   std::vector<std::uint8_t> tet_state_;  // 0 untouched, 1 subdivided conformingly, 2 cut
-  VertexGrid grid_;
-  double reach_m_ = 0.0;
+  std::vector<std::uint8_t> decided_;    // whether the tet's cut decision has been made
+  VertexGrid node_grid_;                 // base nodes at rest
 
   // Every node (base nodes first) and the current children of every base tet.
   std::vector<Eigen::Vector3d> rest_m_, deformed_m_;
