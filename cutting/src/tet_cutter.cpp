@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <climits>
-#include <functional>
 #include <tuple>
 #include <cmath>
 #include <numeric>
@@ -387,15 +386,34 @@ void TetCutter::setSide(int n, int side) {
       in.stencil(uvw, side, &stencil_first_[2 * s], &stencil_basis_[2 * s * static_cast<size_t>(size)]));
 }
 
-namespace {
-
 // Steiner points of one base tet: one per piece side, reused when the tet is subdivided again.
-struct TetSteiner final : detail::SteinerSink {
-  std::function<int(const Eigen::Vector3d&, int)> make;
-  int add(const Eigen::Vector3d& x_m, int side) override { return make(x_m, side); }
+struct TetCutter::SteinerNodes final : detail::SteinerSink {
+  SteinerNodes(TetCutter& cutter, int tet) : cutter_(cutter), tet_(tet) {}
+  int add(const Eigen::Vector3d& x_m, int side) override { return cutter_.steinerNode(tet_, x_m, side); }
+  TetCutter& cutter_;
+  int tet_;
 };
 
-}  // namespace
+int TetCutter::steinerNode(int t, const Eigen::Vector3d& x_m, int side) {
+  const auto& tet = base_tets_[static_cast<size_t>(t)];
+  int& slot = steiner_[static_cast<size_t>(t)][static_cast<size_t>(side + 1)];
+  // Parameters by barycentric interpolation of the tet's nodes.
+  Eigen::Matrix3d m;
+  for (int i = 0; i < 3; ++i) m.col(i) = rest_m_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])] - rest_m_[static_cast<size_t>(tet[0])];
+  const Eigen::Vector3d b = m.partialPivLu().solve(x_m - rest_m_[static_cast<size_t>(tet[0])]);
+  Eigen::Vector3d uvw = (1.0 - b.sum()) * nodes_[static_cast<size_t>(tet[0])].uvw;
+  for (int i = 0; i < 3; ++i) uvw += b[i] * nodes_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])].uvw;
+  const int move_side = side != 0 ? side : (uvw[0] < 0.5 ? -1 : 1);
+  if (slot < 0) {
+    slot = addNode(x_m, uvw, NodeState::Steiner, move_side);
+    ++stats_.steiner_nodes;
+  } else {
+    rest_m_[static_cast<size_t>(slot)] = x_m;
+    nodes_[static_cast<size_t>(slot)].uvw = uvw;
+    setSide(slot, move_side);
+  }
+  return slot;
+}
 
 void TetCutter::subdivide(int t, TetStep& step) {
   const auto& tet = base_tets_[static_cast<size_t>(t)];
@@ -409,26 +427,7 @@ void TetCutter::subdivide(int t, TetStep& step) {
     const int p = edge_point_[static_cast<size_t>(tet_edges_[static_cast<size_t>(t)][static_cast<size_t>(e)])];
     if (p >= 0) input.edge_points[static_cast<size_t>(e)] = {p, rest_m_[static_cast<size_t>(p)], 0};
   }
-  TetSteiner sink;
-  sink.make = [&](const Eigen::Vector3d& x_m, int side) {
-    int& slot = steiner_[static_cast<size_t>(t)][static_cast<size_t>(side + 1)];
-    // Parameters by barycentric interpolation of the tet's nodes.
-    Eigen::Matrix3d m;
-    for (int i = 0; i < 3; ++i) m.col(i) = rest_m_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])] - rest_m_[static_cast<size_t>(tet[0])];
-    const Eigen::Vector3d b = m.partialPivLu().solve(x_m - rest_m_[static_cast<size_t>(tet[0])]);
-    Eigen::Vector3d uvw = (1.0 - b.sum()) * nodes_[static_cast<size_t>(tet[0])].uvw;
-    for (int i = 0; i < 3; ++i) uvw += b[i] * nodes_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])].uvw;
-    const int move_side = side != 0 ? side : (uvw[0] < 0.5 ? -1 : 1);
-    if (slot < 0) {
-      slot = addNode(x_m, uvw, NodeState::Steiner, move_side);
-      ++stats_.steiner_nodes;
-    } else {
-      rest_m_[static_cast<size_t>(slot)] = x_m;
-      nodes_[static_cast<size_t>(slot)].uvw = uvw;
-      setSide(slot, move_side);
-    }
-    return slot;
-  };
+  SteinerNodes sink(*this, t);
   detail::SubTet out[detail::kMaxChildren];
   const detail::SplitResult r = detail::splitTet(input, sink, out);
   if (r.degenerate)

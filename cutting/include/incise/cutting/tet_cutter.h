@@ -137,6 +137,8 @@ class TetCutter {
   Eigen::Vector3d crossingUvw(int a, int b, double& lambda) const;
   bool insideCut(const Incision& in, const Eigen::Vector3d& uvw) const;
   void subdivide(int tet, TetStep& step);
+  struct SteinerNodes;
+  int steinerNode(int tet, const Eigen::Vector3d& x_m, int side);
   void separate(int node);
   void supportTets(int node, std::vector<int>& out) const;
   int addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, NodeState state, int side);
