@@ -118,8 +118,8 @@ void TetCutter::reserveHeadroom() {
   deformed_m_.reserve(nodes);
   nodes_.reserve(nodes);
   children_.reserve(children);
-  stencil_count_.reserve(kHeadroomNodes * 2);
-  stencil_first_.reserve(kHeadroomNodes * 4);
+  stencil_count_.reserve(kHeadroomNodes);
+  stencil_first_.reserve(kHeadroomNodes * 2);
   dirty_.reserve(kHeadroomNodes);
   for (auto* v : {&candidates_, &affected_, &cut_points_, &scratch_, &scratch2_, &parent_, &group_side_}) v->reserve(4096);
   faces_.reserve(4096);
@@ -142,7 +142,7 @@ void TetCutter::startIncision(int incision_number) {
   for (int c = 0; c < o.max_columns; ++c) opening_seen_[static_cast<size_t>(c)] = incision_->columnOpening(c);
   cells_.assign(static_cast<size_t>(o.max_columns), {});
   for (auto& cell : cells_) cell.reserve(64);
-  stencil_basis_.reserve(kHeadroomNodes * 4 * static_cast<size_t>(incision_->stencilSize()));
+  stencil_basis_.reserve(kHeadroomNodes * 2 * static_cast<size_t>(incision_->stencilSize()));
   ++stats_.incisions;
 }
 

@@ -14,8 +14,15 @@ void requireNonNegative(double value, const char* name) {
     throw std::invalid_argument(std::string("World: ") + name + " = " + std::to_string(value) + " must be finite and >= 0");
 }
 
+// The frame's cutting work in inversions (about us_per_inversion each): all of it for the surface, or half
+// for the surface and half for the tets when the tissue has them.
+int workBudget(const WorldOptions& options) {
+  const int total = std::max(1, static_cast<int>(options.cut_budget_us / options.us_per_inversion));
+  return options.tets.enabled ? std::max(1, total / 2) : total;
+}
+
 cutting::CutterOptions withBudget(cutting::CutterOptions cutter, const WorldOptions& options) {
-  cutter.max_inversions_per_call = std::max(1, static_cast<int>(options.cut_budget_us / options.us_per_inversion));
+  cutter.max_inversions_per_call = workBudget(options);
   return cutter;
 }
 
@@ -36,7 +43,7 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
   cutter_ = std::make_unique<cutting::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
   if (options.tets.enabled) {
     cutting::TetCutterOptions tet_options = options.tets.cutter;
-    tet_options.max_inversions_per_call = withBudget(options.cutter, options).max_inversions_per_call;
+    tet_options.max_inversions_per_call = workBudget(options);
     tets_ = std::make_unique<cutting::TetCutter>(cutting::tetrahedralize(*tissue_, options.tets.mesh), tet_options);
   }
 }

@@ -53,7 +53,8 @@ struct TissueParams {
 struct TetTissueOptions {
   bool enabled = false;
   cutting::TetrahedralizeOptions mesh;
-  cutting::TetCutterOptions cutter;  // its per-call budget comes from cut_budget_us, as the surface's
+  cutting::TetCutterOptions cutter;  // its per-call budget comes from cut_budget_us: half of it, the
+                                     // surface cutter getting the other half
 };
 
 struct WorldOptions {
