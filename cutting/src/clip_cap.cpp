@@ -1,0 +1,149 @@
+#include "incise/cutting/clip_cap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/clip.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/Surface_mesh.h>
+
+#include "format.h"
+
+namespace incise::cutting {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using CgalMesh = CGAL::Surface_mesh<Point>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+const char* sideName(KeepSide keep) { return keep == KeepSide::Below ? "below" : "above"; }
+
+// The non-deleted elements of `mesh` as a CGAL::Surface_mesh, with the same orientation.
+CgalMesh toCgal(const TriMesh& mesh) {
+  CgalMesh out;
+  out.reserve(static_cast<CgalMesh::size_type>(mesh.n_vertices()),
+              static_cast<CgalMesh::size_type>(mesh.n_edges()),
+              static_cast<CgalMesh::size_type>(mesh.n_faces()));
+  std::vector<CgalMesh::Vertex_index> index(mesh.n_vertices());
+  for (const auto v : mesh.vertices()) {  // skips deleted vertices
+    const auto& p = mesh.point(v);
+    index[static_cast<std::size_t>(v.idx())] = out.add_vertex(Point(p[0], p[1], p[2]));
+  }
+  for (const auto f : mesh.faces()) {
+    std::vector<CgalMesh::Vertex_index> corners;
+    for (const auto v : mesh.fv_range(f)) corners.push_back(index[static_cast<std::size_t>(v.idx())]);
+    // checkManifold passed, so Surface_mesh cannot refuse a face; checked anyway.
+    if (out.add_face(corners) == CgalMesh::null_face()) {
+      throw MeshError("clipAndCap: CGAL::Surface_mesh refused face " + std::to_string(f.idx()) +
+                      " of the input");
+    }
+  }
+  return out;
+}
+
+// `mesh` (garbage-collected, triangles only) as a SurfaceMesh; vertices within `tolerance` of the plane get
+// x[axis] = value exactly, and any vertex beyond the plane on the far side by more than that is an error.
+SurfaceMesh fromCgal(const CgalMesh& mesh, int axis, double value, KeepSide keep, double tolerance) {
+  TriMesh out;
+  out.reserve(mesh.number_of_vertices(), mesh.number_of_edges(), mesh.number_of_faces());
+  std::vector<TriMesh::VertexHandle> index(mesh.num_vertices());
+  const double sign = keep == KeepSide::Below ? 1.0 : -1.0;  // sign * (x - value) > 0 on the far side
+  for (const auto v : mesh.vertices()) {
+    const Point& q = mesh.point(v);
+    OpenMesh::Vec3d p(q.x(), q.y(), q.z());
+    const double beyond = sign * (p[axis] - value);
+    if (std::abs(p[axis] - value) <= tolerance) {
+      p[axis] = value;
+    } else if (beyond > 0) {
+      throw MeshError("clipAndCap: CGAL left vertex " + detail::str(toEigen(p)) + " " + detail::str(beyond) +
+                      " beyond the plane x[" + std::to_string(axis) + "] = " + detail::str(value) +
+                      ", on the side not kept");
+    }
+    index[static_cast<std::size_t>(v.idx())] = out.add_vertex(p);
+  }
+  for (const auto f : mesh.faces()) {
+    std::vector<TriMesh::VertexHandle> corners;
+    for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      corners.push_back(index[static_cast<std::size_t>(v.idx())]);
+    }
+    if (corners.size() != 3 || !out.add_face(corners).is_valid()) {
+      throw MeshError("clipAndCap: the clipped mesh cannot be rebuilt as an OpenMesh triangle mesh (face " +
+                      std::to_string(f.idx()) + " with " + std::to_string(corners.size()) +
+                      " vertices refused)");
+    }
+  }
+  out.update_normals();
+  return SurfaceMesh(std::move(out));
+}
+
+}  // namespace
+
+SurfaceMesh clipAndCap(const SurfaceMesh& mesh, int axis, double value, KeepSide keep) {
+  if (axis < 0 || axis > 2) {
+    throw std::invalid_argument("clipAndCap: axis must be 0, 1 or 2 (got " + std::to_string(axis) + ")");
+  }
+  if (!std::isfinite(value)) {
+    throw std::invalid_argument("clipAndCap: plane value must be finite (got " + detail::str(value) + ")");
+  }
+  const TriMesh& tri = mesh.mesh();
+  const ManifoldReport report = checkManifold(tri);
+  if (!report.closed_two_manifold) {
+    throw MeshError("clipAndCap: the input is not a closed two-manifold: " +
+                    (report.first_problem.empty() ? std::string("no faces") : report.first_problem));
+  }
+
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, size = 0;
+  {
+    OpenMesh::Vec3d bmin(lo, lo, lo), bmax(hi, hi, hi);
+    for (const auto v : tri.vertices()) {
+      bmin.minimize(tri.point(v));
+      bmax.maximize(tri.point(v));
+    }
+    lo = bmin[axis];
+    hi = bmax[axis];
+    size = (bmax - bmin).max();
+  }
+  // The plane misses the volume (or only touches it): decided here rather than by CGAL, which would
+  // corefine with a plane that merely touches the surface.
+  const bool all_below = hi <= value, all_above = lo >= value;
+  if (keep == KeepSide::Below ? all_below : all_above) return mesh;
+  if (keep == KeepSide::Below ? all_above : all_below) return SurfaceMesh();
+
+  CgalMesh cgal = toCgal(tri);
+  // clip keeps the negative side of the plane, where a x + b y + c z + d < 0: normal +e_axis keeps
+  // x[axis] < value, normal -e_axis keeps x[axis] > value.
+  const double n = keep == KeepSide::Below ? 1.0 : -1.0;
+  const Kernel::Plane_3 plane(axis == 0 ? n : 0.0, axis == 1 ? n : 0.0, axis == 2 ? n : 0.0, -n * value);
+  const std::string where = "clipAndCap: keeping " + std::string(sideName(keep)) + " x[" +
+                            std::to_string(axis) + "] = " + detail::str(value) + ": ";
+  try {
+    const bool manifold = PMP::clip(cgal, plane,
+                                    CGAL::parameters::clip_volume(true)
+                                        .use_compact_clipper(true)
+                                        .throw_on_self_intersection(true));
+    if (!manifold) throw MeshError(where + "CGAL's clip reports a non-manifold result");
+    cgal.collect_garbage();
+    // The corefinement gives triangles; a polygon left by a later CGAL would be split here.
+    if (!PMP::triangulate_faces(cgal)) {
+      throw MeshError(where + "CGAL could not triangulate a face of the result");
+    }
+  } catch (const PMP::Corefinement::Self_intersection_exception&) {
+    throw MeshError(where + "the input intersects itself near the plane");
+  } catch (const MeshError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw MeshError(where + "CGAL failed: " + e.what());
+  }
+  return fromCgal(cgal, axis, value, keep, 1e-12 * std::max(std::abs(value), size));
+}
+
+}  // namespace incise::cutting
