@@ -1,0 +1,154 @@
+// The global DFFD (Schein & Elber, "Discontinuous Free Form Deformations", §3): a deformable model moving
+// through static obstacles splits open around each of them and re-forms behind it.
+//
+// Construction (§3.1): a trivariate B-spline F over the obstacles' axis-aligned bounding box plus a margin,
+// the identity at first (clamped uniform knots, controls at the Greville abscissae: the parameter domain
+// is the box, so a point's parameters are its coordinates). Axes: u = x (across: the split direction),
+// v = y (the model's motion), w = z (the slicing direction). Per obstacle, `order` knots at its centre of
+// mass in u give the two discontinuity planes F- and F+ (Definition 2); optionally order - 1 knots in v at
+// its v-extremes (Figure 4). For every control row (j, k) the planes' controls are projected along u onto
+// the obstacle's boundary: C-(v) / C+(v) in the plane w = w_k (Figure 1), taken conservatively as the
+// obstacle's smallest / largest x over the v- and w-support of that control, so that F's image of the
+// - side stays at or left of the obstacle and the + side at or right of it. The move spreads along u to
+// the neighbouring planes on the same side through a kernel kappa (a truncated Gaussian or a quadratic
+// B-spline) that decays from 1 to 0 over `kernel_width` planes. Controls move along u only, so Theorem 1
+// applies: F is fold-free while every row keeps its u-order (checkAxisOrder); a kernel that would break it
+// is refused, or widened until it does not (FoldPolicy).
+// Splitting (§3.2, splitAtDiscontinuities): crossing edges are split at u_i and the new vertices
+// duplicated, mapped at u_i - epsilon and u_i + epsilon. Stitching (§3.2): stitch() moves the controls of
+// both discontinuity planes to the level w_s, closing each side's opening into a seam.
+//
+// Units: metres. Threads: const members from any thread. Cost: construction O(#controls * faces of the
+// obstacles) (the conservative boundary), allocation at load only; map() O(order^3).
+// Failure: DffdError naming the obstacle (or element) and the reason: an obstacle that is not a closed
+// two-manifold, outside the lattice box, not monotone in v (a line along u at some (v, w) enters it more
+// than once — the paper's stated limit), two obstacles too close for the order and the kernel (with the
+// number of control planes that would be needed), a kernel that would fold F under FoldPolicy::Refuse;
+// std::invalid_argument for bad options.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "incise/cutting/bspline_volume.h"
+#include "incise/cutting/surface_mesh.h"
+
+namespace incise::cutting {
+
+struct DffdError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class DffdKernel : std::uint8_t { Gaussian, QuadraticBSpline };
+enum class FoldPolicy : std::uint8_t { Refuse, Widen };
+
+struct GlobalDffdOptions {
+  int order = 4;                            // o, in u, v and w
+  std::array<int, 3> controls{16, 12, 8};   // l, m, n before any knot insertion (>= order)
+  double margin_m = 0.01;                   // the lattice box is the obstacles' box grown by this
+  std::optional<Eigen::AlignedBox3d> box;   // or this box, which must hold every obstacle
+  DffdKernel kernel = DffdKernel::QuadraticBSpline;
+  double kernel_width = 3.0;                // kappa falls from 1 to 0 over this many control spacings of
+                                            // the uniform lattice (distance in u from the discontinuity)
+  double epsilon = 1e-9;                    // split vertices are mapped at u_i -/+ epsilon
+  double clearance_m = 0.0;                 // extra gap left between the wrapped model and the obstacle
+  bool v_knots = true;                      // order - 1 knots in v at each obstacle's v-extremes
+  FoldPolicy on_fold = FoldPolicy::Refuse;
+};
+
+struct Obstacle {
+  std::string name;
+  SurfaceMesh mesh;  // closed two-manifold
+};
+
+struct DffdObstacle {
+  std::string name;
+  int input_index = 0;         // its index in the constructor's list (obstacles() is sorted by u)
+  double u = 0.0;              // centre of mass along u: the discontinuity
+  int i_minus = 0, i_plus = 0; // control planes of F- and F+
+  Eigen::AlignedBox3d box;     // the obstacle's bounding box
+  double kernel_width = 0.0;   // the width used, in spacings (wider than asked under FoldPolicy::Widen)
+  double max_move_m = 0.0;     // the largest move of a discontinuity control
+};
+
+class GlobalDffd {
+ public:
+  GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdOptions& options = {});
+
+  const BSplineVolume& volume() const noexcept { return volume_; }
+  const std::vector<DffdObstacle>& obstacles() const noexcept { return obstacles_; }
+  const Eigen::AlignedBox3d& box() const noexcept { return box_; }
+  const GlobalDffdOptions& options() const noexcept { return options_; }
+
+  // F(x): the identity outside the box (and wherever nothing moved); at u == u_i exactly, side -1 / +1
+  // evaluates F- / F+ (u_i -/+ epsilon), side 0 the right-hand value. O(order^3).
+  Eigen::Vector3d map(const Eigen::Vector3d& x_m, int side = 0) const;
+  // Sampled minimum of det J over the lattice (fold_over.h). O(#cells * samples^3 * o^3).
+  double minJacobian(int samples_per_cell = 2) const;
+  // §3.2 stitching: the controls of both discontinuity planes of obstacle `index` move to (u_i, v_j, w_s):
+  // both sides' openings map onto the seam line u = u_i, w = w_s (which should miss the obstacle).
+  void stitch(int index, double w_s_m);
+
+ private:
+  void place(const std::vector<Obstacle>& obstacles);
+  void wrap(const std::vector<Obstacle>& obstacles);
+  void spread(const DffdObstacle& o, int j, int k, double move_minus, double move_plus, double width);
+
+  GlobalDffdOptions options_;
+  Eigen::AlignedBox3d box_;
+  BSplineVolume volume_;
+  std::vector<DffdObstacle> obstacles_;
+  double spacing_u_ = 1.0;      // the uniform control spacing in u before any insertion
+  std::vector<double> rest_u_;  // u of every control plane before the moves (Greville abscissae)
+};
+
+// The model split at every discontinuity (§3.2): each edge crossing u = u_i is split there (the whole
+// section, also beyond the box, where F is the identity and the lips stay together), vertices within
+// 1e-9 of the box's size from the plane are put on it, and each vertex on the plane between faces of both
+// sides is duplicated: the - faces keep it (mapped at u_i - epsilon), the + faces get the copy (+ epsilon).
+struct DffdSplit {
+  SurfaceMesh mesh;                          // the split model, at rest
+  std::vector<int> source_vertex;            // per vertex: the model's vertex, or -1 for a split point
+  std::vector<std::array<int, 2>> source_edge;  // per split point: the model edge's ends; {-1, -1} otherwise
+  std::vector<std::int8_t> side;             // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
+  std::vector<int> plane;                    // per vertex: index of the obstacle whose plane it lies on, or -1
+  int left_open = 0;                         // openings close_openings could not close (not monotone in v)
+};
+// With close_openings, every opening the split leaves (a loop of duplicated vertices on one side of one
+// plane) is closed: its two halves, from its lowest-v vertex to its highest, get the same v-values (edges
+// split where the other half has a vertex) and are welded vertex to vertex. Once F is stitched
+// (GlobalDffd::stitch) both halves map onto the same seam, so the output is closed with no flat face. An
+// opening whose halves are not monotone in v stays open (counted in left_open).
+// Cost O((V + F) log F) (plus O(F) per welded vertex). Failure: DffdError if the split model cannot be
+// rebuilt as a two-manifold.
+DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings = false);
+
+// §3.2's stitching level for obstacle `index`: the mean w of the split's vertices on its plane (the box's
+// centre in w if there are none). O(V).
+double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index);
+
+// §3.2's first method, for a closed two-manifold model: the model clipped by every plane u = u_i into
+// closed pieces (clipAndCap, CGAL), each piece mapped through F from its own side (cap vertices at u_i +/-
+// epsilon), and the pieces' union returned: every piece closed. Cost: one CGAL clip per plane and piece
+// plus O(V * order^3). Failure: MeshError from clipAndCap.
+SurfaceMesh cappedDeform(const SurfaceMesh& model, const GlobalDffd& dffd);
+
+// Every vertex of `split` mapped through F (its side on a discontinuity): the deformed model, same
+// connectivity. O(V * order^3).
+SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd);
+
+// How deep the deepest vertex of `mesh` lies inside any obstacle (metres; 0 when none is inside): inside
+// by the parity of a ray along +x, depth the distance to the obstacle's closest triangle. The name of the
+// obstacle is written to `which` when given. Cost O(vertices in an obstacle's box * its faces).
+double worstPenetration(const TriMesh& mesh, const std::vector<Obstacle>& obstacles, std::string* which = nullptr);
+
+// Boundary loops of a mesh (closed chains of boundary edges). O(V + E).
+int boundaryLoops(const TriMesh& mesh);
+
+}  // namespace incise::cutting

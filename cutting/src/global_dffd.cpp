@@ -1,0 +1,709 @@
+#include "incise/cutting/global_dffd.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "incise/cutting/clip_cap.h"
+#include "incise/cutting/fold_over.h"
+#include "incise/cutting/surface_query.h"
+
+namespace incise::cutting {
+namespace {
+
+struct Triangle {
+  Eigen::Vector3d a, b, c;
+  Eigen::AlignedBox3d box;
+};
+
+std::vector<Triangle> triangles(const TriMesh& mesh) {
+  std::vector<Triangle> out;
+  for (const auto f : mesh.faces()) {
+    if (mesh.status(f).deleted()) continue;
+    Eigen::Vector3d p[3];
+    int i = 0;
+    for (auto v = mesh.cfv_iter(f); v.is_valid() && i < 3; ++v) p[i++] = toEigen(mesh.point(*v));
+    Triangle t{p[0], p[1], p[2], {}};
+    t.box.extend(p[0]).extend(p[1]).extend(p[2]);
+    out.push_back(t);
+  }
+  return out;
+}
+
+// Centre of mass of the solid a closed, outward-oriented mesh bounds (signed tetrahedra from the origin).
+Eigen::Vector3d centreOfMass(const std::vector<Triangle>& tris) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double volume = 0.0;
+  for (const Triangle& t : tris) {
+    const double v = t.a.dot(t.b.cross(t.c)) / 6.0;
+    volume += v;
+    sum += v * (t.a + t.b + t.c) / 4.0;
+  }
+  return std::abs(volume) > 0.0 ? Eigen::Vector3d(sum / volume) : Eigen::Vector3d::Zero();
+}
+
+// Smallest and largest x of the triangles' parts inside the slab y in [y0, y1], z in [z0, z1]
+// (Sutherland-Hodgman against the four planes). False when nothing lies in the slab.
+bool xRangeInSlab(const std::vector<Triangle>& tris, double y0, double y1, double z0, double z1, double& x_min,
+                  double& x_max) {
+  x_min = INFINITY, x_max = -INFINITY;
+  for (const Triangle& t : tris) {
+    if (t.box.max().y() < y0 || t.box.min().y() > y1 || t.box.max().z() < z0 || t.box.min().z() > z1) continue;
+    if (t.box.min().x() >= x_min && t.box.max().x() <= x_max) continue;  // cannot widen the range
+    Eigen::Vector3d poly[9], next[9];
+    int n = 3;
+    poly[0] = t.a, poly[1] = t.b, poly[2] = t.c;
+    const struct { int axis; double value; double sign; } planes[4] = {{1, y0, 1}, {1, y1, -1}, {2, z0, 1}, {2, z1, -1}};
+    for (const auto& pl : planes) {
+      int m = 0;
+      for (int i = 0; i < n; ++i) {
+        const Eigen::Vector3d& p = poly[i];
+        const Eigen::Vector3d& q = poly[(i + 1) % n];
+        const double dp = pl.sign * (p[pl.axis] - pl.value), dq = pl.sign * (q[pl.axis] - pl.value);
+        if (dp >= 0) next[m++] = p;
+        if ((dp >= 0) != (dq >= 0)) next[m++] = p + (q - p) * (dp / (dp - dq));
+      }
+      n = m;
+      std::copy(next, next + n, poly);
+      if (n == 0) break;
+    }
+    for (int i = 0; i < n; ++i) x_min = std::min(x_min, poly[i].x()), x_max = std::max(x_max, poly[i].x());
+  }
+  return x_min <= x_max;
+}
+
+// How often the line {y = y0, z = z0} along x enters the solid (half its crossings with the surface).
+int entries(const std::vector<Triangle>& tris, double y0, double z0) {
+  int crossings = 0;
+  for (const Triangle& t : tris) {
+    if (t.box.max().y() < y0 || t.box.min().y() > y0 || t.box.max().z() < z0 || t.box.min().z() > z0) continue;
+    const auto side = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+      return (q.y() - p.y()) * (z0 - p.z()) - (q.z() - p.z()) * (y0 - p.y());
+    };
+    const double s0 = side(t.a, t.b), s1 = side(t.b, t.c), s2 = side(t.c, t.a);
+    if ((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0)) ++crossings;
+  }
+  return crossings / 2;
+}
+
+double kernelValue(DffdKernel kind, double d, double width) {
+  if (d >= width) return 0.0;
+  if (kind == DffdKernel::Gaussian) {
+    const double sigma = width / 3.0;
+    return std::exp(-d * d / (2.0 * sigma * sigma));
+  }
+  // The uniform quadratic B-spline N(t) (support |t| < 3/2), scaled to 1 at d = 0 and 0 at d = width.
+  const double t = 1.5 * d / width;
+  const double n = t <= 0.5 ? 0.75 - t * t : 0.5 * (t - 1.5) * (t - 1.5);
+  return n / 0.75;
+}
+
+int multiplicity(const std::vector<double>& knots, double t) {
+  return static_cast<int>(std::count(knots.begin(), knots.end(), t));
+}
+
+std::string str(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+GlobalDffd::GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdOptions& options)
+    : options_(options),
+      volume_(BSplineVolume::identity(Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()), {2, 2, 2},
+                                      {2, 2, 2})) {
+  const GlobalDffdOptions& o = options;
+  if (o.order < 2 || o.order > 8) throw std::invalid_argument("GlobalDffd: order = " + std::to_string(o.order) + " is outside [2, 8]");
+  for (int a = 0; a < 3; ++a)
+    if (o.controls[a] < o.order || o.controls[a] > 4096)
+      throw std::invalid_argument("GlobalDffd: controls[" + std::to_string(a) + "] = " + std::to_string(o.controls[a]) +
+                                  " must be in [order, 4096]");
+  if (!(o.margin_m >= 0.0) || !std::isfinite(o.margin_m)) throw std::invalid_argument("GlobalDffd: margin_m = " + str(o.margin_m) + " must be >= 0");
+  if (!(o.kernel_width > 0.0) || !std::isfinite(o.kernel_width))
+    throw std::invalid_argument("GlobalDffd: kernel_width = " + str(o.kernel_width) + " must be > 0");
+  if (!(o.epsilon > 0.0 && o.epsilon < 1e-3)) throw std::invalid_argument("GlobalDffd: epsilon = " + str(o.epsilon) + " must be in (0, 1e-3)");
+  if (!(o.clearance_m >= 0.0) || !std::isfinite(o.clearance_m))
+    throw std::invalid_argument("GlobalDffd: clearance_m = " + str(o.clearance_m) + " must be >= 0");
+  if (obstacles.empty() && !o.box) throw DffdError("GlobalDffd: no obstacle and no box: the lattice has no extent");
+  place(obstacles);
+  wrap(obstacles);
+}
+
+void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
+  const int order = options_.order;
+  Eigen::AlignedBox3d all;
+  for (const Obstacle& ob : obstacles) {
+    const ManifoldReport report = checkManifold(ob.mesh.mesh());
+    if (!report.closed_two_manifold)
+      throw DffdError("obstacle '" + ob.name + "': not a closed two-manifold: " + report.first_problem);
+    DffdObstacle d;
+    d.name = ob.name;
+    d.input_index = static_cast<int>(obstacles_.size());
+    const std::vector<Triangle> tris = triangles(ob.mesh.mesh());
+    for (const Triangle& t : tris) {
+      if (!t.a.allFinite() || !t.b.allFinite() || !t.c.allFinite()) throw DffdError("obstacle '" + ob.name + "': a vertex is not finite");
+      d.box.extend(t.box);
+    }
+    d.u = centreOfMass(tris).x();
+    all.extend(d.box);
+    obstacles_.push_back(d);
+  }
+  if (options_.box) {
+    box_ = *options_.box;
+    if (box_.isEmpty() || !box_.min().allFinite() || !box_.max().allFinite())
+      throw std::invalid_argument("GlobalDffd: the lattice box is empty or not finite");
+    for (const DffdObstacle& d : obstacles_)
+      if (!box_.contains(d.box))
+        throw DffdError("obstacle '" + d.name + "' lies outside the lattice box (its box [" + str(d.box.min().x()) + ", " +
+                        str(d.box.max().x()) + "] x [" + str(d.box.min().y()) + ", " + str(d.box.max().y()) + "] x [" +
+                        str(d.box.min().z()) + ", " + str(d.box.max().z()) + "])");
+  } else {
+    box_ = all;
+    box_.min().array() -= options_.margin_m;
+    box_.max().array() += options_.margin_m;
+  }
+  std::sort(obstacles_.begin(), obstacles_.end(), [](const DffdObstacle& a, const DffdObstacle& b) { return a.u < b.u; });
+  for (size_t i = 1; i < obstacles_.size(); ++i)
+    if (!(obstacles_[i].u > obstacles_[i - 1].u))
+      throw DffdError("obstacles '" + obstacles_[i - 1].name + "' and '" + obstacles_[i].name + "' have the same centre in u");
+  volume_ = BSplineVolume::identity(box_, {order, order, order}, options_.controls);
+  for (const DffdObstacle& d : obstacles_) {
+    const int have = multiplicity(volume_.knots(0), d.u);
+    if (have < order) volume_.insertKnot(0, d.u, order - have);
+  }
+  if (options_.v_knots) {
+    const auto domain = volume_.domain(1);
+    for (const DffdObstacle& d : obstacles_)
+      for (const double v : {d.box.min().y(), d.box.max().y()}) {
+        if (!(v > domain[0] && v < domain[1])) continue;
+        const int have = multiplicity(volume_.knots(1), v);
+        if (have < order - 1) volume_.insertKnot(1, v, order - 1 - have);
+      }
+  }
+  spacing_u_ = box_.sizes().x() / (options_.controls[0] - order + 1);
+  rest_u_.clear();
+  for (int q = 0; q < volume_.controlCounts()[0]; ++q) rest_u_.push_back(volume_.control(q, 0, 0).x());
+  const std::vector<double>& knots = volume_.knots(0);
+  for (DffdObstacle& d : obstacles_) {
+    const int first = static_cast<int>(std::find(knots.begin(), knots.end(), d.u) - knots.begin());
+    d.i_minus = first - 1;
+    d.i_plus = first;
+    d.kernel_width = options_.kernel_width;
+  }
+}
+
+void GlobalDffd::spread(const DffdObstacle& o, int j, int k, double move_minus, double move_plus, double width) {
+  // kappa of the control's distance from the discontinuity at rest, in original control spacings: the
+  // planes next to the inserted knots crowd together (their Greville abscissae), so a kernel over plane
+  // indices would move neighbours past each other where a kernel over distance keeps their order.
+  const int count = volume_.controlCounts()[0];
+  for (int q = o.i_minus; q >= 0; --q) {
+    const double kappa = kernelValue(options_.kernel, (o.u - rest_u_[static_cast<size_t>(q)]) / spacing_u_, width);
+    if (kappa == 0.0) break;
+    Eigen::Vector3d p = volume_.control(q, j, k);
+    p.x() += kappa * move_minus;
+    volume_.setControl(q, j, k, p);
+  }
+  for (int q = o.i_plus; q < count; ++q) {
+    const double kappa = kernelValue(options_.kernel, (rest_u_[static_cast<size_t>(q)] - o.u) / spacing_u_, width);
+    if (kappa == 0.0) break;
+    Eigen::Vector3d p = volume_.control(q, j, k);
+    p.x() += kappa * move_plus;
+    volume_.setControl(q, j, k, p);
+  }
+}
+
+void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
+  const int order = options_.order;
+  const std::array<int, 3> counts = volume_.controlCounts();
+  const std::vector<double>& kv = volume_.knots(1);
+  const std::vector<double>& kw = volume_.knots(2);
+  // Neighbouring obstacles: each one's kernels must fit between the discontinuities.
+  for (size_t i = 1; i < obstacles_.size(); ++i) {
+    const DffdObstacle& a = obstacles_[i - 1];
+    const DffdObstacle& b = obstacles_[i];
+    // Each side's kernel reaches kernel_width spacings; between the two reaches, order - 1 more spacings
+    // keep any basis function from seeing both moves.
+    const int needed = static_cast<int>(std::ceil(2.0 * options_.kernel_width)) + order - 1;
+    const int have = static_cast<int>(std::floor((b.u - a.u) / spacing_u_));
+    if (have < needed)
+      throw DffdError("obstacles '" + a.name + "' and '" + b.name + "' are too close for order " + std::to_string(order) +
+                      " and kernel width " + str(options_.kernel_width) + ": " + std::to_string(needed) +
+                      " control spacings are needed between their discontinuities, there are " + std::to_string(have) +
+                      " (raise controls[0] from " + std::to_string(options_.controls[0]) + " to at least " +
+                      std::to_string(static_cast<int>(std::ceil(double(options_.controls[0]) * needed / std::max(have, 1)))) + ")");
+  }
+  // The conservative boundary curves and the moves, per obstacle and control row.
+  struct Move {
+    int obstacle, j, k;
+    double minus, plus;
+  };
+  std::vector<Move> moves;
+  for (size_t i = 0; i < obstacles_.size(); ++i) {
+    DffdObstacle& d = obstacles_[i];
+    const std::vector<Triangle> tris = triangles(obstacles[static_cast<size_t>(d.input_index)].mesh.mesh());
+    // Monotone in v: every line along u through the obstacle enters it once (sampled at the control rows
+    // and between them, slightly off the grid so that no line runs through a vertex or an edge).
+    const Eigen::Vector3d extent = d.box.sizes();
+    for (int sj = 1; sj < 64; ++sj)
+      for (int sk = 1; sk < 64; ++sk) {
+        const double y = d.box.min().y() + extent.y() * (sj + 0.1234567) / 64.0;
+        const double z = d.box.min().z() + extent.z() * (sk + 0.3456789) / 64.0;
+        const int n = entries(tris, y, z);
+        if (n > 1)
+          throw DffdError("obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + str(y) + ", w = " + str(z) +
+                          " enters it " + std::to_string(n) + " times (the projection onto C-(v), C+(v) needs one)");
+      }
+    for (int k = 0; k < counts[2]; ++k)
+      for (int j = 0; j < counts[1]; ++j) {
+        double x_min, x_max;
+        if (!xRangeInSlab(tris, kv[static_cast<size_t>(j)], kv[static_cast<size_t>(j + order)], kw[static_cast<size_t>(k)],
+                          kw[static_cast<size_t>(k + order)], x_min, x_max))
+          continue;
+        const double minus = std::min(0.0, x_min - options_.clearance_m - volume_.control(d.i_minus, j, k).x());
+        const double plus = std::max(0.0, x_max + options_.clearance_m - volume_.control(d.i_plus, j, k).x());
+        d.max_move_m = std::max({d.max_move_m, -minus, plus});
+        moves.push_back({static_cast<int>(i), j, k, minus, plus});
+      }
+  }
+  // Spread the moves; under FoldPolicy::Widen, widen every kernel by a plane until Theorem 1 holds.
+  const std::vector<Eigen::Vector3d> rest(volume_.controls().begin(), volume_.controls().end());
+  for (double width = options_.kernel_width;; width += 1.0) {
+    for (const Move& m : moves) spread(obstacles_[static_cast<size_t>(m.obstacle)], m.j, m.k, m.minus, m.plus, width);
+    const FoldReport fold = checkAxisOrder(volume_, 0);
+    if (fold.ok) {
+      for (DffdObstacle& d : obstacles_) d.kernel_width = width;
+      return;
+    }
+    const auto nearest = std::min_element(obstacles_.begin(), obstacles_.end(), [&](const DffdObstacle& a, const DffdObstacle& b) {
+      return std::abs(a.i_minus - fold.i) < std::abs(b.i_minus - fold.i);
+    });
+    if (options_.on_fold == FoldPolicy::Refuse || width + 1.0 > counts[0])
+      throw DffdError("obstacle '" + nearest->name + "': the kernel (width " + str(width) + " planes) would fold the lattice (Theorem 1): " +
+                      fold.message + "; widen kernel_width, add control planes in u or use FoldPolicy::Widen");
+    for (int k = 0; k < counts[2]; ++k)  // back to the unmoved controls
+      for (int j = 0; j < counts[1]; ++j)
+        for (int i = 0; i < counts[0]; ++i) volume_.setControl(i, j, k, rest[static_cast<size_t>(volume_.controlIndex(i, j, k))]);
+  }
+}
+
+Eigen::Vector3d GlobalDffd::map(const Eigen::Vector3d& x, int side) const {
+  if (!box_.contains(x)) return x;
+  const auto domain = volume_.domain(0);
+  const double u = std::clamp(x.x() + side * options_.epsilon, domain[0], domain[1]);
+  return volume_.evaluate(u, x.y(), x.z());
+}
+
+double GlobalDffd::minJacobian(int samples_per_cell) const { return minJacobianDeterminant(volume_, samples_per_cell); }
+
+void GlobalDffd::stitch(int index, double w_s) {
+  if (index < 0 || index >= static_cast<int>(obstacles_.size()))
+    throw std::invalid_argument("GlobalDffd::stitch: obstacle index " + std::to_string(index) + " is out of range");
+  if (!(w_s >= box_.min().z() && w_s <= box_.max().z()))
+    throw std::invalid_argument("GlobalDffd::stitch: w_s = " + str(w_s) + " is outside the box");
+  const DffdObstacle& d = obstacles_[static_cast<size_t>(index)];
+  const std::array<int, 3> counts = volume_.controlCounts();
+  for (int k = 0; k < counts[2]; ++k)
+    for (int j = 0; j < counts[1]; ++j)
+      for (const int i : {d.i_minus, d.i_plus}) {
+        Eigen::Vector3d p = volume_.control(i, j, k);
+        p.x() = d.u;  // (u_i, v_j, w_s): both planes onto the seam line
+        p.z() = w_s;
+        volume_.setControl(i, j, k, p);
+      }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Splitting the model.
+
+namespace {
+
+struct Soup {
+  std::vector<Eigen::Vector3d> x;
+  std::vector<int> source;
+  std::vector<std::array<int, 2>> edge;
+  std::vector<std::int8_t> side;
+  std::vector<int> plane;
+  std::vector<std::array<int, 3>> faces;
+
+  int add(const Eigen::Vector3d& p, int src, std::array<int, 2> e, int on_plane) {
+    x.push_back(p);
+    source.push_back(src);
+    edge.push_back(e);
+    side.push_back(0);
+    plane.push_back(on_plane);
+    return static_cast<int>(x.size()) - 1;
+  }
+};
+
+Soup soupOf(const TriMesh& mesh) {
+  Soup s;
+  std::vector<int> index(mesh.n_vertices(), -1);
+  for (const auto v : mesh.vertices())
+    if (!mesh.status(v).deleted()) index[static_cast<size_t>(v.idx())] = s.add(toEigen(mesh.point(v)), v.idx(), {-1, -1}, -1);
+  for (const auto f : mesh.faces()) {
+    if (mesh.status(f).deleted()) continue;
+    std::array<int, 3> t{};
+    int i = 0;
+    for (auto v = mesh.cfv_ccwiter(f); v.is_valid() && i < 3; ++v) t[static_cast<size_t>(i++)] = index[static_cast<size_t>(v->idx())];
+    s.faces.push_back(t);
+  }
+  return s;
+}
+
+// Splits every face crossing the plane x = u and marks the vertices on it. The whole section is split,
+// also where the model reaches beyond the box: F is the identity there, so both lips stay together, and
+// each closed section curve gives exactly two lips (boundary loops) whatever the model's position.
+void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
+  std::map<std::pair<int, int>, int> points;
+  const auto sgn = [&](int v) { return s.x[static_cast<size_t>(v)].x() < u ? -1 : s.x[static_cast<size_t>(v)].x() > u ? 1 : 0; };
+  // Vertices within a hair of the plane are put on it: splitting an edge there would make a sliver.
+  const double snap = 1e-9 * box.sizes().maxCoeff();
+  for (size_t v = 0; v < s.x.size(); ++v) {
+    if (std::abs(s.x[v].x() - u) > snap) continue;
+    s.x[v].x() = u;
+    s.plane[v] = plane;
+  }
+  const auto point = [&](int a, int b) {
+    const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+    if (const auto it = points.find(key); it != points.end()) return it->second;
+    const Eigen::Vector3d& pa = s.x[static_cast<size_t>(key.first)];
+    const Eigen::Vector3d& pb = s.x[static_cast<size_t>(key.second)];
+    const double t = (u - pa.x()) / (pb.x() - pa.x());
+    Eigen::Vector3d p = pa + t * (pb - pa);
+    p.x() = u;
+    const int src_a = s.source[static_cast<size_t>(key.first)], src_b = s.source[static_cast<size_t>(key.second)];
+    const int id = s.add(p, -1, {src_a, src_b}, plane);
+    points.emplace(key, id);
+    return id;
+  };
+  std::vector<std::array<int, 3>> out;
+  out.reserve(s.faces.size() + 64);
+  for (const auto& f : s.faces) {
+    const int sa = sgn(f[0]), sb = sgn(f[1]), sc = sgn(f[2]);
+    const bool crosses = (sa * sb < 0) || (sb * sc < 0) || (sc * sa < 0);
+    if (!crosses) {
+      out.push_back(f);
+      continue;
+    }
+    // Rotate so that f[0] is the vertex alone on its side (or on the plane).
+    int r = 0;
+    const int sg[3] = {sa, sb, sc};
+    for (int i = 0; i < 3; ++i)
+      if (sg[i] != 0 && sg[(i + 1) % 3] != sg[i] && sg[(i + 2) % 3] != sg[i]) r = i;
+    const int a = f[static_cast<size_t>(r)], b = f[static_cast<size_t>((r + 1) % 3)], c = f[static_cast<size_t>((r + 2) % 3)];
+    const int s_b = sg[(r + 1) % 3], s_c = sg[(r + 2) % 3];
+    if (s_b == 0) {  // b on the plane: the crossing is on c-a
+      const int p = point(c, a);
+      out.push_back({a, b, p});
+      out.push_back({b, c, p});
+    } else if (s_c == 0) {  // c on the plane: the crossing is on a-b
+      const int p = point(a, b);
+      out.push_back({a, p, c});
+      out.push_back({p, b, c});
+    } else {  // a alone: crossings on a-b and c-a
+      const int p = point(a, b), q = point(c, a);
+      out.push_back({a, p, q});
+      out.push_back({p, b, c});
+      out.push_back({p, c, q});
+    }
+  }
+  s.faces = std::move(out);
+}
+
+// Duplicates every vertex on `plane` whose faces lie on both sides (and none across): the + faces get a copy.
+void separate(Soup& s, int plane, double u) {
+  std::vector<std::vector<int>> around(s.x.size());
+  for (size_t f = 0; f < s.faces.size(); ++f)
+    for (const int v : s.faces[f])
+      if (s.plane[static_cast<size_t>(v)] == plane) around[static_cast<size_t>(v)].push_back(static_cast<int>(f));
+  const size_t count = s.x.size();
+  for (size_t v = 0; v < count; ++v) {
+    if (around[v].empty()) continue;
+    bool minus = false, plus = false, across = false;
+    std::vector<int> face_side(around[v].size());
+    for (size_t i = 0; i < around[v].size(); ++i) {
+      int side = 0;
+      for (const int w : s.faces[static_cast<size_t>(around[v][i])]) {
+        const double x = s.x[static_cast<size_t>(w)].x();
+        const int sw = x < u ? -1 : x > u ? 1 : 0;
+        if (sw != 0 && side != 0 && sw != side) across = true;
+        if (sw != 0) side = sw;
+      }
+      face_side[i] = side;
+      minus = minus || side < 0;
+      plus = plus || side > 0;
+    }
+    if (across || !minus || !plus) continue;  // the split's end (or a vertex touching the plane from one side)
+    s.side[v] = -1;
+    const int copy = s.add(s.x[v], s.source[v], s.edge[v], plane);
+    s.side[static_cast<size_t>(copy)] = 1;
+    for (size_t i = 0; i < around[v].size(); ++i)
+      if (face_side[i] > 0)
+        for (int& w : s.faces[static_cast<size_t>(around[v][i])])
+          if (w == static_cast<int>(v)) w = copy;
+  }
+}
+
+// Closes each opening left by separate(): a loop of boundary edges whose vertices all lie on `plane` on
+// one side. Its two halves, from its lowest-v vertex to its highest, are given the same v-values (each
+// half's edges split where the other half has a vertex) and welded vertex to vertex: once F is stitched
+// both halves map onto the same seam, so the weld closes the surface without a flat face. A half that is
+// not strictly monotone in v leaves that loop open (returned count).
+int zipOpenings(Soup& s, int plane, std::vector<int>& weld) {
+  std::map<std::pair<int, int>, int> face_of;  // directed edge -> face
+  for (size_t f = 0; f < s.faces.size(); ++f)
+    for (int i = 0; i < 3; ++i) face_of[{s.faces[f][static_cast<size_t>(i)], s.faces[f][static_cast<size_t>((i + 1) % 3)]}] = static_cast<int>(f);
+  std::map<int, int> next;  // boundary: a -> b with no b -> a, both on the plane with the same side
+  for (const auto& [e, f] : face_of) {
+    (void)f;
+    const auto [a, b] = e;
+    if (face_of.count({b, a})) continue;
+    if (s.plane[static_cast<size_t>(a)] != plane || s.plane[static_cast<size_t>(b)] != plane) continue;
+    if (s.side[static_cast<size_t>(a)] == 0 || s.side[static_cast<size_t>(a)] != s.side[static_cast<size_t>(b)]) continue;
+    next[a] = b;
+  }
+  const auto vOf = [&](int id) { return s.x[static_cast<size_t>(id)].y(); };
+  std::map<int, char> used;
+  int left_open = 0;
+  for (const auto& entry : next) {
+    const int start = entry.first;
+    if (used.count(start)) continue;
+    std::vector<int> loop;
+    int v = start;
+    while (!used.count(v) && next.count(v)) {
+      used[v] = 1;
+      loop.push_back(v);
+      v = next[v];
+    }
+    if (v != start || loop.size() < 3) continue;
+    const int n = static_cast<int>(loop.size());
+    int lo = 0, hi = 0;
+    for (int i = 1; i < n; ++i) {
+      if (vOf(loop[static_cast<size_t>(i)]) < vOf(loop[static_cast<size_t>(lo)])) lo = i;
+      if (vOf(loop[static_cast<size_t>(i)]) > vOf(loop[static_cast<size_t>(hi)])) hi = i;
+    }
+    std::vector<int> a, b;  // a: forward along the loop (its edges a[i] -> a[i+1]); b: backward
+    for (int i = lo;; i = (i + 1) % n) {
+      a.push_back(loop[static_cast<size_t>(i)]);
+      if (i == hi) break;
+    }
+    for (int i = lo;; i = (i + n - 1) % n) {
+      b.push_back(loop[static_cast<size_t>(i)]);
+      if (i == hi) break;
+    }
+    const auto monotone = [&](const std::vector<int>& c) {
+      for (size_t i = 1; i < c.size(); ++i)
+        if (!(vOf(c[i]) > vOf(c[i - 1]))) return false;
+      return true;
+    };
+    if (!monotone(a) || !monotone(b)) {
+      ++left_open;
+      continue;
+    }
+    // Splits the chain edge p -> q (loop direction) of face f at the given points (ordered from p to q).
+    const auto splitEdge = [&](int p, int q, const std::vector<int>& points) {
+      const int f = face_of.at({p, q});
+      auto t = s.faces[static_cast<size_t>(f)];
+      while (t[0] != p) std::rotate(t.begin(), t.begin() + 1, t.end());
+      const int r = t[2];
+      std::vector<int> chain{p};
+      chain.insert(chain.end(), points.begin(), points.end());
+      chain.push_back(q);
+      s.faces[static_cast<size_t>(f)] = {chain[0], chain[1], r};
+      for (size_t i = 1; i + 1 < chain.size(); ++i) s.faces.push_back({chain[i], chain[i + 1], r});
+    };
+    // The merged v-sequence: each half gets a point where the other has a vertex.
+    const auto insertInto = [&](const std::vector<int>& chain, const std::vector<int>& other, bool forward) {
+      std::vector<int> out{chain[0]};
+      size_t k = 1;
+      for (size_t i = 1; i < chain.size(); ++i) {
+        const int p = chain[i - 1], q = chain[i];
+        std::vector<int> points;
+        for (; k + 1 < other.size() && vOf(other[k]) < vOf(q); ++k) {
+          if (vOf(other[k]) <= vOf(p)) continue;
+          const double t = (vOf(other[k]) - vOf(p)) / (vOf(q) - vOf(p));
+          Eigen::Vector3d x = s.x[static_cast<size_t>(p)] + t * (s.x[static_cast<size_t>(q)] - s.x[static_cast<size_t>(p)]);
+          x.y() = vOf(other[k]);
+          const int m = s.add(x, -1, {-1, -1}, plane);
+          s.side[static_cast<size_t>(m)] = s.side[static_cast<size_t>(p)];
+          weld.push_back(m);
+          points.push_back(m);
+        }
+        if (vOf(other[k]) == vOf(q) && k + 1 < other.size()) ++k;
+        if (!points.empty()) {
+          if (forward) {
+            splitEdge(p, q, points);
+          } else {
+            std::vector<int> reversed(points.rbegin(), points.rend());
+            splitEdge(q, p, reversed);
+          }
+        }
+        out.insert(out.end(), points.begin(), points.end());
+        out.push_back(q);
+      }
+      return out;
+    };
+    const std::vector<int> a2 = insertInto(a, b, true);
+    const std::vector<int> b2 = insertInto(b, a, false);
+    if (a2.size() != b2.size()) {
+      ++left_open;
+      continue;
+    }
+    for (size_t i = 1; i + 1 < a2.size(); ++i)  // weld b2[i] into a2[i]
+      for (auto& f : s.faces)
+        for (int& id : f)
+          if (id == b2[i]) id = a2[i];
+  }
+  return left_open;
+}
+
+SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std::array<int, 3>>& faces) {
+  SurfaceMesh mesh;
+  TriMesh& m = mesh.mesh();
+  std::vector<TriMesh::VertexHandle> handles;
+  handles.reserve(x.size());
+  for (const auto& p : x) handles.push_back(m.add_vertex(toOpenMesh(p)));
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const auto& t = faces[f];
+    if (!m.add_face(handles[static_cast<size_t>(t[0])], handles[static_cast<size_t>(t[1])], handles[static_cast<size_t>(t[2])]).is_valid())
+      throw DffdError("splitting the model: face " + std::to_string(f) + " cannot be added (the model is not a two-manifold there)");
+  }
+  return mesh;
+}
+
+}  // namespace
+
+DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings) {
+  Soup s = soupOf(model.mesh());
+  for (size_t i = 0; i < dffd.obstacles().size(); ++i) {
+    splitAt(s, dffd.obstacles()[i].u, static_cast<int>(i), dffd.box());
+    separate(s, static_cast<int>(i), dffd.obstacles()[i].u);
+  }
+  std::vector<int> weld;
+  DffdSplit split;
+  if (close_openings)
+    for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += zipOpenings(s, static_cast<int>(i), weld);
+  // Compact: vertices no face uses any more (welded away) are dropped.
+  std::vector<int> remap(s.x.size(), -1);
+  for (const auto& f : s.faces)
+    for (const int v : f) remap[static_cast<size_t>(v)] = 0;
+  std::vector<Eigen::Vector3d> x;
+  for (size_t v = 0; v < s.x.size(); ++v) {
+    if (remap[v] < 0) continue;
+    remap[v] = static_cast<int>(x.size());
+    x.push_back(s.x[v]);
+    split.source_vertex.push_back(s.source[v]);
+    split.source_edge.push_back(s.edge[v]);
+    split.side.push_back(s.side[v]);
+    split.plane.push_back(s.plane[v]);
+  }
+  for (auto& f : s.faces)
+    for (int& v : f) v = remap[static_cast<size_t>(v)];
+  split.mesh = meshOf(x, s.faces);
+  return split;
+}
+
+SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd) {
+  SurfaceMesh out = split.mesh;
+  TriMesh& m = out.mesh();
+  for (const auto v : m.vertices()) {
+    const size_t i = static_cast<size_t>(v.idx());
+    m.set_point(v, toOpenMesh(dffd.map(toEigen(m.point(v)), split.side[i])));
+  }
+  return out;
+}
+
+double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index) {
+  double sum = 0.0;
+  int count = 0;
+  const TriMesh& m = split.mesh.mesh();
+  for (const auto v : m.vertices())
+    if (split.plane[static_cast<size_t>(v.idx())] == index) sum += m.point(v)[2], ++count;
+  return count > 0 ? sum / count : dffd.box().center().z();
+}
+
+SurfaceMesh cappedDeform(const SurfaceMesh& model, const GlobalDffd& dffd) {
+  // Pieces between consecutive planes: below the first, between each pair, above the last.
+  std::vector<SurfaceMesh> pieces;
+  SurfaceMesh rest = model;
+  for (const DffdObstacle& o : dffd.obstacles()) {
+    pieces.push_back(clipAndCap(rest, 0, o.u, KeepSide::Below));
+    rest = clipAndCap(rest, 0, o.u, KeepSide::Above);
+  }
+  pieces.push_back(std::move(rest));
+  SurfaceMesh out;
+  TriMesh& m = out.mesh();
+  for (size_t p = 0; p < pieces.size(); ++p) {
+    const TriMesh& piece = pieces[p].mesh();
+    std::vector<TriMesh::VertexHandle> handles(piece.n_vertices());
+    for (const auto v : piece.vertices()) {
+      if (piece.status(v).deleted()) continue;
+      const Eigen::Vector3d x = toEigen(piece.point(v));
+      int side = 0;  // a cap vertex on the plane below this piece (+ side) or above it (- side)
+      if (p > 0 && x.x() == dffd.obstacles()[p - 1].u) side = 1;
+      if (p < dffd.obstacles().size() && x.x() == dffd.obstacles()[p].u) side = -1;
+      handles[static_cast<size_t>(v.idx())] = m.add_vertex(toOpenMesh(dffd.map(x, side)));
+    }
+    for (const auto f : piece.faces()) {
+      if (piece.status(f).deleted()) continue;
+      std::array<TriMesh::VertexHandle, 3> t;
+      int i = 0;
+      for (auto v = piece.cfv_ccwiter(f); v.is_valid() && i < 3; ++v) t[static_cast<size_t>(i++)] = handles[static_cast<size_t>(v->idx())];
+      m.add_face(t[0], t[1], t[2]);
+    }
+  }
+  return out;
+}
+
+double worstPenetration(const TriMesh& mesh, const std::vector<Obstacle>& obstacles, std::string* which) {
+  double worst = 0.0;
+  for (const Obstacle& ob : obstacles) {
+    const std::vector<Triangle> tris = triangles(ob.mesh.mesh());
+    Eigen::AlignedBox3d box;
+    for (const Triangle& t : tris) box.extend(t.box);
+    for (const auto v : mesh.vertices()) {
+      if (mesh.status(v).deleted()) continue;
+      const Eigen::Vector3d p = toEigen(mesh.point(v));
+      if (!box.contains(p)) continue;
+      int crossings = 0;  // ray p + t e_x, t > 0
+      for (const Triangle& t : tris) {
+        if (t.box.max().x() < p.x() || t.box.min().y() > p.y() || t.box.max().y() < p.y() || t.box.min().z() > p.z() ||
+            t.box.max().z() < p.z())
+          continue;
+        const auto side = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+          return (b.y() - a.y()) * (p.z() - a.z()) - (b.z() - a.z()) * (p.y() - a.y());
+        };
+        const double s0 = side(t.a, t.b), s1 = side(t.b, t.c), s2 = side(t.c, t.a);
+        if (!((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0))) continue;
+        const double w = s0 + s1 + s2;  // barycentric x of the crossing
+        const double x = (s1 * t.a.x() + s2 * t.b.x() + s0 * t.c.x()) / w;
+        if (x > p.x()) ++crossings;
+      }
+      if (crossings % 2 == 0) continue;
+      double depth = INFINITY;
+      for (const Triangle& t : tris) depth = std::min(depth, (closestPointOnTriangle(p, t.a, t.b, t.c) - p).norm());
+      if (depth > worst) {
+        worst = depth;
+        if (which) *which = ob.name;
+      }
+    }
+  }
+  return worst;
+}
+
+int boundaryLoops(const TriMesh& mesh) {
+  std::vector<char> seen(mesh.n_halfedges(), 0);
+  int loops = 0;
+  for (const auto h : mesh.halfedges()) {
+    if (mesh.status(h).deleted() || !mesh.is_boundary(h) || seen[static_cast<size_t>(h.idx())]) continue;
+    ++loops;
+    for (auto g = h; !seen[static_cast<size_t>(g.idx())]; g = mesh.next_halfedge_handle(g)) seen[static_cast<size_t>(g.idx())] = 1;
+  }
+  return loops;
+}
+
+}  // namespace incise::cutting
