@@ -10,5 +10,6 @@ void addCutCommand(CLI::App& app);
 void addReplayCommand(CLI::App& app);
 void addRecordCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addWrapCommand(CLI::App& app);
 
 }  // namespace incise::apps

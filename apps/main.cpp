@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   incise::apps::addRecordCommand(app);
   incise::apps::addBenchCommand(app);
   incise::apps::addCutCommand(app);
+  incise::apps::addWrapCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

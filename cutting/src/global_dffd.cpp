@@ -453,7 +453,7 @@ void separate(Soup& s, int plane, double u) {
 // half's edges split where the other half has a vertex) and welded vertex to vertex: once F is stitched
 // both halves map onto the same seam, so the weld closes the surface without a flat face. A half that is
 // not strictly monotone in v leaves that loop open (returned count).
-int zipOpenings(Soup& s, int plane, std::vector<int>& weld) {
+int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box, std::vector<int>& weld) {
   std::map<std::pair<int, int>, int> face_of;  // directed edge -> face
   for (size_t f = 0; f < s.faces.size(); ++f)
     for (int i = 0; i < 3; ++i) face_of[{s.faces[f][static_cast<size_t>(i)], s.faces[f][static_cast<size_t>((i + 1) % 3)]}] = static_cast<int>(f);
@@ -500,7 +500,22 @@ int zipOpenings(Soup& s, int plane, std::vector<int>& weld) {
         if (!(vOf(c[i]) > vOf(c[i - 1]))) return false;
       return true;
     };
-    if (!monotone(a) || !monotone(b)) {
+    // Only an opening inside the box is stitched (beyond it F is the identity: nothing maps its halves
+    // together), and only when no face already joins its two halves (welding would fold it flat).
+    bool weldable = monotone(a) && monotone(b);
+    for (const int id : loop) weldable = weldable && box.contains(s.x[static_cast<size_t>(id)]);
+    if (weldable) {
+      std::map<int, int> half;
+      for (size_t i = 1; i + 1 < a.size(); ++i) half[a[i]] = 1;
+      for (size_t i = 1; i + 1 < b.size(); ++i) half[b[i]] = 2;
+      for (const auto& f : s.faces) {
+        int mask = 0;
+        for (const int id : f)
+          if (const auto it = half.find(id); it != half.end()) mask |= it->second;
+        if (mask == 3) weldable = false;
+      }
+    }
+    if (!weldable) {
       ++left_open;
       continue;
     }
@@ -513,8 +528,17 @@ int zipOpenings(Soup& s, int plane, std::vector<int>& weld) {
       std::vector<int> chain{p};
       chain.insert(chain.end(), points.begin(), points.end());
       chain.push_back(q);
+      const auto record = [&](int face) {
+        const auto& g = s.faces[static_cast<size_t>(face)];
+        for (int i = 0; i < 3; ++i) face_of[{g[static_cast<size_t>(i)], g[static_cast<size_t>((i + 1) % 3)]}] = face;
+      };
+      face_of.erase({p, q});
       s.faces[static_cast<size_t>(f)] = {chain[0], chain[1], r};
-      for (size_t i = 1; i + 1 < chain.size(); ++i) s.faces.push_back({chain[i], chain[i + 1], r});
+      record(f);
+      for (size_t i = 1; i + 1 < chain.size(); ++i) {
+        s.faces.push_back({chain[i], chain[i + 1], r});
+        record(static_cast<int>(s.faces.size()) - 1);
+      }
     };
     // The merged v-sequence: each half gets a point where the other has a vertex.
     const auto insertInto = [&](const std::vector<int>& chain, const std::vector<int>& other, bool forward) {
@@ -547,16 +571,31 @@ int zipOpenings(Soup& s, int plane, std::vector<int>& weld) {
       }
       return out;
     };
+    const std::vector<std::array<int, 3>> before = s.faces;
+    const auto face_of_before = face_of;
     const std::vector<int> a2 = insertInto(a, b, true);
     const std::vector<int> b2 = insertInto(b, a, false);
-    if (a2.size() != b2.size()) {
+    std::map<int, int> to;
+    for (size_t i = 1; i + 1 < a2.size() && a2.size() == b2.size(); ++i) to[b2[i]] = a2[i];
+    std::vector<std::array<int, 3>> welded = s.faces;
+    for (auto& f : welded)
+      for (int& id : f)
+        if (const auto it = to.find(id); it != to.end()) id = it->second;
+    // The weld must leave a two-manifold: no face folded flat, no directed edge used twice.
+    std::map<std::pair<int, int>, int> uses;
+    bool manifold = a2.size() == b2.size();
+    for (const auto& f : welded) {
+      manifold = manifold && f[0] != f[1] && f[1] != f[2] && f[0] != f[2];
+      for (int i = 0; i < 3 && manifold; ++i)
+        manifold = ++uses[{f[static_cast<size_t>(i)], f[static_cast<size_t>((i + 1) % 3)]}] == 1;
+    }
+    if (!manifold) {  // leave this opening open, as it was
+      s.faces = before;
+      face_of = face_of_before;
       ++left_open;
       continue;
     }
-    for (size_t i = 1; i + 1 < a2.size(); ++i)  // weld b2[i] into a2[i]
-      for (auto& f : s.faces)
-        for (int& id : f)
-          if (id == b2[i]) id = a2[i];
+    s.faces = std::move(welded);
   }
   return left_open;
 }
@@ -586,7 +625,7 @@ DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dff
   std::vector<int> weld;
   DffdSplit split;
   if (close_openings)
-    for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += zipOpenings(s, static_cast<int>(i), weld);
+    for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += zipOpenings(s, static_cast<int>(i), dffd.box(), weld);
   // Compact: vertices no face uses any more (welded away) are dropped.
   std::vector<int> remap(s.x.size(), -1);
   for (const auto& f : s.faces)
@@ -615,6 +654,64 @@ SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd) {
     m.set_point(v, toOpenMesh(dffd.map(toEigen(m.point(v)), split.side[i])));
   }
   return out;
+}
+
+namespace {
+
+std::vector<Eigen::Vector3d> restOf(const DffdSplit& split) {
+  const TriMesh& m = split.mesh.mesh();
+  if (split.side.size() != m.n_vertices())
+    throw DffdError("DffdBinding: the split has " + std::to_string(m.n_vertices()) + " vertices but " +
+                    std::to_string(split.side.size()) + " sides");
+  std::vector<Eigen::Vector3d> rest(m.n_vertices());
+  for (const auto v : m.vertices()) rest[static_cast<size_t>(v.idx())] = toEigen(m.point(v));
+  return rest;
+}
+
+std::vector<int> insideOf(const std::vector<Eigen::Vector3d>& rest, const Eigen::AlignedBox3d& box) {
+  std::vector<int> inside;
+  for (size_t v = 0; v < rest.size(); ++v)
+    if (box.contains(rest[v])) inside.push_back(static_cast<int>(v));
+  return inside;
+}
+
+// The parameters map() evaluates F at: u shifted by side * epsilon and clamped to the domain.
+std::vector<Eigen::Vector3d> boundParameters(const std::vector<Eigen::Vector3d>& rest, const std::vector<int>& inside,
+                                             const DffdSplit& split, const GlobalDffd& dffd) {
+  const auto domain = dffd.volume().domain(0);
+  std::vector<Eigen::Vector3d> parameters;
+  parameters.reserve(inside.size());
+  for (const int v : inside) {
+    const Eigen::Vector3d& x = rest[static_cast<size_t>(v)];
+    const double u = std::clamp(x.x() + split.side[static_cast<size_t>(v)] * dffd.options().epsilon, domain[0], domain[1]);
+    parameters.emplace_back(u, x.y(), x.z());
+  }
+  return parameters;
+}
+
+}  // namespace
+
+DffdBinding::DffdBinding(const DffdSplit& split, const GlobalDffd& dffd)
+    : rest_(restOf(split)), inside_(insideOf(rest_, dffd.box())), binding_(dffd.volume(), boundParameters(rest_, inside_, split, dffd)) {}
+
+void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) const {
+  if (out.size() != rest_.size())
+    throw DffdError("DffdBinding::deform: " + std::to_string(out.size()) + " output positions for " + std::to_string(rest_.size()) +
+                    " split vertices");
+  const size_t n = inside_.size();
+  // The bound vertices' positions go to out[0, n) first, then each to its own slot, last first: inside_ is
+  // increasing with inside_[b] >= b, so a move never overwrites a position still to be moved.
+  if (!binding_.deformAll(dffd.volume(), out.first(n)))
+    throw DffdError("DffdBinding::deform: the GlobalDffd's lattice (orders or knots) is not the one the split was bound to");
+  for (size_t b = n; b-- > 0;) out[static_cast<size_t>(inside_[b])] = out[b];
+  size_t next = 0;  // the vertices outside the box keep their rest position
+  for (size_t v = 0; v < rest_.size(); ++v) {
+    if (next < n && static_cast<size_t>(inside_[next]) == v) {
+      ++next;
+      continue;
+    }
+    out[v] = rest_[v];
+  }
 }
 
 double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index) {

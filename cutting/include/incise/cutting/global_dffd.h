@@ -30,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +39,7 @@
 
 #include "incise/cutting/bspline_volume.h"
 #include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/volume_binding.h"
 
 namespace incise::cutting {
 
@@ -118,13 +120,14 @@ struct DffdSplit {
   std::vector<std::array<int, 2>> source_edge;  // per split point: the model edge's ends; {-1, -1} otherwise
   std::vector<std::int8_t> side;             // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
   std::vector<int> plane;                    // per vertex: index of the obstacle whose plane it lies on, or -1
-  int left_open = 0;                         // openings close_openings could not close (not monotone in v)
+  int left_open = 0;                         // openings close_openings could not close (see below)
 };
 // With close_openings, every opening the split leaves (a loop of duplicated vertices on one side of one
 // plane) is closed: its two halves, from its lowest-v vertex to its highest, get the same v-values (edges
 // split where the other half has a vertex) and are welded vertex to vertex. Once F is stitched
 // (GlobalDffd::stitch) both halves map onto the same seam, so the output is closed with no flat face. An
-// opening whose halves are not monotone in v stays open (counted in left_open).
+// opening that reaches beyond the box, whose halves are not monotone in v, or that a face already spans
+// from half to half stays open (counted in left_open).
 // Cost O((V + F) log F) (plus O(F) per welded vertex). Failure: DffdError if the split model cannot be
 // rebuilt as a two-manifold.
 DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings = false);
@@ -142,6 +145,33 @@ SurfaceMesh cappedDeform(const SurfaceMesh& model, const GlobalDffd& dffd);
 // Every vertex of `split` mapped through F (its side on a discontinuity): the deformed model, same
 // connectivity. O(V * order^3).
 SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd);
+
+// A split bound to F's lattice, for re-deforming it without a new split (F changed, the model did not:
+// after stitch(), or another GlobalDffd with the same lattice). The parameters of the split's vertices
+// inside the box (x with u shifted by side * epsilon and clamped to the domain, as map() does) are bound
+// once with a VolumeBinding (spans and basis values computed once); deform() is then a weighted sum of
+// o^3 controls per such vertex, bit-identical to deformSplit's positions. Vertices outside the box keep
+// their rest position (F is the identity there).
+// Shapes: one output position per vertex of split.mesh (vertex index order), metres.
+// Cost: construction O(V * o^2 + #controls); deform O(V_inside * o^3 + V), no allocation. Memory about
+// (3 * o + 1) doubles and 2 ints per vertex inside the box plus a cell index over the controls.
+// Threads: deform is const and may run concurrently (each caller with its own output).
+// Failure: DffdError from deform if `dffd`'s lattice (orders, knots: the box) is not the one bound, or if
+// out_m does not have one position per split vertex; nothing is written then.
+class DffdBinding {
+ public:
+  DffdBinding(const DffdSplit& split, const GlobalDffd& dffd);
+
+  std::size_t size() const noexcept { return rest_.size(); }     // split vertices
+  std::size_t bound() const noexcept { return inside_.size(); }  // of them inside the box
+
+  void deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out_m) const;
+
+ private:
+  std::vector<Eigen::Vector3d> rest_;  // per split vertex: its rest position
+  std::vector<int> inside_;            // the vertices inside the box, increasing: binding point b is inside_[b]
+  VolumeBinding binding_;
+};
 
 // How deep the deepest vertex of `mesh` lies inside any obstacle (metres; 0 when none is inside): inside
 // by the parity of a ray along +x, depth the distance to the obstacle's closest triangle. The name of the
