@@ -165,7 +165,12 @@ WrapScenario loadWrap(const std::filesystem::path& file) {
       const json& entry = doc.at("obstacles")[i];
       if (!entry.is_object()) root.bad("obstacles[" + std::to_string(i) + "]", "must be an object");
       const Keys o{file, entry, "obstacles[" + std::to_string(i) + "]"};
-      s.obstacles.push_back({o.text("name", ("obstacle " + std::to_string(i)).c_str()), meshOf(o)});
+      const std::string name = o.text("name", ("obstacle " + std::to_string(i)).c_str());
+      try {
+        s.obstacles.push_back({name, meshOf(o)});
+      } catch (const MeshError& e) {
+        fail(file.string() + ": obstacle '" + name + "': " + e.what());
+      }
     }
   } catch (const std::invalid_argument& e) {
     fail(file.string() + ": " + e.what());

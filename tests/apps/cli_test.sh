@@ -72,6 +72,23 @@ printf '{ "tissue": { "mesh": "meshes/twisted.obj", "tets": {} }, "pose_source":
 check "a self-intersecting tissue is refused before TetGen, naming faces" expect_exit 2 "intersect" -- "$incise" replay "$work/twisted.json" --out "$work/out4"
 check "... and writes nothing (self-intersecting)" test ! -e "$work/out4"
 
+# The global DFFD: a squashed sphere through a cylinder, a mesh and a JSON line per frame.
+check "wrap runs the sphere and cylinder" "$incise" wrap "$scenarios/wrap/sphere-cylinder.json" --out "$work/wrap"
+check "wrap writes a mesh per frame" test -s "$work/wrap/frame_0014.obj"
+check "wrap writes a JSON line per frame" test "$(wc -l < "$work/wrap/frames.jsonl")" -eq 15
+check "no frame penetrates the obstacle" bash -c "! grep -q '\"worst_penetration_m\":[1-9]' '$work/wrap/frames.jsonl'"
+check "the capped part is closed in every frame" "$incise" wrap "$scenarios/wrap/part-silhouette.json" --out "$work/part"
+check "... no boundary loop" bash -c "! grep -q '\"boundary_loops\":[1-9]' '$work/part/frames.jsonl'"
+obstacle() { printf '{ "name": "%s", "shape": "cylinder", "base_m": [%s, 0, -0.03], "axis_m": [0, 0, 0.06], "radius_m": 0.005 }' "$1" "$2"; }
+printf '{ "model": { "shape": "sphere" }, "obstacles": [ %s, %s ] }' "$(obstacle left -0.008)" "$(obstacle right 0.008)" > "$work/close.json"
+check "obstacles too close are refused with the count needed" expect_exit 2 "'left' and 'right' are too close" -- "$incise" wrap "$work/close.json" --out "$work/out5"
+check "... and writes nothing (too close)" test ! -e "$work/out5"
+printf '{ "model": { "shape": "sphere" }, "obstacles": [ { "name": "lid", "mesh": "meshes/open.obj" } ] }' > "$work/openob.json"
+check "an open obstacle is refused by name" expect_exit 2 "obstacle 'lid': .*open surface" -- "$incise" wrap "$work/openob.json" --out "$work/out6"
+printf '{ "model": { "shape": "sphere" }, "obstacles": [ %s ], "treatment": "glued" }' "$(obstacle bar 0)" > "$work/treat.json"
+check "a bad treatment names the key" expect_exit 2 "treat.json: treatment: must be" -- "$incise" wrap "$work/treat.json" --out "$work/out7"
+check "... and writes nothing (treatment)" test ! -e "$work/out7"
+
 # record then replay: the generator round trip.
 check "record writes a trace from generated strokes" "$incise" record "$scenarios/generate/bunny-straight.json" --out "$work/rec.csv"
 check "the recorded trace has the documented header" bash -c "head -1 '$work/rec.csv' | grep -qx '$header'"
