@@ -15,40 +15,18 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Surface_mesh.h>
 
+#include "cgal_mesh.h"
 #include "format.h"
 
 namespace incise::cutting {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
-using CgalMesh = CGAL::Surface_mesh<Point>;
+using Kernel = detail::CgalKernel;
+using Point = detail::CgalPoint;
+using CgalMesh = detail::CgalMesh;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
 const char* sideName(KeepSide keep) { return keep == KeepSide::Below ? "below" : "above"; }
-
-// The non-deleted elements of `mesh` as a CGAL::Surface_mesh, with the same orientation.
-CgalMesh toCgal(const TriMesh& mesh) {
-  CgalMesh out;
-  out.reserve(static_cast<CgalMesh::size_type>(mesh.n_vertices()),
-              static_cast<CgalMesh::size_type>(mesh.n_edges()),
-              static_cast<CgalMesh::size_type>(mesh.n_faces()));
-  std::vector<CgalMesh::Vertex_index> index(mesh.n_vertices());
-  for (const auto v : mesh.vertices()) {  // skips deleted vertices
-    const auto& p = mesh.point(v);
-    index[static_cast<std::size_t>(v.idx())] = out.add_vertex(Point(p[0], p[1], p[2]));
-  }
-  for (const auto f : mesh.faces()) {
-    std::vector<CgalMesh::Vertex_index> corners;
-    for (const auto v : mesh.fv_range(f)) corners.push_back(index[static_cast<std::size_t>(v.idx())]);
-    // checkManifold passed, so Surface_mesh cannot refuse a face; checked anyway.
-    if (out.add_face(corners) == CgalMesh::null_face()) {
-      throw MeshError("clipAndCap: CGAL::Surface_mesh refused face " + std::to_string(f.idx()) +
-                      " of the input");
-    }
-  }
-  return out;
-}
 
 // `mesh` (garbage-collected, triangles only) as a SurfaceMesh; vertices within `tolerance` of the plane get
 // x[axis] = value exactly, and any vertex beyond the plane on the far side by more than that is an error.
@@ -118,7 +96,7 @@ SurfaceMesh clipAndCap(const SurfaceMesh& mesh, int axis, double value, KeepSide
   if (keep == KeepSide::Below ? all_below : all_above) return mesh;
   if (keep == KeepSide::Below ? all_above : all_below) return SurfaceMesh();
 
-  CgalMesh cgal = toCgal(tri);
+  CgalMesh cgal = detail::toCgal(tri, "clipAndCap");
   // clip keeps the negative side of the plane, where a x + b y + c z + d < 0: normal +e_axis keeps
   // x[axis] < value, normal -e_axis keeps x[axis] > value.
   const double n = keep == KeepSide::Below ? 1.0 : -1.0;

@@ -29,82 +29,7 @@ int orient3d(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
   m.col(1) = c - a;
   m.col(2) = d - a;
   const double det = m.determinant();
-  return (det > 0) - (det < 0);
-}
-
-int orient2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-  return (det > 0) - (det < 0);
-}
-
-// Closed segments pq and ab (2D) share a point.
-bool segmentsMeet2d(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& a,
-                    const Eigen::Vector2d& b) {
-  const int o1 = orient2d(p, q, a), o2 = orient2d(p, q, b), o3 = orient2d(a, b, p), o4 = orient2d(a, b, q);
-  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
-  // Touching or collinear: a point of one segment on the other.
-  auto onSegment = [](const Eigen::Vector2d& s, const Eigen::Vector2d& t, const Eigen::Vector2d& x) {
-    return orient2d(s, t, x) == 0 && x.x() >= std::min(s.x(), t.x()) && x.x() <= std::max(s.x(), t.x()) &&
-           x.y() >= std::min(s.y(), t.y()) && x.y() <= std::max(s.y(), t.y());
-  };
-  return (o1 == 0 && onSegment(p, q, a)) || (o2 == 0 && onSegment(p, q, b)) || (o3 == 0 && onSegment(a, b, p)) ||
-         (o4 == 0 && onSegment(a, b, q));
-}
-
-bool insideTriangle2d(const Eigen::Vector2d& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                      const Eigen::Vector2d& c) {
-  const int o1 = orient2d(a, b, x), o2 = orient2d(b, c, x), o3 = orient2d(c, a, x);
-  return (o1 >= 0 && o2 >= 0 && o3 >= 0) || (o1 <= 0 && o2 <= 0 && o3 <= 0);
-}
-
-// The closed segment pq and the closed triangle abc share a point.
-bool segmentMeetsTriangle(const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c) {
-  const int sp = orient3d(a, b, c, p), sq = orient3d(a, b, c, q);
-  if (sp * sq > 0) return false;
-  if (sp == 0 && sq == 0) {
-    // Coplanar: drop the coordinate along which the triangle's normal is largest.
-    const Vec n = (b - a).cross(c - a);
-    int drop = 0;
-    n.cwiseAbs().maxCoeff(&drop);
-    auto flat = [drop](const Vec& x) {
-      return Eigen::Vector2d(x[(drop + 1) % 3], x[(drop + 2) % 3]);
-    };
-    const Eigen::Vector2d p2 = flat(p), q2 = flat(q), a2 = flat(a), b2 = flat(b), c2 = flat(c);
-    return insideTriangle2d(p2, a2, b2, c2) || insideTriangle2d(q2, a2, b2, c2) ||
-           segmentsMeet2d(p2, q2, a2, b2) || segmentsMeet2d(p2, q2, b2, c2) || segmentsMeet2d(p2, q2, c2, a2);
-  }
-  const int o1 = orient3d(p, q, a, b), o2 = orient3d(p, q, b, c), o3 = orient3d(p, q, c, a);
-  return (o1 >= 0 && o2 >= 0 && o3 >= 0) || (o1 <= 0 && o2 <= 0 && o3 <= 0);
-}
-
-struct Triangle {
-  std::array<int, 3> v;
-  std::array<Vec, 3> p;
-  Eigen::AlignedBox3d box;
-};
-
-// Two faces meet other than where their shared vertices force them to. Faces sharing an edge: false.
-bool facesIntersect(const Triangle& s, const Triangle& t) {
-  int shared = 0, s_shared = -1, t_shared = -1;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (s.v[static_cast<size_t>(i)] == t.v[static_cast<size_t>(j)]) ++shared, s_shared = i, t_shared = j;
-  auto edgeMeets = [](const Triangle& x, int i, const Triangle& y) {
-    return segmentMeetsTriangle(x.p[static_cast<size_t>(i)], x.p[static_cast<size_t>((i + 1) % 3)], y.p[0],
-                                y.p[1], y.p[2]);
-  };
-  if (shared == 0) {
-    for (int i = 0; i < 3; ++i)
-      if (edgeMeets(s, i, t) || edgeMeets(t, i, s)) return true;
-    return false;
-  }
-  if (shared == 1) {
-    // Edge (k + 1, k + 2) is the one opposite corner k. The faces' common part contains the shared vertex;
-    // if it reaches further, its far end lies on an edge opposite the shared vertex or where such an edge
-    // crosses the other face, so testing the two opposite edges suffices.
-    return edgeMeets(s, (s_shared + 1) % 3, t) || edgeMeets(t, (t_shared + 1) % 3, s);
-  }
-  return false;
+  return det > 0 ? 1 : det < 0 ? -1 : 0;
 }
 
 std::string number(double x) {
@@ -126,46 +51,6 @@ const char* tetgenMeaning(int code) {
 }
 
 }  // namespace
-
-std::optional<std::pair<int, int>> findSelfIntersection(const TriMesh& mesh) {
-  std::vector<Triangle> faces;
-  std::vector<int> face_index;
-  faces.reserve(mesh.n_faces());
-  for (const auto f : mesh.faces()) {
-    if (mesh.status(f).deleted()) continue;
-    Triangle t;
-    int k = 0;
-    for (const auto v : mesh.fv_range(f)) {
-      if (k == 3) break;
-      t.v[static_cast<size_t>(k)] = v.idx();
-      t.p[static_cast<size_t>(k)] = toEigen(mesh.point(v));
-      t.box.extend(t.p[static_cast<size_t>(k)]);
-      ++k;
-    }
-    if (k != 3) continue;
-    faces.push_back(t);
-    face_index.push_back(f.idx());
-  }
-  std::vector<int> order(faces.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    const double xa = faces[static_cast<size_t>(a)].box.min().x(), xb = faces[static_cast<size_t>(b)].box.min().x();
-    return xa < xb || (xa == xb && a < b);
-  });
-  std::optional<std::pair<int, int>> first;
-  for (size_t i = 0; i < order.size(); ++i) {
-    const Triangle& s = faces[static_cast<size_t>(order[i])];
-    for (size_t j = i + 1; j < order.size(); ++j) {
-      const Triangle& t = faces[static_cast<size_t>(order[j])];
-      if (t.box.min().x() > s.box.max().x()) break;
-      if (!s.box.intersects(t.box) || !facesIntersect(s, t)) continue;
-      const int a = face_index[static_cast<size_t>(order[i])], b = face_index[static_cast<size_t>(order[j])];
-      const std::pair<int, int> pair{std::min(a, b), std::max(a, b)};
-      if (!first || pair < *first) first = pair;
-    }
-  }
-  return first;
-}
 
 TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& options) {
   if (!std::isfinite(options.radius_edge_ratio) ||

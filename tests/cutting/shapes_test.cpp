@@ -237,8 +237,7 @@ TEST_CASE("shapes: makePrism extrudes convex and non-convex outlines in either o
         }
         // The caps are embedded discs: every cap triangle turns the right way in the xy-plane (up for the
         // top, down for the bottom) and their areas add up to the outline's, so none overlaps another or
-        // leaves the outline. (findSelfIntersection is not used: its double-precision orientation signs
-        // report coplanar faces with collinear edges, such as a side strip of a rings > 1 prism.)
+        // leaves the outline.
         double top_area = 0, bottom_area = 0;
         int top_faces = 0, bottom_faces = 0;
         for (const auto f : mesh.mesh().faces()) {
@@ -416,12 +415,8 @@ TEST_CASE("shapes: makeRobot has 7 disjoint closed parts and >= 30000 vertices a
         CHECK(gap >= 0.01 * height * (1 - 1e-9));
       }
     }
-    // findSelfIntersection agrees where its double-precision signs are exact: the robot's two boxes (faces in
-    // axis-aligned planes) merged into one mesh. Its cylinders' side strips are coplanar faces in tilted
-    // planes, which it reports (a false positive of its inexact predicates, also for a lone makeCylinder).
-    CHECK_FALSE(
-        findSelfIntersection(merge({makeBox(boxes[2], 4 * detail), makeBox(boxes[6], 2 * detail)}).mesh())
-            .has_value());
+    // CGAL's exact self-intersection test agrees: no two faces of the whole robot meet.
+    CHECK_FALSE(findSelfIntersection(robot.mesh()).has_value());
     Eigen::AlignedBox3d bounds;
     for (const auto v : robot.mesh().vertices()) bounds.extend(toEigen(robot.mesh().point(v)));
     CHECK(bounds.min().z() == 0);

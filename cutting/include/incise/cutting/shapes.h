@@ -13,11 +13,6 @@
 // Failure: std::invalid_argument naming the function, the argument and its value for bad input (non-finite
 // coordinates, non-positive sizes, too few segments or points, a self-intersecting outline, or a mesh that
 // would have more than kMaxShapeFaces faces).
-// Note: findSelfIntersection (tetrahedralize.h) uses double-precision orientation signs and reports coplanar
-// faces that share a vertex in a plane that is not axis-aligned (a cylinder's side strips when rings > 1 and
-// its caps when the axis is not along x, y or z; a prism's side along collinear outline points, as in
-// faceSilhouette) although they do not intersect, so tetrahedralize refuses such meshes. Boxes, icospheres
-// and axis-aligned cylinders with rings = 1 pass it.
 #pragma once
 
 #include <vector>
@@ -88,7 +83,7 @@ std::vector<Eigen::Vector2d> faceSilhouette(double height_m, int points);
 
 // The disjoint union of `parts`: every part's non-deleted vertices and faces, vertices renumbered in part
 // order (part 0's first, each part's in handle order), faces likewise, kinds kept. Closed, oriented and
-// manifold when every part is; parts that overlap in space are not detected (findSelfIntersection in
+// manifold when every part is; parts that overlap in space are not detected here (findSelfIntersection in
 // tetrahedralize.h does that). An empty list gives an empty mesh. Throws MeshError if a part's face cannot be
 // added (a non-manifold part). Cost O(total V + F).
 SurfaceMesh merge(const std::vector<SurfaceMesh>& parts);

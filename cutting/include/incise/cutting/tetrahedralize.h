@@ -37,12 +37,11 @@ struct TetrahedralizeOptions {
 // them), then Steiner points. Cost: validation O(F log F) for a well-spread surface; TetGen about O(T log T).
 TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& options = {});
 
-// The lexicographically smallest pair of face indices (lower first) of faces that meet other than where
-// they must: faces with no common vertex that touch or cross; faces sharing one vertex where an edge
-// opposite the shared vertex touches the other face. Faces sharing an edge are not tested (a fold along a
-// shared edge is not found). Candidates come from a sort-and-sweep of the face bounding boxes on x; tests
-// use double-precision orientation signs (no exact arithmetic). Deleted faces are skipped.
-// Cost O(F log F + pairs whose x-extents overlap).
+// The lexicographically smallest pair of face indices (lower first) of faces that intersect other than
+// along what they share, by CGAL's Polygon Mesh Processing self_intersections (exact predicates; faces
+// sharing an edge or a vertex are tested too). Deleted faces are skipped. Throws MeshError when the mesh
+// cannot be represented as a CGAL::Surface_mesh (not a two-manifold). Cost O(F log F + pairs of
+// overlapping boxes).
 std::optional<std::pair<int, int>> findSelfIntersection(const TriMesh& mesh);
 
 }  // namespace incise::cutting
