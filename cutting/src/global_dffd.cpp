@@ -73,18 +73,35 @@ bool xRangeInSlab(const std::vector<Triangle>& tris, double y0, double y1, doubl
   return x_min <= x_max;
 }
 
-// How often the line {y = y0, z = z0} along x enters the solid (half its crossings with the surface).
-int entries(const std::vector<Triangle>& tris, double y0, double z0) {
+// Crossings of the line {y = y0, z = z0} along x with the triangles, counting only those at x > x_from
+// (strictly inside a triangle's yz-projection: a line through an edge or a vertex counts nothing there).
+int rayCrossings(const std::vector<Triangle>& tris, double x_from, double y0, double z0) {
   int crossings = 0;
   for (const Triangle& t : tris) {
-    if (t.box.max().y() < y0 || t.box.min().y() > y0 || t.box.max().z() < z0 || t.box.min().z() > z0) continue;
+    if (t.box.max().x() < x_from || t.box.min().y() > y0 || t.box.max().y() < y0 || t.box.min().z() > z0 ||
+        t.box.max().z() < z0)
+      continue;
     const auto side = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
       return (q.y() - p.y()) * (z0 - p.z()) - (q.z() - p.z()) * (y0 - p.y());
     };
     const double s0 = side(t.a, t.b), s1 = side(t.b, t.c), s2 = side(t.c, t.a);
-    if ((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0)) ++crossings;
+    if (!((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0))) continue;
+    const double x = (s1 * t.a.x() + s2 * t.b.x() + s0 * t.c.x()) / (s0 + s1 + s2);  // barycentric
+    if (x > x_from) ++crossings;
   }
-  return crossings / 2;
+  return crossings;
+}
+
+// How often the line {y = y0, z = z0} along x enters the solid (half its crossings with the surface).
+int entries(const std::vector<Triangle>& tris, double y0, double z0) { return rayCrossings(tris, -INFINITY, y0, z0) / 2; }
+
+// Whether p lies inside the closed surface: parity of a ray along +x, moved off p by a hair (h) three
+// ways so that a ray through an edge or a vertex (which counts wrong) is outvoted.
+bool insideSolid(const std::vector<Triangle>& tris, const Eigen::Vector3d& p, double h) {
+  const int votes = rayCrossings(tris, p.x(), p.y() + h * 0.7548776, p.z() + h * 0.5698403) % 2 +
+                    rayCrossings(tris, p.x(), p.y() - h * 0.3183099, p.z() + h * 0.8862269) % 2 +
+                    rayCrossings(tris, p.x(), p.y() + h * 0.1415926, p.z() - h * 0.6931472) % 2;
+  return votes >= 2;
 }
 
 double kernelValue(DffdKernel kind, double d, double width) {
@@ -766,21 +783,7 @@ double worstPenetration(const TriMesh& mesh, const std::vector<Obstacle>& obstac
       if (mesh.status(v).deleted()) continue;
       const Eigen::Vector3d p = toEigen(mesh.point(v));
       if (!box.contains(p)) continue;
-      int crossings = 0;  // ray p + t e_x, t > 0
-      for (const Triangle& t : tris) {
-        if (t.box.max().x() < p.x() || t.box.min().y() > p.y() || t.box.max().y() < p.y() || t.box.min().z() > p.z() ||
-            t.box.max().z() < p.z())
-          continue;
-        const auto side = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-          return (b.y() - a.y()) * (p.z() - a.z()) - (b.z() - a.z()) * (p.y() - a.y());
-        };
-        const double s0 = side(t.a, t.b), s1 = side(t.b, t.c), s2 = side(t.c, t.a);
-        if (!((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0))) continue;
-        const double w = s0 + s1 + s2;  // barycentric x of the crossing
-        const double x = (s1 * t.a.x() + s2 * t.b.x() + s0 * t.c.x()) / w;
-        if (x > p.x()) ++crossings;
-      }
-      if (crossings % 2 == 0) continue;
+      if (!insideSolid(tris, p, 1e-9 * box.sizes().maxCoeff())) continue;
       double depth = INFINITY;
       for (const Triangle& t : tris) depth = std::min(depth, (closestPointOnTriangle(p, t.a, t.b, t.c) - p).norm());
       if (depth > worst) {
