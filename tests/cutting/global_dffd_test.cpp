@@ -1,6 +1,6 @@
 // Tests for cutting/src/global_dffd.cpp: a sphere moving along v through a cylinder splits around it and
-// re-forms; identity away from the obstacle; Theorem 1's guard; obstacles too close, not monotone, open or
-// outside the lattice refused with their name.
+// re-forms; identity away from the obstacle; a bound split re-deforms exactly; Theorem 1's guard; obstacles
+// too close, not monotone, open or outside the lattice refused with their name.
 #include "incise/cutting/global_dffd.h"
 
 #include <algorithm>
@@ -138,6 +138,40 @@ TEST_CASE("global_dffd: the same scene gives the same bytes", "[cutting]") {
   const SurfaceMesh y = deformSplit(splitAtDiscontinuities(sphere, b), b);
   REQUIRE(x.mesh().n_vertices() == y.mesh().n_vertices());
   for (const auto v : x.mesh().vertices()) CHECK(x.mesh().point(v) == y.mesh().point(v));
+}
+
+TEST_CASE("global_dffd: a bound split re-deforms to exactly the positions deformSplit gives", "[cutting]") {
+  GlobalDffd dffd({bar()}, options());
+  // Centred on the bar, and half out of the box along v (those vertices keep their rest position).
+  for (const double y : {0.002, 0.022}) {
+    const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, y, 0.001), 0.012, 3);
+    const DffdSplit split = splitAtDiscontinuities(sphere, dffd, true);
+    const DffdBinding binding(split, dffd);
+    REQUIRE(binding.size() == split.mesh.mesh().n_vertices());
+    CHECK(binding.bound() > 0);
+    if (y > 0.01) CHECK(binding.bound() < binding.size());
+    GlobalDffd stitched = dffd;
+    stitched.stitch(0, stitchLevel(split, stitched, 0));
+    for (const GlobalDffd* f : {&dffd, &stitched}) {  // F changed, the split did not
+      const SurfaceMesh expected = deformSplit(split, *f);
+      std::vector<Eigen::Vector3d> out(binding.size(), Eigen::Vector3d::Constant(NAN));
+      binding.deform(*f, out);
+      int differ = 0;
+      for (const auto v : expected.mesh().vertices())
+        differ += toEigen(expected.mesh().point(v)) != out[static_cast<size_t>(v.idx())];
+      CHECK(differ == 0);
+    }
+  }
+  // A lattice with other knots, or the wrong number of outputs: refused, nothing written.
+  const DffdSplit split = splitAtDiscontinuities(makeSphere(Eigen::Vector3d::Zero(), 0.012, 2), dffd);
+  const DffdBinding binding(split, dffd);
+  GlobalDffdOptions other = options();
+  other.controls = {28, 16, 8};
+  std::vector<Eigen::Vector3d> out(binding.size(), Eigen::Vector3d::Zero());
+  REQUIRE_THROWS_WITH(binding.deform(GlobalDffd({bar()}, other), out), Contains("not the one the split was bound to"));
+  CHECK(out[0] == Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> short_out(binding.size() - 1);
+  REQUIRE_THROWS_AS(binding.deform(dffd, short_out), DffdError);
 }
 
 TEST_CASE("global_dffd: a kernel that would fold the lattice is refused, or widened until it does not", "[cutting]") {
