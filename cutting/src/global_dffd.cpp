@@ -7,6 +7,8 @@
 
 #include "incise/cutting/clip_cap.h"
 #include "incise/cutting/fold_over.h"
+#include "incise/cutting/knot_vector.h"
+#include "tensor_kernel.h"
 #include "incise/cutting/surface_query.h"
 
 namespace incise::cutting {
@@ -147,6 +149,7 @@ GlobalDffd::GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdO
   if (obstacles.empty() && !o.box) throw DffdError("GlobalDffd: no obstacle and no box: the lattice has no extent");
   place(obstacles);
   wrap(obstacles);
+  markMovedCells();
 }
 
 void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
@@ -200,6 +203,7 @@ void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
         if (have < order - 1) volume_.insertKnot(1, v, order - 1 - have);
       }
   }
+  identity_controls_.assign(volume_.controls().begin(), volume_.controls().end());
   spacing_u_ = box_.sizes().x() / (options_.controls[0] - order + 1);
   rest_u_.clear();
   for (int q = 0; q < volume_.controlCounts()[0]; ++q) rest_u_.push_back(volume_.control(q, 0, 0).x());
@@ -307,11 +311,54 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
   }
 }
 
+int GlobalDffd::cellOf(const Eigen::Vector3d& x, int side, double& u) const {
+  std::array<int, 3> spans;
+  return cellAndSpans(x, side, u, spans);
+}
+
+int GlobalDffd::cellAndSpans(const Eigen::Vector3d& x, int side, double& u, std::array<int, 3>& spans) const {
+  const auto domain = volume_.domain(0);
+  u = std::clamp(x.x() + side * options_.epsilon, domain[0], domain[1]);
+  const std::array<int, 3> counts = volume_.controlCounts();
+  const double t[3] = {u, x.y(), x.z()};
+  for (int a = 0; a < 3; ++a) spans[static_cast<size_t>(a)] = findSpan(volume_.knots(a), options_.order, counts[static_cast<size_t>(a)], t[a]);
+  return spans[0] + counts[0] * (spans[1] + counts[1] * spans[2]);
+}
+
 Eigen::Vector3d GlobalDffd::map(const Eigen::Vector3d& x, int side) const {
   if (!box_.contains(x)) return x;
-  const auto domain = volume_.domain(0);
-  const double u = std::clamp(x.x() + side * options_.epsilon, domain[0], domain[1]);
-  return volume_.evaluate(u, x.y(), x.z());
+  double u = 0.0;
+  std::array<int, 3> spans;
+  // Where no control of the support moved, F is the identity lattice's: x itself (not its rounding).
+  if (!moved_cell_[static_cast<size_t>(cellAndSpans(x, side, u, spans))]) return x;
+  // BSplineVolume::evaluateUnchecked with the spans already found (the same operations: the same bits).
+  const int o = options_.order;
+  const double t[3] = {u, x.y(), x.z()};
+  double basis[3][kMaxOrder];
+  int first[3];
+  for (int a = 0; a < 3; ++a) {
+    basisFunctions(volume_.knots(a), o, spans[static_cast<size_t>(a)], t[a], basis[a]);
+    first[a] = spans[static_cast<size_t>(a)] - (o - 1);
+  }
+  const std::array<int, 3> counts = volume_.controlCounts();
+  return detail::tensorSum(volume_.controls().data()->data(), counts[0], counts[1],
+                           volume_.controlIndex(first[0], first[1], first[2]), volume_.orders(), basis[0], basis[1], basis[2]);
+}
+
+void GlobalDffd::markMovedCells() {
+  // Knot cell (su, sv, sw) (span indices, each < the control count) is moved when a control of its support
+  // (i in su - o + 1 .. su, likewise j, k) is not where place() put it (the identity lattice's).
+  const std::array<int, 3> counts = volume_.controlCounts();
+  const int o = options_.order;
+  moved_cell_.assign(static_cast<size_t>(counts[0]) * counts[1] * counts[2], 0);
+  for (int k = 0; k < counts[2]; ++k)
+    for (int j = 0; j < counts[1]; ++j)
+      for (int i = 0; i < counts[0]; ++i) {
+        if (volume_.control(i, j, k) == identity_controls_[static_cast<size_t>(volume_.controlIndex(i, j, k))]) continue;
+        for (int c = k; c < std::min(counts[2], k + o); ++c)
+          for (int b = j; b < std::min(counts[1], j + o); ++b)
+            for (int a = i; a < std::min(counts[0], i + o); ++a) moved_cell_[static_cast<size_t>(a + counts[0] * (b + counts[1] * c))] = 1;
+      }
 }
 
 double GlobalDffd::minJacobian(int samples_per_cell) const { return minJacobianDeterminant(volume_, samples_per_cell); }
@@ -331,6 +378,7 @@ void GlobalDffd::stitch(int index, double w_s) {
         p.z() = w_s;
         volume_.setControl(i, j, k, p);
       }
+  markMovedCells();
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -345,6 +393,8 @@ struct Soup {
   std::vector<std::int8_t> side;
   std::vector<int> plane;
   std::vector<std::array<int, 3>> faces;
+  std::vector<std::array<int, 3>> faces_out;  // splitAt's output, swapped with faces
+  std::vector<int> remap;                      // compaction
 
   int add(const Eigen::Vector3d& p, int src, std::array<int, 2> e, int on_plane) {
     x.push_back(p);
@@ -369,6 +419,21 @@ Soup soupOf(const TriMesh& mesh) {
     s.faces.push_back(t);
   }
   return s;
+}
+
+void soupOf(std::span<const Eigen::Vector3d> positions, std::span<const std::array<int, 3>> faces, Soup& s) {
+  s.x.assign(positions.begin(), positions.end());
+  s.source.resize(positions.size());
+  for (size_t v = 0; v < positions.size(); ++v) s.source[v] = static_cast<int>(v);
+  s.edge.assign(positions.size(), {-1, -1});
+  s.side.assign(positions.size(), 0);
+  s.plane.assign(positions.size(), -1);
+  s.faces.assign(faces.begin(), faces.end());
+  for (const auto& f : s.faces)
+    for (const int v : f)
+      if (v < 0 || static_cast<size_t>(v) >= positions.size())
+        throw DffdError("splitAtDiscontinuities: a face refers to vertex " + std::to_string(v) + " of " +
+                        std::to_string(positions.size()));
 }
 
 // Splits every face crossing the plane x = u and marks the vertices on it. The whole section is split,
@@ -397,7 +462,8 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
     points.emplace(key, id);
     return id;
   };
-  std::vector<std::array<int, 3>> out;
+  std::vector<std::array<int, 3>>& out = s.faces_out;
+  out.clear();
   out.reserve(s.faces.size() + 64);
   for (const auto& f : s.faces) {
     const int sa = sgn(f[0]), sb = sgn(f[1]), sc = sgn(f[2]);
@@ -428,40 +494,46 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
       out.push_back({p, c, q});
     }
   }
-  s.faces = std::move(out);
+  std::swap(s.faces, out);
 }
 
 // Duplicates every vertex on `plane` whose faces lie on both sides (and none across): the + faces get a copy.
 void separate(Soup& s, int plane, double u) {
-  std::vector<std::vector<int>> around(s.x.size());
+  // (vertex on the plane, face around it), sorted by vertex.
+  std::vector<std::pair<int, int>> around;
   for (size_t f = 0; f < s.faces.size(); ++f)
     for (const int v : s.faces[f])
-      if (s.plane[static_cast<size_t>(v)] == plane) around[static_cast<size_t>(v)].push_back(static_cast<int>(f));
-  const size_t count = s.x.size();
-  for (size_t v = 0; v < count; ++v) {
-    if (around[v].empty()) continue;
+      if (s.plane[static_cast<size_t>(v)] == plane) around.emplace_back(v, static_cast<int>(f));
+  std::sort(around.begin(), around.end());
+  std::vector<int> face_side;
+  for (size_t begin = 0; begin < around.size();) {
+    const int v = around[begin].first;
+    size_t end = begin;
+    while (end < around.size() && around[end].first == v) ++end;
     bool minus = false, plus = false, across = false;
-    std::vector<int> face_side(around[v].size());
-    for (size_t i = 0; i < around[v].size(); ++i) {
+    face_side.assign(end - begin, 0);
+    for (size_t i = begin; i < end; ++i) {
       int side = 0;
-      for (const int w : s.faces[static_cast<size_t>(around[v][i])]) {
+      for (const int w : s.faces[static_cast<size_t>(around[i].second)]) {
         const double x = s.x[static_cast<size_t>(w)].x();
         const int sw = x < u ? -1 : x > u ? 1 : 0;
         if (sw != 0 && side != 0 && sw != side) across = true;
         if (sw != 0) side = sw;
       }
-      face_side[i] = side;
+      face_side[i - begin] = side;
       minus = minus || side < 0;
       plus = plus || side > 0;
     }
-    if (across || !minus || !plus) continue;  // the split's end (or a vertex touching the plane from one side)
-    s.side[v] = -1;
-    const int copy = s.add(s.x[v], s.source[v], s.edge[v], plane);
-    s.side[static_cast<size_t>(copy)] = 1;
-    for (size_t i = 0; i < around[v].size(); ++i)
-      if (face_side[i] > 0)
-        for (int& w : s.faces[static_cast<size_t>(around[v][i])])
-          if (w == static_cast<int>(v)) w = copy;
+    if (!across && minus && plus) {  // else the split's end, or a vertex touching the plane from one side
+      s.side[static_cast<size_t>(v)] = -1;
+      const int copy = s.add(s.x[static_cast<size_t>(v)], s.source[static_cast<size_t>(v)], s.edge[static_cast<size_t>(v)], plane);
+      s.side[static_cast<size_t>(copy)] = 1;
+      for (size_t i = begin; i < end; ++i)
+        if (face_side[i - begin] > 0)
+          for (int& w : s.faces[static_cast<size_t>(around[i].second)])
+            if (w == v) w = copy;
+    }
+    begin = end;
   }
 }
 
@@ -633,56 +705,97 @@ SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std:
 
 }  // namespace
 
-DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings) {
-  Soup s = soupOf(model.mesh());
+namespace {
+
+void splitSoup(Soup& s, const GlobalDffd& dffd, bool close_openings, DffdSplit& split) {
   for (size_t i = 0; i < dffd.obstacles().size(); ++i) {
     splitAt(s, dffd.obstacles()[i].u, static_cast<int>(i), dffd.box());
     separate(s, static_cast<int>(i), dffd.obstacles()[i].u);
   }
   std::vector<int> weld;
-  DffdSplit split;
+  split.left_open = 0;
   if (close_openings)
     for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += zipOpenings(s, static_cast<int>(i), dffd.box(), weld);
-  // Compact: vertices no face uses any more (welded away) are dropped.
-  std::vector<int> remap(s.x.size(), -1);
+  // Compact: vertices no face uses any more (welded away) are dropped. split's buffers keep their capacity.
+  s.remap.assign(s.x.size(), -1);
   for (const auto& f : s.faces)
-    for (const int v : f) remap[static_cast<size_t>(v)] = 0;
-  std::vector<Eigen::Vector3d> x;
+    for (const int v : f) s.remap[static_cast<size_t>(v)] = 0;
+  split.rest_m.clear();
+  split.source_vertex.clear();
+  split.source_edge.clear();
+  split.side.clear();
+  split.plane.clear();
   for (size_t v = 0; v < s.x.size(); ++v) {
-    if (remap[v] < 0) continue;
-    remap[v] = static_cast<int>(x.size());
-    x.push_back(s.x[v]);
+    if (s.remap[v] < 0) continue;
+    s.remap[v] = static_cast<int>(split.rest_m.size());
+    split.rest_m.push_back(s.x[v]);
     split.source_vertex.push_back(s.source[v]);
     split.source_edge.push_back(s.edge[v]);
     split.side.push_back(s.side[v]);
     split.plane.push_back(s.plane[v]);
   }
-  for (auto& f : s.faces)
-    for (int& v : f) v = remap[static_cast<size_t>(v)];
-  split.mesh = meshOf(x, s.faces);
+  split.faces.resize(s.faces.size());
+  for (size_t f = 0; f < s.faces.size(); ++f)
+    for (int i = 0; i < 3; ++i) split.faces[f][static_cast<size_t>(i)] = s.remap[static_cast<size_t>(s.faces[f][static_cast<size_t>(i)])];
+}
+
+// The working buffers of the splits made on this thread, kept so that a model split frame after frame does
+// not map fresh pages every frame (about a third of the frame time on the robot otherwise).
+Soup& scratchSoup() {
+  thread_local Soup soup;
+  return soup;
+}
+
+}  // namespace
+
+DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings) {
+  Soup soup = soupOf(model.mesh());
+  DffdSplit split;
+  splitSoup(soup, dffd, close_openings, split);
   return split;
 }
 
+DffdSplit splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions, std::span<const std::array<int, 3>> faces,
+                                 const GlobalDffd& dffd, bool close_openings) {
+  DffdSplit split;
+  splitAtDiscontinuities(positions, faces, dffd, close_openings, split);
+  return split;
+}
+
+void splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions, std::span<const std::array<int, 3>> faces,
+                            const GlobalDffd& dffd, bool close_openings, DffdSplit& out) {
+  Soup& soup = scratchSoup();
+  soupOf(positions, faces, soup);
+  splitSoup(soup, dffd, close_openings, out);
+}
+
+SurfaceMesh DffdSplit::surface(std::span<const Eigen::Vector3d> positions) const {
+  if (!positions.empty() && positions.size() != rest_m.size())
+    throw DffdError("DffdSplit::surface: " + std::to_string(positions.size()) + " positions for " + std::to_string(rest_m.size()) +
+                    " vertices");
+  return meshOf(positions.empty() ? rest_m : std::vector<Eigen::Vector3d>(positions.begin(), positions.end()), faces);
+}
+
+void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) {
+  if (out.size() != split.rest_m.size())
+    throw DffdError("deformSplit: " + std::to_string(out.size()) + " output positions for " + std::to_string(split.rest_m.size()) +
+                    " split vertices");
+  for (size_t v = 0; v < out.size(); ++v) out[v] = dffd.map(split.rest_m[v], split.side[v]);
+}
+
 SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd) {
-  SurfaceMesh out = split.mesh;
-  TriMesh& m = out.mesh();
-  for (const auto v : m.vertices()) {
-    const size_t i = static_cast<size_t>(v.idx());
-    m.set_point(v, toOpenMesh(dffd.map(toEigen(m.point(v)), split.side[i])));
-  }
-  return out;
+  std::vector<Eigen::Vector3d> positions(split.rest_m.size());
+  deformSplit(split, dffd, positions);
+  return split.surface(positions);
 }
 
 namespace {
 
 std::vector<Eigen::Vector3d> restOf(const DffdSplit& split) {
-  const TriMesh& m = split.mesh.mesh();
-  if (split.side.size() != m.n_vertices())
-    throw DffdError("DffdBinding: the split has " + std::to_string(m.n_vertices()) + " vertices but " +
+  if (split.side.size() != split.rest_m.size())
+    throw DffdError("DffdBinding: the split has " + std::to_string(split.rest_m.size()) + " vertices but " +
                     std::to_string(split.side.size()) + " sides");
-  std::vector<Eigen::Vector3d> rest(m.n_vertices());
-  for (const auto v : m.vertices()) rest[static_cast<size_t>(v.idx())] = toEigen(m.point(v));
-  return rest;
+  return split.rest_m;
 }
 
 std::vector<int> insideOf(const std::vector<Eigen::Vector3d>& rest, const Eigen::AlignedBox3d& box) {
@@ -709,7 +822,13 @@ std::vector<Eigen::Vector3d> boundParameters(const std::vector<Eigen::Vector3d>&
 }  // namespace
 
 DffdBinding::DffdBinding(const DffdSplit& split, const GlobalDffd& dffd)
-    : rest_(restOf(split)), inside_(insideOf(rest_, dffd.box())), binding_(dffd.volume(), boundParameters(rest_, inside_, split, dffd)) {}
+    : rest_(restOf(split)), inside_(insideOf(rest_, dffd.box())), binding_(dffd.volume(), boundParameters(rest_, inside_, split, dffd)) {
+  cells_.reserve(inside_.size());
+  for (const int v : inside_) {
+    double u = 0.0;
+    cells_.push_back(dffd.cellOf(rest_[static_cast<size_t>(v)], split.side[static_cast<size_t>(v)], u));
+  }
+}
 
 void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) const {
   if (out.size() != rest_.size())
@@ -720,7 +839,9 @@ void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out)
   // increasing with inside_[b] >= b, so a move never overwrites a position still to be moved.
   if (!binding_.deformAll(dffd.volume(), out.first(n)))
     throw DffdError("DffdBinding::deform: the GlobalDffd's lattice (orders or knots) is not the one the split was bound to");
-  for (size_t b = n; b-- > 0;) out[static_cast<size_t>(inside_[b])] = out[b];
+  // As map(): a vertex in a cell where no control moved is its rest position exactly.
+  for (size_t b = n; b-- > 0;)
+    out[static_cast<size_t>(inside_[b])] = dffd.identityCell(cells_[b]) ? rest_[static_cast<size_t>(inside_[b])] : out[b];
   size_t next = 0;  // the vertices outside the box keep their rest position
   for (size_t v = 0; v < rest_.size(); ++v) {
     if (next < n && static_cast<size_t>(inside_[next]) == v) {
@@ -734,9 +855,8 @@ void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out)
 double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index) {
   double sum = 0.0;
   int count = 0;
-  const TriMesh& m = split.mesh.mesh();
-  for (const auto v : m.vertices())
-    if (split.plane[static_cast<size_t>(v.idx())] == index) sum += m.point(v)[2], ++count;
+  for (size_t v = 0; v < split.rest_m.size(); ++v)
+    if (split.plane[v] == index) sum += split.rest_m[v].z(), ++count;
   return count > 0 ? sum / count : dffd.box().center().z();
 }
 

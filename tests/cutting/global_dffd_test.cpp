@@ -83,7 +83,8 @@ TEST_CASE("global_dffd: split vertices are duplicated with an index map back to 
   const GlobalDffd dffd({bar()}, options());
   const SurfaceMesh sphere = makeSphere(Eigen::Vector3d::Zero(), 0.012, 2);
   const DffdSplit split = splitAtDiscontinuities(sphere, dffd);
-  const TriMesh& m = split.mesh.mesh();
+  const SurfaceMesh split_mesh = split.surface();
+  const TriMesh& m = split_mesh.mesh();
   REQUIRE(split.source_vertex.size() == m.n_vertices());
   int minus = 0, plus = 0;
   for (size_t v = 0; v < m.n_vertices(); ++v) {
@@ -131,6 +132,36 @@ TEST_CASE("global_dffd: stitched and capped outputs are closed", "[cutting]") {
   }
 }
 
+TEST_CASE("global_dffd: splitting from arrays into a reused split gives the same split", "[cutting]") {
+  const GlobalDffd dffd({bar()}, options());
+  const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, 0.003, 0.0), 0.012, 3);
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<std::array<int, 3>> faces;
+  for (const auto v : sphere.mesh().vertices()) positions.push_back(toEigen(sphere.mesh().point(v)));
+  for (const auto f : sphere.mesh().faces()) {
+    std::array<int, 3> t{};
+    int k = 0;
+    for (auto v = sphere.mesh().cfv_ccwiter(f); v.is_valid(); ++v) t[static_cast<size_t>(k++)] = v->idx();
+    faces.push_back(t);
+  }
+  const DffdSplit reference = splitAtDiscontinuities(sphere, dffd, true);
+  DffdSplit reused;
+  for (int round = 0; round < 3; ++round) {  // a second scene in between: the buffers must not leak into it
+    splitAtDiscontinuities(positions, faces, dffd, true, reused);
+    CHECK(reused.rest_m == reference.rest_m);
+    CHECK(reused.faces == reference.faces);
+    CHECK(reused.side == reference.side);
+    CHECK(reused.source_vertex == reference.source_vertex);
+    const SurfaceMesh other = makeSphere(Eigen::Vector3d(0.002, -0.004, 0.0), 0.01, 2);
+    splitAtDiscontinuities(other, dffd);
+  }
+  std::vector<Eigen::Vector3d> deformed(reused.rest_m.size());
+  deformSplit(reused, dffd, deformed);
+  const SurfaceMesh as_mesh = deformSplit(reference, dffd);
+  for (const auto v : as_mesh.mesh().vertices()) CHECK(toEigen(as_mesh.mesh().point(v)) == deformed[static_cast<size_t>(v.idx())]);
+  CHECK_THROWS_AS(deformSplit(reused, dffd, std::span(deformed).first(3)), DffdError);
+}
+
 TEST_CASE("global_dffd: the same scene gives the same bytes", "[cutting]") {
   const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, 0.002, 0.001), 0.012, 2);
   const GlobalDffd a({bar()}, options()), b({bar()}, options());
@@ -147,7 +178,7 @@ TEST_CASE("global_dffd: a bound split re-deforms to exactly the positions deform
     const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, y, 0.001), 0.012, 3);
     const DffdSplit split = splitAtDiscontinuities(sphere, dffd, true);
     const DffdBinding binding(split, dffd);
-    REQUIRE(binding.size() == split.mesh.mesh().n_vertices());
+    REQUIRE(binding.size() == split.rest_m.size());
     CHECK(binding.bound() > 0);
     if (y > 0.01) CHECK(binding.bound() < binding.size());
     GlobalDffd stitched = dffd;

@@ -88,9 +88,15 @@ class GlobalDffd {
   const Eigen::AlignedBox3d& box() const noexcept { return box_; }
   const GlobalDffdOptions& options() const noexcept { return options_; }
 
-  // F(x): the identity outside the box (and wherever nothing moved); at u == u_i exactly, side -1 / +1
-  // evaluates F- / F+ (u_i -/+ epsilon), side 0 the right-hand value. O(order^3).
+  // F(x): the identity outside the box and in knot cells where no control of the support moved (x itself,
+  // exactly); at u == u_i exactly, side -1 / +1 evaluates F- / F+ (u_i -/+ epsilon), side 0 the right-hand
+  // value. O(order^3) where it evaluates, O(log controls) elsewhere.
   Eigen::Vector3d map(const Eigen::Vector3d& x_m, int side = 0) const;
+  // The knot cell (span indices, i-fastest) holding x (u shifted by side * epsilon and clamped, written to
+  // u), and whether F is the identity there (no control of its support moved). x must lie in the box.
+  // The cells stay the same when F's controls change (its knots do not). O(log controls) / O(1).
+  int cellOf(const Eigen::Vector3d& x_m, int side, double& u) const;
+  bool identityCell(int cell) const noexcept { return !moved_cell_[static_cast<size_t>(cell)]; }
   // Sampled minimum of det J over the lattice (fold_over.h). O(#cells * samples^3 * o^3).
   double minJacobian(int samples_per_cell = 2) const;
   // §3.2 stitching: the controls of both discontinuity planes of obstacle `index` move to (u_i, v_j, w_s):
@@ -101,6 +107,8 @@ class GlobalDffd {
   void place(const std::vector<Obstacle>& obstacles);
   void wrap(const std::vector<Obstacle>& obstacles);
   void spread(const DffdObstacle& o, int j, int k, double move_minus, double move_plus, double width);
+  void markMovedCells();
+  int cellAndSpans(const Eigen::Vector3d& x, int side, double& u, std::array<int, 3>& spans) const;
 
   GlobalDffdOptions options_;
   Eigen::AlignedBox3d box_;
@@ -108,6 +116,8 @@ class GlobalDffd {
   std::vector<DffdObstacle> obstacles_;
   double spacing_u_ = 1.0;      // the uniform control spacing in u before any insertion
   std::vector<double> rest_u_;  // u of every control plane before the moves (Greville abscissae)
+  std::vector<Eigen::Vector3d> identity_controls_;  // the controls place() set (the identity lattice's)
+  std::vector<std::uint8_t> moved_cell_;  // per knot cell (span indices, i-fastest): a control of its support moved
 };
 
 // The model split at every discontinuity (§3.2): each edge crossing u = u_i is split there (the whole
@@ -115,7 +125,11 @@ class GlobalDffd {
 // 1e-9 of the box's size from the plane are put on it, and each vertex on the plane between faces of both
 // sides is duplicated: the - faces keep it (mapped at u_i - epsilon), the + faces get the copy (+ epsilon).
 struct DffdSplit {
-  SurfaceMesh mesh;                          // the split model, at rest
+  std::vector<Eigen::Vector3d> rest_m;       // the split model's vertices, at rest
+  std::vector<std::array<int, 3>> faces;     // its triangles (outward, counter-clockwise), vertex indices
+  // The split model as a mesh: at rest, or with the given positions (one per vertex, e.g. deformSplit's).
+  // Builds an OpenMesh mesh: O(V + F), for output and checks (about half a frame's time on the robot).
+  SurfaceMesh surface(std::span<const Eigen::Vector3d> positions_m = {}) const;
   std::vector<int> source_vertex;            // per vertex: the model's vertex, or -1 for a split point
   std::vector<std::array<int, 2>> source_edge;  // per split point: the model edge's ends; {-1, -1} otherwise
   std::vector<std::int8_t> side;             // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
@@ -131,6 +145,13 @@ struct DffdSplit {
 // Cost O((V + F) log F) (plus O(F) per welded vertex). Failure: DffdError if the split model cannot be
 // rebuilt as a two-manifold.
 DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings = false);
+// The same from the model's vertex positions and triangles (a moving model: its triangles never change).
+DffdSplit splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,
+                                 const GlobalDffd& dffd, bool close_openings = false);
+// The same into `out`, reusing its buffers (and per-thread working buffers): frame after frame, almost no
+// allocation once warmed up. Threads: one call at a time per thread.
+void splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,
+                            const GlobalDffd& dffd, bool close_openings, DffdSplit& out);
 
 // §3.2's stitching level for obstacle `index`: the mean w of the split's vertices on its plane (the box's
 // centre in w if there are none). O(V).
@@ -142,8 +163,10 @@ double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index);
 // plus O(V * order^3). Failure: MeshError from clipAndCap.
 SurfaceMesh cappedDeform(const SurfaceMesh& model, const GlobalDffd& dffd);
 
-// Every vertex of `split` mapped through F (its side on a discontinuity): the deformed model, same
-// connectivity. O(V * order^3).
+// Every vertex of `split` mapped through F (its side on a discontinuity), into out_m (one per vertex; else
+// DffdError). O(V * order^3), no allocation.
+void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen::Vector3d> out_m);
+// The same as a mesh (split.surface() of the deformed positions): the deformed model, same connectivity.
 SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd);
 
 // A split bound to F's lattice, for re-deforming it without a new split (F changed, the model did not:
@@ -170,6 +193,7 @@ class DffdBinding {
  private:
   std::vector<Eigen::Vector3d> rest_;  // per split vertex: its rest position
   std::vector<int> inside_;            // the vertices inside the box, increasing: binding point b is inside_[b]
+  std::vector<int> cells_;             // binding point b's knot cell (GlobalDffd::cellOf)
   VolumeBinding binding_;
 };
 
