@@ -204,6 +204,11 @@ WrapScenario loadWrap(const std::filesystem::path& file) {
     s.translate_m = m.vec("translate_m", s.translate_m);
     s.frames = m.integer("frames", s.frames, 1, 100000);
   }
+  try {
+    validateModel(s.model, s.treatment == "capped");
+  } catch (const DffdError& e) {
+    root.bad("model", e.what());
+  }
   s.format = root.text("format", "obj");
   if (s.format != "obj" && s.format != "ply") root.bad("format", "must be \"obj\" or \"ply\"");
   s.tolerance_m = root.number("penetration_tolerance_m", s.tolerance_m, 0.0, 1.0);

@@ -852,6 +852,15 @@ void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out)
   }
 }
 
+void validateModel(const SurfaceMesh& model, bool closed) {
+  const ManifoldReport report = checkManifold(model.mesh());
+  if (report.closed_two_manifold) return;
+  const bool only_open = report.degenerate_faces == 0 && report.non_manifold_edges == 0 && report.non_manifold_vertices == 0;
+  if (only_open && !closed && model.mesh().n_faces() > 0) return;  // a two-manifold with boundary
+  throw DffdError("the model is not " + std::string(closed ? "a closed two-manifold" : "a two-manifold without degenerate faces") +
+                  ": " + report.first_problem);
+}
+
 double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index) {
   double sum = 0.0;
   int count = 0;

@@ -77,6 +77,7 @@ check "wrap runs the sphere and cylinder" "$incise" wrap "$scenarios/wrap/sphere
 check "wrap writes a mesh per frame" test -s "$work/wrap/frame_0014.obj"
 check "wrap writes a JSON line per frame" test "$(wc -l < "$work/wrap/frames.jsonl")" -eq 15
 check "no frame penetrates the obstacle" bash -c "! grep -q '\"worst_penetration_m\":[1-9]' '$work/wrap/frames.jsonl'"
+check "the same scene gives the same bytes" bash -c "'$incise' wrap '$scenarios/wrap/sphere-cylinder.json' --out '$work/wrap2' > /dev/null && cmp -s '$work/wrap/frame_0007.obj' '$work/wrap2/frame_0007.obj'"
 check "the capped part is closed in every frame" "$incise" wrap "$scenarios/wrap/part-silhouette.json" --out "$work/part"
 check "... no boundary loop" bash -c "! grep -q '\"boundary_loops\":[1-9]' '$work/part/frames.jsonl'"
 obstacle() { printf '{ "name": "%s", "shape": "cylinder", "base_m": [%s, 0, -0.03], "axis_m": [0, 0, 0.06], "radius_m": 0.005 }' "$1" "$2"; }

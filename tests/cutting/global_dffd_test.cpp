@@ -162,6 +162,20 @@ TEST_CASE("global_dffd: splitting from arrays into a reused split gives the same
   CHECK_THROWS_AS(deformSplit(reused, dffd, std::span(deformed).first(3)), DffdError);
 }
 
+TEST_CASE("global_dffd: a model with a degenerate face, or open where closure is needed, is refused", "[cutting]") {
+  SurfaceMesh flat = makeBox(Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-0.01), Eigen::Vector3d::Constant(0.01)));
+  const auto v = *flat.mesh().vertices_begin();
+  auto p = flat.mesh().point(v);
+  for (auto n = flat.mesh().vv_iter(v); n.is_valid(); ++n) p = flat.mesh().point(*n);  // onto a neighbour
+  flat.mesh().set_point(v, p);
+  REQUIRE_THROWS_WITH(validateModel(flat, false), Contains("degenerate face"));
+  SurfaceMesh open = makeSphere(Eigen::Vector3d::Zero(), 0.01, 1);
+  open.mesh().delete_face(*open.mesh().faces_begin());
+  open.mesh().garbage_collection();
+  CHECK_NOTHROW(validateModel(open, false));
+  REQUIRE_THROWS_WITH(validateModel(open, true), Contains("not a closed two-manifold"));
+}
+
 TEST_CASE("global_dffd: the same scene gives the same bytes", "[cutting]") {
   const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, 0.002, 0.001), 0.012, 2);
   const GlobalDffd a({bar()}, options()), b({bar()}, options());

@@ -120,6 +120,11 @@ class GlobalDffd {
   std::vector<std::uint8_t> moved_cell_;  // per knot cell (span indices, i-fastest): a control of its support moved
 };
 
+// Checks a model before it is split: a two-manifold (it may be open unless `closed` is asked: the capped
+// treatment needs it closed) with no degenerate face (a repeated vertex or no area: its crossing would be
+// undefined). Throws DffdError naming the first face, edge or vertex at fault (0-based). O(V + E log E + F).
+void validateModel(const SurfaceMesh& model, bool closed);
+
 // The model split at every discontinuity (§3.2): each edge crossing u = u_i is split there (the whole
 // section, also beyond the box, where F is the identity and the lips stay together), vertices within
 // 1e-9 of the box's size from the plane are put on it, and each vertex on the plane between faces of both
