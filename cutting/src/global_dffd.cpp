@@ -370,14 +370,20 @@ void GlobalDffd::stitch(int index, double w_s) {
     throw std::invalid_argument("GlobalDffd::stitch: w_s = " + str(w_s) + " is outside the box");
   const DffdObstacle& d = obstacles_[static_cast<size_t>(index)];
   const std::array<int, 3> counts = volume_.controlCounts();
-  for (int k = 0; k < counts[2]; ++k)
-    for (int j = 0; j < counts[1]; ++j)
-      for (const int i : {d.i_minus, d.i_plus}) {
-        Eigen::Vector3d p = volume_.control(i, j, k);
-        p.x() = d.u;  // (u_i, v_j, w_s): both planes onto the seam line
-        p.z() = w_s;
-        volume_.setControl(i, j, k, p);
-      }
+  for (int j = 0; j < counts[1]; ++j) {
+    // Each plane's column j goes to one point (X, v_j, w_s), X its most extreme projected u over the column
+    // (leftmost for F-, rightmost for F+): every w maps to the same seam point, which stays clear of the
+    // obstacle. (The paper puts both planes at (u_i, v_j, w_s), joining the two sides through the obstacle.)
+    double x_minus = INFINITY, x_plus = -INFINITY;
+    for (int k = 0; k < counts[2]; ++k) {
+      x_minus = std::min(x_minus, volume_.control(d.i_minus, j, k).x());
+      x_plus = std::max(x_plus, volume_.control(d.i_plus, j, k).x());
+    }
+    for (int k = 0; k < counts[2]; ++k) {
+      volume_.setControl(d.i_minus, j, k, Eigen::Vector3d(x_minus, volume_.control(d.i_minus, j, k).y(), w_s));
+      volume_.setControl(d.i_plus, j, k, Eigen::Vector3d(x_plus, volume_.control(d.i_plus, j, k).y(), w_s));
+    }
+  }
   markMovedCells();
 }
 
@@ -604,8 +610,33 @@ int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box, std::vector<
         if (mask == 3) weldable = false;
       }
     }
+    // The fallback: a strip of triangles zipped between the two halves in order of v (each triangle takes
+    // two consecutive vertices of one half and one of the other, the loop's edges reversed). Once stitched
+    // both halves lie on the seam, so the strip is thin; it is kept only if the result is a two-manifold.
+    const auto ladder = [&] {
+      std::vector<std::array<int, 3>> strip;
+      size_t ia = 0, ib = 0;
+      while (ia + 1 < a.size() || ib + 1 < b.size()) {
+        const bool advance_a = ib + 1 >= b.size() || (ia + 1 < a.size() && vOf(a[ia + 1]) <= vOf(b[ib + 1]));
+        const std::array<int, 3> f = advance_a ? std::array<int, 3>{a[ia + 1], a[ia], b[ib]} : std::array<int, 3>{b[ib], b[ib + 1], a[ia]};
+        advance_a ? ++ia : ++ib;
+        if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) strip.push_back(f);
+      }
+      std::map<std::pair<int, int>, int> uses;
+      bool manifold = true;
+      for (const auto* faces : {&s.faces, &strip})
+        for (const auto& f : *faces)
+          for (int i = 0; i < 3 && manifold; ++i)
+            manifold = ++uses[{f[static_cast<size_t>(i)], f[static_cast<size_t>((i + 1) % 3)]}] == 1;
+      if (!manifold) return false;
+      for (const auto& f : strip) {
+        s.faces.push_back(f);
+        for (int i = 0; i < 3; ++i) face_of[{f[static_cast<size_t>(i)], f[static_cast<size_t>((i + 1) % 3)]}] = static_cast<int>(s.faces.size()) - 1;
+      }
+      return true;
+    };
     if (!weldable) {
-      ++left_open;
+      if (!ladder()) ++left_open;
       continue;
     }
     // Splits the chain edge p -> q (loop direction) of face f at the given points (ordered from p to q).
@@ -678,10 +709,10 @@ int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box, std::vector<
       for (int i = 0; i < 3 && manifold; ++i)
         manifold = ++uses[{f[static_cast<size_t>(i)], f[static_cast<size_t>((i + 1) % 3)]}] == 1;
     }
-    if (!manifold) {  // leave this opening open, as it was
+    if (!manifold) {  // undo, then the strip
       s.faces = before;
       face_of = face_of_before;
-      ++left_open;
+      if (!ladder()) ++left_open;
       continue;
     }
     s.faces = std::move(welded);

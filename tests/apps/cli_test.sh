@@ -80,6 +80,8 @@ check "no frame penetrates the obstacle" bash -c "! grep -q '\"worst_penetration
 check "the same scene gives the same bytes" bash -c "'$incise' wrap '$scenarios/wrap/sphere-cylinder.json' --out '$work/wrap2' > /dev/null && cmp -s '$work/wrap/frame_0007.obj' '$work/wrap2/frame_0007.obj'"
 check "the capped part is closed in every frame" "$incise" wrap "$scenarios/wrap/part-silhouette.json" --out "$work/part"
 check "... no boundary loop" bash -c "! grep -q '\"boundary_loops\":[1-9]' '$work/part/frames.jsonl'"
+check "the stitched bunny is closed and clear of the tool in every frame" "$incise" wrap "$scenarios/wrap/bunny-tool-stitched.json" --out "$work/stitched"
+check "... no boundary loop (stitched)" bash -c "! grep -q '\"boundary_loops\":[1-9]' '$work/stitched/frames.jsonl'"
 obstacle() { printf '{ "name": "%s", "shape": "cylinder", "base_m": [%s, 0, -0.03], "axis_m": [0, 0, 0.06], "radius_m": 0.005 }' "$1" "$2"; }
 printf '{ "model": { "shape": "sphere" }, "obstacles": [ %s, %s ] }' "$(obstacle left -0.008)" "$(obstacle right 0.008)" > "$work/close.json"
 check "obstacles too close are refused with the count needed" expect_exit 2 "'left' and 'right' are too close" -- "$incise" wrap "$work/close.json" --out "$work/out5"

@@ -119,6 +119,8 @@ TEST_CASE("global_dffd: stitched and capped outputs are closed", "[cutting]") {
     const ManifoldReport report = checkManifold(out.mesh());
     INFO(report.first_problem);
     CHECK(report.closed_two_manifold);
+    CHECK(worstPenetration(out.mesh(), {bar()}) <= 1e-6);  // the seams stay clear of the bar
+    CHECK(dffd.minJacobian() >= 0.0);  // 0 on the seam (each plane drawn into a curve), never folded
   }
   SECTION("capped: clipped by the plane (CGAL), each side closed, none inside the bar") {
     const GlobalDffd dffd({bar()}, options());

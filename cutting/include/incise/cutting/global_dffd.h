@@ -99,8 +99,10 @@ class GlobalDffd {
   bool identityCell(int cell) const noexcept { return !moved_cell_[static_cast<size_t>(cell)]; }
   // Sampled minimum of det J over the lattice (fold_over.h). O(#cells * samples^3 * o^3).
   double minJacobian(int samples_per_cell = 2) const;
-  // §3.2 stitching: the controls of both discontinuity planes of obstacle `index` move to (u_i, v_j, w_s):
-  // both sides' openings map onto the seam line u = u_i, w = w_s (which should miss the obstacle).
+  // §3.2 stitching at the level w_s: every control of column j of F- moves to (X-_j, v_j, w_s), X-_j the
+  // column's leftmost projected u, and of F+ to (X+_j, v_j, w_s), the rightmost: each side's opening maps
+  // onto one seam curve, clear of the obstacle. (The paper's (u_i, v_j, w_s) would join both sides through
+  // the obstacle.) Fold-free like the projection: each plane stays beyond its neighbours' u-order.
   void stitch(int index, double w_s_m);
 
  private:
@@ -145,8 +147,9 @@ struct DffdSplit {
 // plane) is closed: its two halves, from its lowest-v vertex to its highest, get the same v-values (edges
 // split where the other half has a vertex) and are welded vertex to vertex. Once F is stitched
 // (GlobalDffd::stitch) both halves map onto the same seam, so the output is closed with no flat face. An
-// opening that reaches beyond the box, whose halves are not monotone in v, or that a face already spans
-// from half to half stays open (counted in left_open).
+// opening that cannot be welded (it reaches beyond the box, its halves are not monotone in v, or a face
+// already spans from half to half) is closed by a strip of thin triangles zipped between its halves in
+// order of v instead, if that leaves a two-manifold; else it stays open (counted in left_open).
 // Cost O((V + F) log F) (plus O(F) per welded vertex). Failure: DffdError if the split model cannot be
 // rebuilt as a two-manifold.
 DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings = false);
