@@ -120,7 +120,8 @@ TEST_CASE("global_dffd: stitched and capped outputs are closed", "[cutting]") {
     INFO(report.first_problem);
     CHECK(report.closed_two_manifold);
     CHECK(worstPenetration(out.mesh(), {bar()}) <= 1e-6);  // the seams stay clear of the bar
-    CHECK(dffd.minJacobian() >= 0.0);  // 0 on the seam (each plane drawn into a curve), never folded
+    // det J is 0 on the seam (each plane drawn into a curve, up to rounding: about -1e-20), never folded.
+    CHECK(dffd.minJacobian() > -1e-9);
   }
   SECTION("capped: clipped by the plane (CGAL), each side closed, none inside the bar") {
     const GlobalDffd dffd({bar()}, options());
