@@ -401,6 +401,7 @@ struct Soup {
   std::vector<std::array<int, 3>> faces;
   std::vector<std::array<int, 3>> faces_out;  // splitAt's output, swapped with faces
   std::vector<int> remap;                      // compaction
+  std::vector<int> touching;                   // splitAt: faces with a vertex on its plane
 
   int add(const Eigen::Vector3d& p, int src, std::array<int, 2> e, int on_plane) {
     x.push_back(p);
@@ -501,15 +502,23 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
     }
   }
   std::swap(s.faces, out);
+  // The faces with a vertex on the plane, for separate(): its only candidates.
+  s.touching.clear();
+  for (size_t f = 0; f < s.faces.size(); ++f)
+    for (const int v : s.faces[f])
+      if (s.plane[static_cast<size_t>(v)] == plane) {
+        s.touching.push_back(static_cast<int>(f));
+        break;
+      }
 }
 
 // Duplicates every vertex on `plane` whose faces lie on both sides (and none across): the + faces get a copy.
 void separate(Soup& s, int plane, double u) {
   // (vertex on the plane, face around it), sorted by vertex.
   std::vector<std::pair<int, int>> around;
-  for (size_t f = 0; f < s.faces.size(); ++f)
-    for (const int v : s.faces[f])
-      if (s.plane[static_cast<size_t>(v)] == plane) around.emplace_back(v, static_cast<int>(f));
+  for (const int f : s.touching)
+    for (const int v : s.faces[static_cast<size_t>(f)])
+      if (s.plane[static_cast<size_t>(v)] == plane) around.emplace_back(v, f);
   std::sort(around.begin(), around.end());
   std::vector<int> face_side;
   for (size_t begin = 0; begin < around.size();) {
@@ -747,6 +756,15 @@ void splitSoup(Soup& s, const GlobalDffd& dffd, bool close_openings, DffdSplit& 
   split.left_open = 0;
   if (close_openings)
     for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += zipOpenings(s, static_cast<int>(i), dffd.box(), weld);
+  if (weld.empty() && !close_openings) {  // every vertex is used: hand the buffers over (swapped, both reused)
+    std::swap(split.rest_m, s.x);
+    std::swap(split.source_vertex, s.source);
+    std::swap(split.source_edge, s.edge);
+    std::swap(split.side, s.side);
+    std::swap(split.plane, s.plane);
+    std::swap(split.faces, s.faces);
+    return;
+  }
   // Compact: vertices no face uses any more (welded away) are dropped. split's buffers keep their capacity.
   s.remap.assign(s.x.size(), -1);
   for (const auto& f : s.faces)
