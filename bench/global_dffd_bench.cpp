@@ -37,6 +37,7 @@
 namespace {
 
 using namespace incise::cutting;
+using incise::bench::percentile;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kTargetFrameMs = 5.0;
@@ -49,12 +50,6 @@ constexpr int kFrames = 40;
 constexpr double kStartY = -0.02, kEndY = 0.02;
 constexpr int kRedeformReps = 400;
 constexpr int kDeformSplitReps = 40;
-
-double percentile(std::vector<double> values, double q) {
-  std::sort(values.begin(), values.end());
-  const size_t rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
-  return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
-}
 
 nlohmann::json stats(const std::vector<double>& ms, double target) {
   return {{"p50_ms", percentile(ms, 0.50)},

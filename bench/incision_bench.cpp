@@ -17,17 +17,12 @@
 namespace {
 
 using namespace incise::cutting;
+using incise::bench::percentile;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kTargetP99Us = 300.0;
 constexpr double kTargetRatio = 2.0;
 constexpr int kBudget = 32;
-
-double percentile(std::vector<double> values, double q) {
-  std::sort(values.begin(), values.end());
-  const size_t rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
-  return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
-}
 
 nlohmann::json runMesh(const SurfaceMesh& base, int subdivisions, int budget) {
   const auto t0 = Clock::now();

@@ -1,5 +1,8 @@
 #include "machine_info.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <sys/utsname.h>
 
 #include <chrono>
@@ -50,6 +53,13 @@ nlohmann::json machineInfo() {
 #endif
       {"utc", utcNow()},
   };
+}
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const size_t rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
+  return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
 }  // namespace incise::bench

@@ -28,6 +28,7 @@
 namespace {
 
 using namespace incise::cutting;
+using incise::bench::percentile;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kTargetP99Us = 300.0;
@@ -35,12 +36,6 @@ constexpr double kTargetRatio = 1000.0;
 constexpr int kMinTets = 200000;
 constexpr int kBudget = 32;
 constexpr double kMaxVolumeM3 = 1.2e-9;
-
-double percentile(std::vector<double> values, double q) {
-  std::sort(values.begin(), values.end());
-  const size_t rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
-  return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
-}
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
