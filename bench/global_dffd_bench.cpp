@@ -227,6 +227,12 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
   }
   std::vector<Eigen::Vector3d> moved_at(rest.size()), positions_at;
   DffdSplit frame_split;  // reused frame after frame
+  {  // one untimed frame first: the split's buffers are allocated once, then reused (steady state timed)
+    for (size_t v = 0; v < rest.size(); ++v) moved_at[v] = rest[v] + Eigen::Vector3d(0.0, kStartY, 0.0);
+    splitAtDiscontinuities(moved_at, triangles, dffd, false, frame_split);
+    positions_at.resize(frame_split.rest_m.size());
+    deformSplit(frame_split, dffd, positions_at);
+  }
   std::vector<double> split_part;  // of frame_ms: moving and splitting (the rest is deformSplit)
   for (int frame = 0; frame < kFrames; ++frame) {
     const double dy = kStartY + (kEndY - kStartY) * frame / (kFrames - 1);

@@ -399,7 +399,6 @@ struct Soup {
   std::vector<std::int8_t> side;
   std::vector<int> plane;
   std::vector<std::array<int, 3>> faces;
-  std::vector<std::array<int, 3>> faces_out;  // splitAt's output, swapped with faces
   std::vector<int> remap;                      // compaction
   std::vector<int> touching;                   // splitAt: faces with a vertex on its plane
 
@@ -451,10 +450,12 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
   const auto sgn = [&](int v) { return s.x[static_cast<size_t>(v)].x() < u ? -1 : s.x[static_cast<size_t>(v)].x() > u ? 1 : 0; };
   // Vertices within a hair of the plane are put on it: splitting an edge there would make a sliver.
   const double snap = 1e-9 * box.sizes().maxCoeff();
+  bool snapped = false;
   for (size_t v = 0; v < s.x.size(); ++v) {
     if (std::abs(s.x[v].x() - u) > snap) continue;
     s.x[v].x() = u;
     s.plane[v] = plane;
+    snapped = true;
   }
   const auto point = [&](int a, int b) {
     const std::pair<int, int> key(std::min(a, b), std::max(a, b));
@@ -469,47 +470,54 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
     points.emplace(key, id);
     return id;
   };
-  std::vector<std::array<int, 3>>& out = s.faces_out;
-  out.clear();
-  out.reserve(s.faces.size() + 64);
-  for (const auto& f : s.faces) {
-    const int sa = sgn(f[0]), sb = sgn(f[1]), sc = sgn(f[2]);
-    const bool crosses = (sa * sb < 0) || (sb * sc < 0) || (sc * sa < 0);
-    if (!crosses) {
-      out.push_back(f);
-      continue;
+  // In place: a crossing face becomes its first piece, the others go to the end; every piece touches the
+  // plane (separate()'s candidates, with the faces of snapped vertices).
+  s.touching.clear();
+  const size_t count = s.faces.size();
+  const auto piece = [&](size_t f, bool first, std::array<int, 3> t) {
+    if (first) {
+      s.faces[f] = t;
+      s.touching.push_back(static_cast<int>(f));
+    } else {
+      s.touching.push_back(static_cast<int>(s.faces.size()));
+      s.faces.push_back(t);
     }
-    // Rotate so that f[0] is the vertex alone on its side (or on the plane).
+  };
+  for (size_t i = 0; i < count; ++i) {
+    const std::array<int, 3> f = s.faces[i];
+    const int sa = sgn(f[0]), sb = sgn(f[1]), sc = sgn(f[2]);
+    if (!((sa * sb < 0) || (sb * sc < 0) || (sc * sa < 0))) continue;
+    // Rotate so that a is the vertex alone on its side (or on the plane).
     int r = 0;
     const int sg[3] = {sa, sb, sc};
-    for (int i = 0; i < 3; ++i)
-      if (sg[i] != 0 && sg[(i + 1) % 3] != sg[i] && sg[(i + 2) % 3] != sg[i]) r = i;
+    for (int k = 0; k < 3; ++k)
+      if (sg[k] != 0 && sg[(k + 1) % 3] != sg[k] && sg[(k + 2) % 3] != sg[k]) r = k;
     const int a = f[static_cast<size_t>(r)], b = f[static_cast<size_t>((r + 1) % 3)], c = f[static_cast<size_t>((r + 2) % 3)];
     const int s_b = sg[(r + 1) % 3], s_c = sg[(r + 2) % 3];
     if (s_b == 0) {  // b on the plane: the crossing is on c-a
       const int p = point(c, a);
-      out.push_back({a, b, p});
-      out.push_back({b, c, p});
+      piece(i, true, {a, b, p});
+      piece(i, false, {b, c, p});
     } else if (s_c == 0) {  // c on the plane: the crossing is on a-b
       const int p = point(a, b);
-      out.push_back({a, p, c});
-      out.push_back({p, b, c});
+      piece(i, true, {a, p, c});
+      piece(i, false, {p, b, c});
     } else {  // a alone: crossings on a-b and c-a
       const int p = point(a, b), q = point(c, a);
-      out.push_back({a, p, q});
-      out.push_back({p, b, c});
-      out.push_back({p, c, q});
+      piece(i, true, {a, p, q});
+      piece(i, false, {p, b, c});
+      piece(i, false, {p, c, q});
     }
   }
-  std::swap(s.faces, out);
-  // The faces with a vertex on the plane, for separate(): its only candidates.
-  s.touching.clear();
-  for (size_t f = 0; f < s.faces.size(); ++f)
-    for (const int v : s.faces[f])
-      if (s.plane[static_cast<size_t>(v)] == plane) {
-        s.touching.push_back(static_cast<int>(f));
-        break;
-      }
+  if (snapped) {  // faces around vertices put on the plane: a full pass (rare)
+    s.touching.clear();
+    for (size_t f = 0; f < s.faces.size(); ++f)
+      for (const int v : s.faces[f])
+        if (s.plane[static_cast<size_t>(v)] == plane) {
+          s.touching.push_back(static_cast<int>(f));
+          break;
+        }
+  }
 }
 
 // Duplicates every vertex on `plane` whose faces lie on both sides (and none across): the + faces get a copy.
