@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <catch2/catch.hpp>
 
@@ -177,6 +178,29 @@ TEST_CASE("global_dffd: a model with a degenerate face, or open where closure is
   open.mesh().garbage_collection();
   CHECK_NOTHROW(validateModel(open, false));
   REQUIRE_THROWS_WITH(validateModel(open, true), Contains("not a closed two-manifold"));
+}
+
+TEST_CASE("global_dffd: knots at the obstacle's v-extremes close the lips behind it sooner (Figure 4)", "[cutting]") {
+  // The widest gap between the two lips of a split vertex beyond the bar's far side in v (y > radius).
+  const auto gapBehind = [](bool v_knots) {
+    GlobalDffdOptions o = options();
+    o.v_knots = v_knots;
+    const GlobalDffd dffd({bar()}, o);
+    const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, 0.004, 0.0), 0.012, 4);
+    const DffdSplit split = splitAtDiscontinuities(sphere, dffd);
+    std::vector<Eigen::Vector3d> out(split.rest_m.size());
+    deformSplit(split, dffd, out);
+    std::map<std::pair<double, double>, std::array<int, 2>> lips;  // (y, z) at rest -> - and + copies
+    for (size_t v = 0; v < out.size(); ++v)
+      if (split.side[v] != 0) lips[{split.rest_m[v].y(), split.rest_m[v].z()}][split.side[v] < 0 ? 0 : 1] = static_cast<int>(v);
+    double widest = 0;
+    for (const auto& [yz, pair] : lips)
+      if (yz.first > 0.0065) widest = std::max(widest, (out[static_cast<size_t>(pair[0])] - out[static_cast<size_t>(pair[1])]).norm());
+    return widest;
+  };
+  const double with = gapBehind(true), without = gapBehind(false);
+  INFO("gap behind the bar: " << with << " m with the v-knots, " << without << " m without");
+  CHECK(with < without);
 }
 
 TEST_CASE("global_dffd: the same scene gives the same bytes", "[cutting]") {
