@@ -565,7 +565,7 @@ void separate(Soup& s, int plane, double u) {
 // half's edges split where the other half has a vertex) and welded vertex to vertex: once F is stitched
 // both halves map onto the same seam, so the weld closes the surface without a flat face. A half that is
 // not strictly monotone in v leaves that loop open (returned count).
-int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box, std::vector<int>& weld) {
+int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box) {
   std::map<std::pair<int, int>, int> face_of;  // directed edge -> face
   for (size_t f = 0; f < s.faces.size(); ++f)
     for (int i = 0; i < 3; ++i) face_of[{s.faces[f][static_cast<size_t>(i)], s.faces[f][static_cast<size_t>((i + 1) % 3)]}] = static_cast<int>(f);
@@ -691,7 +691,6 @@ int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box, std::vector<
           x.y() = vOf(other[k]);
           const int m = s.add(x, -1, {-1, -1}, plane);
           s.side[static_cast<size_t>(m)] = s.side[static_cast<size_t>(p)];
-          weld.push_back(m);
           points.push_back(m);
         }
         if (vOf(other[k]) == vOf(q) && k + 1 < other.size()) ++k;
@@ -760,11 +759,8 @@ void splitSoup(Soup& s, const GlobalDffd& dffd, bool close_openings, DffdSplit& 
     splitAt(s, dffd.obstacles()[i].u, static_cast<int>(i), dffd.box());
     separate(s, static_cast<int>(i), dffd.obstacles()[i].u);
   }
-  std::vector<int> weld;
   split.left_open = 0;
-  if (close_openings)
-    for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += zipOpenings(s, static_cast<int>(i), dffd.box(), weld);
-  if (weld.empty() && !close_openings) {  // every vertex is used: hand the buffers over (swapped, both reused)
+  if (!close_openings) {  // nothing welded, every vertex used: hand the buffers over (swapped, both reused)
     std::swap(split.rest_m, s.x);
     std::swap(split.source_vertex, s.source);
     std::swap(split.source_edge, s.edge);
@@ -773,6 +769,7 @@ void splitSoup(Soup& s, const GlobalDffd& dffd, bool close_openings, DffdSplit& 
     std::swap(split.faces, s.faces);
     return;
   }
+  for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += zipOpenings(s, static_cast<int>(i), dffd.box());
   // Compact: vertices no face uses any more (welded away) are dropped. split's buffers keep their capacity.
   s.remap.assign(s.x.size(), -1);
   for (const auto& f : s.faces)

@@ -121,7 +121,7 @@ void TetCutter::reserveHeadroom() {
   stencil_count_.reserve(kHeadroomNodes);
   stencil_first_.reserve(kHeadroomNodes * 2);
   dirty_.reserve(kHeadroomNodes);
-  for (auto* v : {&candidates_, &affected_, &cut_points_, &scratch_, &scratch2_, &parent_, &group_side_}) v->reserve(4096);
+  for (auto* v : {&candidates_, &affected_, &cut_points_, &scratch_, &scratch2_, &parent_}) v->reserve(4096);
   faces_.reserve(4096);
   group_seen_.reserve(4096);
 }
@@ -322,7 +322,7 @@ bool TetCutter::decideCut(const Incision& in, int t) {
     if (nodes_[static_cast<size_t>(a)].sign * nodes_[static_cast<size_t>(b)].sign >= 0) continue;
     const int edge = tet_edges_[static_cast<size_t>(t)][static_cast<size_t>(e)];
     if (edge_point_[static_cast<size_t>(edge)] >= 0) continue;
-    edgePoint(in, edge);
+    edgePoint(edge);
     // Every tet around the edge now has a point on it: it must be subdivided to stay conforming.
     const int lo = edges_[static_cast<size_t>(edge)][0], hi = edges_[static_cast<size_t>(edge)][1];
     const auto first = node_tets_.begin();
@@ -333,8 +333,7 @@ bool TetCutter::decideCut(const Incision& in, int t) {
   return true;
 }
 
-int TetCutter::edgePoint(const Incision& in, int edge) {
-  (void)in;
+int TetCutter::edgePoint(int edge) {
   const int a = edges_[static_cast<size_t>(edge)][0], b = edges_[static_cast<size_t>(edge)][1];
   double lambda = 0.0;
   const Eigen::Vector3d uvw = crossingUvw(a, b, lambda);
@@ -492,7 +491,6 @@ void TetCutter::separate(int x) {
     if (faces_[i][0] == faces_[i - 1][0] && faces_[i][1] == faces_[i - 1][1])
       parent_[static_cast<size_t>(findRoot(parent_, faces_[i][2]))] = findRoot(parent_, faces_[i - 1][2]);
   // Each group's side: +1 if it holds + pieces only, -1 if - only, 0 if both or none.
-  group_side_.assign(elems.size(), 0);
   std::vector<std::uint8_t>& seen = group_seen_;
   seen.assign(elems.size(), 0);
   for (size_t k = 0; k < elems.size(); ++k) {

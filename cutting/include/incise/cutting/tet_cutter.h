@@ -133,7 +133,7 @@ class TetCutter {
   enum class Resolve : std::uint8_t { Done, Later, OutOfBudget };
   Resolve resolveNode(const Incision& in, int node, int column, int& budget, TetStep& step);
   bool decideCut(const Incision& in, int tet);
-  int edgePoint(const Incision& in, int edge);
+  int edgePoint(int edge);
   Eigen::Vector3d crossingUvw(int a, int b, double& lambda) const;
   bool insideCut(const Incision& in, const Eigen::Vector3d& uvw) const;
   void subdivide(int tet, TetStep& step);
@@ -157,7 +157,7 @@ class TetCutter {
   int next_fresh_tet_ = -1;
   std::vector<int> fresh_;  // nodes bound during the current column, in order
   int last_final_columns_ = 0;
-  std::vector<int> candidates_, affected_, cut_points_, scratch_, scratch2_, parent_, group_side_;
+  std::vector<int> candidates_, affected_, cut_points_, scratch_, scratch2_, parent_;
   std::vector<std::array<int, 3>> faces_;  // separate(): (node, node, element) per face through the node
   std::vector<std::uint8_t> group_seen_;
   std::vector<double> opening_seen_;    // per column: the opening copied into lagged_
