@@ -1,6 +1,6 @@
 #include "incise/cutting/bspline_curve.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,20 +14,12 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
 [[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
 
 
-std::string formatPoint(const Eigen::Vector3d& p) {
-  // A stream rather than "(" + std::string: GCC 12 reports a false -Wrestrict on the latter (PR 105651).
-  std::ostringstream s;
-  s.precision(17);
-  s << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';
-  return s.str();
-}
 
 size_t at(int i) { return static_cast<size_t>(i); }
 
@@ -72,14 +64,14 @@ void checkParameters(std::span<const double> parameters, const char* who) {
   const std::string name(who);
   if (parameters.empty()) fail(name + ": no parameters");
   if (parameters.front() != 0.0)
-    fail(name + ": parameter 0 is " + str(parameters.front()) + ", expected 0");
+    fail(name + ": parameter 0 is " + formatNumber(parameters.front()) + ", expected 0");
   for (size_t k = 1; k < parameters.size(); ++k)
     if (!(parameters[k] >= parameters[k - 1]))  // also catches NaN
-      fail(name + ": parameter " + std::to_string(k) + " = " + str(parameters[k]) +
-           " is not >= parameter " + std::to_string(k - 1) + " = " + str(parameters[k - 1]));
+      fail(name + ": parameter " + std::to_string(k) + " = " + formatNumber(parameters[k]) +
+           " is not >= parameter " + std::to_string(k - 1) + " = " + formatNumber(parameters[k - 1]));
   if (parameters.back() != 1.0)
     fail(name + ": parameter " + std::to_string(parameters.size() - 1) + " is " +
-         str(parameters.back()) + ", expected 1");
+         formatNumber(parameters.back()) + ", expected 1");
 }
 
 size_t distinctCount(std::span<const double> sorted) {
@@ -196,8 +188,8 @@ bool BSplineCurve::inDomain(double t) const noexcept {
 void BSplineCurve::checkParameter(double t, const char* who) const {
   if (inDomain(t)) return;
   const auto [lo, hi] = domain();
-  fail(std::string(who) + ": t = " + str(t) + " is outside the domain [" + str(lo) + ", " +
-       str(hi) + "]");
+  fail(std::string(who) + ": t = " + formatNumber(t) + " is outside the domain [" + formatNumber(lo) + ", " +
+       formatNumber(hi) + "]");
 }
 
 Eigen::Vector3d BSplineCurve::evaluate(double t) const {
@@ -232,12 +224,12 @@ Eigen::Vector3d BSplineCurve::derivative(double t, int n) const {
 void BSplineCurve::insertKnot(double t, int times) {
   const auto [lo, hi] = domain();
   if (!(t > lo && t < hi))
-    fail("BSplineCurve::insertKnot: t = " + str(t) + " is not strictly inside the domain [" +
-         str(lo) + ", " + str(hi) + "]");
+    fail("BSplineCurve::insertKnot: t = " + formatNumber(t) + " is not strictly inside the domain [" +
+         formatNumber(lo) + ", " + formatNumber(hi) + "]");
   if (times < 1) fail("BSplineCurve::insertKnot: times = " + std::to_string(times) + " is below 1");
   const int multiplicity = knotMultiplicity(knots_, t);
   if (multiplicity + times > order_)
-    fail("BSplineCurve::insertKnot: inserting t = " + str(t) + " " + std::to_string(times) +
+    fail("BSplineCurve::insertKnot: inserting t = " + formatNumber(t) + " " + std::to_string(times) +
          " times would raise its multiplicity " + std::to_string(multiplicity) + " above the order " +
          std::to_string(order_));
   // Work on copies and commit with non-throwing swaps: the strong guarantee.

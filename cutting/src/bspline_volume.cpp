@@ -1,6 +1,6 @@
 #include "incise/cutting/bspline_volume.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <cmath>
 #include <sstream>
@@ -12,7 +12,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
@@ -64,7 +63,7 @@ BSplineVolume::BSplineVolume(std::array<int, 3> orders, std::array<std::vector<d
       const int k = static_cast<int>(index / (static_cast<size_t>(counts[0]) * counts[1]));
       throw std::invalid_argument("BSplineVolume: control point (" + std::to_string(i) + ", " +
                                   std::to_string(j) + ", " + std::to_string(k) + ") is " +
-                                  str(controls[index]));
+                                  formatPoint(controls[index]));
     }
   }
   orders_ = orders;
@@ -76,8 +75,8 @@ BSplineVolume::BSplineVolume(std::array<int, 3> orders, std::array<std::vector<d
 BSplineVolume BSplineVolume::identity(const Eigen::AlignedBox3d& box, std::array<int, 3> orders,
                                       std::array<int, 3> counts) {
   if (!box.min().allFinite() || !box.max().allFinite() || !(box.min().array() < box.max().array()).all())
-    throw std::invalid_argument("BSplineVolume::identity: box " + str(Eigen::Vector3d(box.min())) + " - " +
-                                str(Eigen::Vector3d(box.max())) + " is not finite with min < max on every axis");
+    throw std::invalid_argument("BSplineVolume::identity: box " + formatPoint(Eigen::Vector3d(box.min())) + " - " +
+                                formatPoint(Eigen::Vector3d(box.max())) + " is not finite with min < max on every axis");
   BSplineVolume volume;
   std::array<std::vector<double>, 3> greville;
   for (int a = 0; a < 3; ++a) {
@@ -112,8 +111,8 @@ void BSplineVolume::checkParameters(double u, double v, double w, const char* wh
   for (int a = 0; a < 3; ++a) {
     const auto d = domain(a);
     if (!(t[a] >= d[0] && t[a] <= d[1]))
-      throw std::invalid_argument(std::string(who) + ": " + kAxisName[a] + " = " + str(t[a]) +
-                                  " is outside the domain [" + str(d[0]) + ", " + str(d[1]) + "]");
+      throw std::invalid_argument(std::string(who) + ": " + kAxisName[a] + " = " + formatNumber(t[a]) +
+                                  " is outside the domain [" + formatNumber(d[0]) + ", " + formatNumber(d[1]) + "]");
   }
 }
 
@@ -167,12 +166,12 @@ void BSplineVolume::insertKnot(int axis, double t, int times) {
   const std::string who = std::string("BSplineVolume::insertKnot(") + kAxisName[axis] + "): ";
   const auto d = domain(axis);
   if (!(t > d[0] && t < d[1]))
-    throw std::invalid_argument(who + "t = " + str(t) + " is not strictly inside the domain (" + str(d[0]) +
-                                ", " + str(d[1]) + ")");
+    throw std::invalid_argument(who + "t = " + formatNumber(t) + " is not strictly inside the domain (" + formatNumber(d[0]) +
+                                ", " + formatNumber(d[1]) + ")");
   const int order = orders_[axis];
   const int existing = knotMultiplicity(knots_[axis], t);
   if (times < 1 || existing + times > order)
-    throw std::invalid_argument(who + "inserting t = " + str(t) + " " + std::to_string(times) +
+    throw std::invalid_argument(who + "inserting t = " + formatNumber(t) + " " + std::to_string(times) +
                                 " times onto multiplicity " + std::to_string(existing) +
                                 " would leave it outside [1, order = " + std::to_string(order) + "]");
 
@@ -254,7 +253,7 @@ void BSplineVolume::setControl(int i, int j, int k, const Eigen::Vector3d& p) {
   checkIndex(i, j, k);
   if (!p.allFinite())
     throw std::invalid_argument("BSplineVolume::setControl(" + std::to_string(i) + ", " + std::to_string(j) +
-                                ", " + std::to_string(k) + "): point " + str(p) + " is not finite");
+                                ", " + std::to_string(k) + "): point " + formatPoint(p) + " is not finite");
   controls_[static_cast<size_t>(controlIndex(i, j, k))] = p;
 }
 

@@ -16,7 +16,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include "cgal_mesh.h"
-#include "format.h"
+#include "incise/cutting/format.h"
 
 namespace incise::cutting {
 namespace {
@@ -42,8 +42,8 @@ SurfaceMesh fromCgal(const CgalMesh& mesh, int axis, double value, KeepSide keep
     if (std::abs(p[axis] - value) <= tolerance) {
       p[axis] = value;
     } else if (beyond > 0) {
-      throw MeshError("clipAndCap: CGAL left vertex " + detail::str(toEigen(p)) + " " + detail::str(beyond) +
-                      " beyond the plane x[" + std::to_string(axis) + "] = " + detail::str(value) +
+      throw MeshError("clipAndCap: CGAL left vertex " + formatPoint(toEigen(p)) + " " + formatNumber(beyond) +
+                      " beyond the plane x[" + std::to_string(axis) + "] = " + formatNumber(value) +
                       ", on the side not kept");
     }
     index[static_cast<std::size_t>(v.idx())] = out.add_vertex(p);
@@ -70,7 +70,7 @@ SurfaceMesh clipAndCap(const SurfaceMesh& mesh, int axis, double value, KeepSide
     throw std::invalid_argument("clipAndCap: axis must be 0, 1 or 2 (got " + std::to_string(axis) + ")");
   }
   if (!std::isfinite(value)) {
-    throw std::invalid_argument("clipAndCap: plane value must be finite (got " + detail::str(value) + ")");
+    throw std::invalid_argument("clipAndCap: plane value must be finite (got " + formatNumber(value) + ")");
   }
   const TriMesh& tri = mesh.mesh();
   const ManifoldReport report = checkManifold(tri);
@@ -102,7 +102,7 @@ SurfaceMesh clipAndCap(const SurfaceMesh& mesh, int axis, double value, KeepSide
   const double n = keep == KeepSide::Below ? 1.0 : -1.0;
   const Kernel::Plane_3 plane(axis == 0 ? n : 0.0, axis == 1 ? n : 0.0, axis == 2 ? n : 0.0, -n * value);
   const std::string where = "clipAndCap: keeping " + std::string(sideName(keep)) + " x[" +
-                            std::to_string(axis) + "] = " + detail::str(value) + ": ";
+                            std::to_string(axis) + "] = " + formatNumber(value) + ": ";
   try {
     const bool manifold = PMP::clip(cgal, plane,
                                     CGAL::parameters::clip_volume(true)

@@ -1,6 +1,6 @@
 #include "incise/cutting/fold_over.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +13,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
@@ -22,12 +21,6 @@ constexpr const char* kAxisName[3] = {"u", "v", "w"};
 using Index3 = std::array<int, 3>;
 
 
-std::string indices(const Index3& ijk) {
-  // A stream, not "(" + std::to_string(...): GCC 12 gives a false -Wrestrict on the latter at -O2.
-  std::ostringstream s;
-  s << "(" << ijk[0] << ", " << ijk[1] << ", " << ijk[2] << ")";
-  return s.str();
-}
 
 FoldReport failure(const Index3& ijk, std::string message) {
   return FoldReport{false, ijk[0], ijk[1], ijk[2], std::move(message)};
@@ -80,14 +73,14 @@ void collectDifferences(const BSplineVolume& volume, int axis, const Index3& fir
 std::string describeDifference(int axis, const Difference& d) {
   Index3 to = d.from;
   to[static_cast<size_t>(axis)] += 1;
-  return std::string(kAxisName[axis]) + ": " + indices(to) + " - " + indices(d.from);
+  return std::string(kAxisName[axis]) + ": " + formatIndices(to) + " - " + formatIndices(d.from);
 }
 
 // The first triple of the cell with det(a, b, c) <= 0, as a failure report; ok otherwise.
 FoldReport checkCell(const Index3& span, const std::array<std::vector<Difference>, 3>& diffs) {
   for (int a = 0; a < 3; ++a)  // cannot happen in a non-empty cell; an empty set would pass vacuously
     if (diffs[static_cast<size_t>(a)].empty())
-      return failure(span, "checkJacobianPositive: knot cell (spans) " + indices(span) + " has no " + kAxisName[a] +
+      return failure(span, "checkJacobianPositive: knot cell (spans) " + formatIndices(span) + " has no " + kAxisName[a] +
                                "-differences");
   for (const Difference& b : diffs[1]) {
     for (const Difference& c : diffs[2]) {
@@ -96,10 +89,10 @@ FoldReport checkCell(const Index3& span, const std::array<std::vector<Difference
       for (const Difference& a : diffs[0]) {
         const double det = a.d.dot(bc);
         if (!(det > 0.0))
-          return failure(span, "checkJacobianPositive: knot cell (spans) " + indices(span) +
+          return failure(span, "checkJacobianPositive: knot cell (spans) " + formatIndices(span) +
                                    ": det of control differences " + describeDifference(0, a) + ", " +
                                    describeDifference(1, b) + ", " + describeDifference(2, c) + " is " +
-                                   str(det) + " <= 0: det J not proven positive");
+                                   formatNumber(det) + " <= 0: det J not proven positive");
       }
     }
   }
@@ -188,9 +181,9 @@ FoldReport checkAxisOrder(const BSplineVolume& volume, int axis) {
         const double lo = controlAt(volume, from)[axis];
         const double hi = controlAt(volume, to)[axis];
         if (!(hi > lo))
-          return failure(from, std::string("checkAxisOrder(") + kAxisName[axis] + "): control " + indices(to) +
-                                   " has component " + std::to_string(axis) + " = " + str(hi) +
-                                   ", not above control " + indices(from) + " = " + str(lo) +
+          return failure(from, std::string("checkAxisOrder(") + kAxisName[axis] + "): control " + formatIndices(to) +
+                                   " has component " + std::to_string(axis) + " = " + formatNumber(hi) +
+                                   ", not above control " + formatIndices(from) + " = " + formatNumber(lo) +
                                    ": a fold-over (Theorem 1)");
       }
     }

@@ -1,4 +1,5 @@
 #include "incise/cutting/global_dffd.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -122,12 +123,6 @@ int multiplicity(const std::vector<double>& knots, double t) {
   return static_cast<int>(std::count(knots.begin(), knots.end(), t));
 }
 
-std::string str(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
 }  // namespace
 
 GlobalDffd::GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdOptions& options)
@@ -140,12 +135,12 @@ GlobalDffd::GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdO
     if (o.controls[a] < o.order || o.controls[a] > 4096)
       throw std::invalid_argument("GlobalDffd: controls[" + std::to_string(a) + "] = " + std::to_string(o.controls[a]) +
                                   " must be in [order, 4096]");
-  if (!(o.margin_m >= 0.0) || !std::isfinite(o.margin_m)) throw std::invalid_argument("GlobalDffd: margin_m = " + str(o.margin_m) + " must be >= 0");
+  if (!(o.margin_m >= 0.0) || !std::isfinite(o.margin_m)) throw std::invalid_argument("GlobalDffd: margin_m = " + formatNumber(o.margin_m) + " must be >= 0");
   if (!(o.kernel_width > 0.0) || !std::isfinite(o.kernel_width))
-    throw std::invalid_argument("GlobalDffd: kernel_width = " + str(o.kernel_width) + " must be > 0");
-  if (!(o.epsilon > 0.0 && o.epsilon < 1e-3)) throw std::invalid_argument("GlobalDffd: epsilon = " + str(o.epsilon) + " must be in (0, 1e-3)");
+    throw std::invalid_argument("GlobalDffd: kernel_width = " + formatNumber(o.kernel_width) + " must be > 0");
+  if (!(o.epsilon > 0.0 && o.epsilon < 1e-3)) throw std::invalid_argument("GlobalDffd: epsilon = " + formatNumber(o.epsilon) + " must be in (0, 1e-3)");
   if (!(o.clearance_m >= 0.0) || !std::isfinite(o.clearance_m))
-    throw std::invalid_argument("GlobalDffd: clearance_m = " + str(o.clearance_m) + " must be >= 0");
+    throw std::invalid_argument("GlobalDffd: clearance_m = " + formatNumber(o.clearance_m) + " must be >= 0");
   if (obstacles.empty() && !o.box) throw DffdError("GlobalDffd: no obstacle and no box: the lattice has no extent");
   place(obstacles);
   wrap(obstacles);
@@ -177,9 +172,9 @@ void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
       throw std::invalid_argument("GlobalDffd: the lattice box is empty or not finite");
     for (const DffdObstacle& d : obstacles_)
       if (!box_.contains(d.box))
-        throw DffdError("obstacle '" + d.name + "' lies outside the lattice box (its box [" + str(d.box.min().x()) + ", " +
-                        str(d.box.max().x()) + "] x [" + str(d.box.min().y()) + ", " + str(d.box.max().y()) + "] x [" +
-                        str(d.box.min().z()) + ", " + str(d.box.max().z()) + "])");
+        throw DffdError("obstacle '" + d.name + "' lies outside the lattice box (its box [" + formatNumber(d.box.min().x()) + ", " +
+                        formatNumber(d.box.max().x()) + "] x [" + formatNumber(d.box.min().y()) + ", " + formatNumber(d.box.max().y()) + "] x [" +
+                        formatNumber(d.box.min().z()) + ", " + formatNumber(d.box.max().z()) + "])");
   } else {
     box_ = all;
     box_.min().array() -= options_.margin_m;
@@ -252,7 +247,7 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
     const int have = static_cast<int>(std::floor((b.u - a.u) / spacing_u_));
     if (have < needed)
       throw DffdError("obstacles '" + a.name + "' and '" + b.name + "' are too close for order " + std::to_string(order) +
-                      " and kernel width " + str(options_.kernel_width) + ": " + std::to_string(needed) +
+                      " and kernel width " + formatNumber(options_.kernel_width) + ": " + std::to_string(needed) +
                       " control spacings are needed between their discontinuities, there are " + std::to_string(have) +
                       " (raise controls[0] from " + std::to_string(options_.controls[0]) + " to at least " +
                       std::to_string(static_cast<int>(std::ceil(double(options_.controls[0]) * needed / std::max(have, 1)))) + ")");
@@ -275,7 +270,7 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
         const double z = d.box.min().z() + extent.z() * (sk + 0.3456789) / 64.0;
         const int n = entries(tris, y, z);
         if (n > 1)
-          throw DffdError("obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + str(y) + ", w = " + str(z) +
+          throw DffdError("obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + formatNumber(y) + ", w = " + formatNumber(z) +
                           " enters it " + std::to_string(n) + " times (the projection onto C-(v), C+(v) needs one)");
       }
     for (int k = 0; k < counts[2]; ++k)
@@ -303,7 +298,7 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
       return std::abs(a.i_minus - fold.i) < std::abs(b.i_minus - fold.i);
     });
     if (options_.on_fold == FoldPolicy::Refuse || width + 1.0 > counts[0])
-      throw DffdError("obstacle '" + nearest->name + "': the kernel (width " + str(width) + " planes) would fold the lattice (Theorem 1): " +
+      throw DffdError("obstacle '" + nearest->name + "': the kernel (width " + formatNumber(width) + " planes) would fold the lattice (Theorem 1): " +
                       fold.message + "; widen kernel_width, add control planes in u or use FoldPolicy::Widen");
     for (int k = 0; k < counts[2]; ++k)  // back to the unmoved controls
       for (int j = 0; j < counts[1]; ++j)
@@ -367,7 +362,7 @@ void GlobalDffd::stitch(int index, double w_s) {
   if (index < 0 || index >= static_cast<int>(obstacles_.size()))
     throw std::invalid_argument("GlobalDffd::stitch: obstacle index " + std::to_string(index) + " is out of range");
   if (!(w_s >= box_.min().z() && w_s <= box_.max().z()))
-    throw std::invalid_argument("GlobalDffd::stitch: w_s = " + str(w_s) + " is outside the box");
+    throw std::invalid_argument("GlobalDffd::stitch: w_s = " + formatNumber(w_s) + " is outside the box");
   const DffdObstacle& d = obstacles_[static_cast<size_t>(index)];
   const std::array<int, 3> counts = volume_.controlCounts();
   for (int j = 0; j < counts[1]; ++j) {

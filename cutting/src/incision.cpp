@@ -1,6 +1,6 @@
 #include "incise/cutting/incision.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
@@ -22,7 +21,7 @@ namespace {
 [[noreturn]] void refuse(const std::string& what) { throw std::invalid_argument("Incision: " + what); }
 
 void requirePositive(double value, const char* name) {
-  if (!(std::isfinite(value) && value > 0.0)) refuse(std::string(name) + " = " + str(value) + " must be finite and > 0");
+  if (!(std::isfinite(value) && value > 0.0)) refuse(std::string(name) + " = " + formatNumber(value) + " must be finite and > 0");
 }
 
 void validate(const IncisionOptions& o) {
@@ -34,7 +33,7 @@ void validate(const IncisionOptions& o) {
   requirePositive(o.retraction_time_s, "retraction_time_s");
   requirePositive(o.max_step_m, "max_step_m");
   if (!(std::isfinite(o.epsilon) && o.epsilon > 0.0 && o.epsilon < 1e-3))
-    refuse("epsilon = " + str(o.epsilon) + " must be in (0, 1e-3)");
+    refuse("epsilon = " + formatNumber(o.epsilon) + " must be in (0, 1e-3)");
   if (o.order < 2 || o.order > kMaxOrder) refuse("order = " + std::to_string(o.order) + " is outside [2, 16]");
   for (const auto& [count, name] : {std::pair{o.across_controls, "across_controls"}, std::pair{o.normal_controls, "normal_controls"}})
     if (count < o.order || count % 2 == 0)
@@ -43,8 +42,8 @@ void validate(const IncisionOptions& o) {
     refuse("max_columns = " + std::to_string(o.max_columns) + " must be >= 2 * order + 2");
   const double half_depth_m = (o.normal_controls / 2) * o.beta_m;
   if (o.depth_m > 0.8 * half_depth_m)
-    refuse("depth_m = " + str(o.depth_m) + " needs more lattice below the surface: (normal_controls / 2) * beta_m = " +
-           str(half_depth_m) + " must be >= depth_m / 0.8");
+    refuse("depth_m = " + formatNumber(o.depth_m) + " needs more lattice below the surface: (normal_controls / 2) * beta_m = " +
+           formatNumber(half_depth_m) + " must be >= depth_m / 0.8");
 }
 
 bool finite(const StrokeSample& s) { return s.point_m.allFinite() && s.normal.allFinite() && std::isfinite(s.time_s); }
@@ -121,8 +120,8 @@ Incision::Layout Incision::layout(const IncisionOptions& options) {
     const double closing_m =
         (layout.kernel[static_cast<size_t>(i + 1)] - layout.kernel[static_cast<size_t>(i)]) * 0.5 * options.opening_m;
     if (!(gap_m - closing_m > 0.05 * gap_m))
-      refuse("opening_m = " + str(options.opening_m) + " folds the lattice between control planes " + std::to_string(i) +
-             " and " + std::to_string(i + 1) + " (Theorem 1): raise alpha_m = " + str(options.alpha_m) +
+      refuse("opening_m = " + formatNumber(options.opening_m) + " folds the lattice between control planes " + std::to_string(i) +
+             " and " + std::to_string(i + 1) + " (Theorem 1): raise alpha_m = " + formatNumber(options.alpha_m) +
              " or across_controls, or lower opening_m");
   }
   return layout;

@@ -1,6 +1,6 @@
 #include "incise/cutting/knot_vector.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
@@ -26,7 +25,7 @@ std::vector<double> clampedUniformKnots(int order, int count, double lo, double 
     fail("clampedUniformKnots: count " + std::to_string(count) + " is less than order " +
          std::to_string(order));
   if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
-    fail("clampedUniformKnots: domain [" + str(lo) + ", " + str(hi) +
+    fail("clampedUniformKnots: domain [" + formatNumber(lo) + ", " + formatNumber(hi) +
          "] is not a finite, non-empty interval");
   std::vector<double> knots(static_cast<size_t>(count + order));
   const int interior_spans = count - order + 1;
@@ -51,19 +50,19 @@ void validateKnots(std::span<const double> knots, int order, int count, std::str
          std::to_string(count + order));
   for (size_t i = 0; i < knots.size(); ++i) {
     if (!std::isfinite(knots[i]))
-      fail(name + ": knot " + std::to_string(i) + " is " + str(knots[i]));
+      fail(name + ": knot " + std::to_string(i) + " is " + formatNumber(knots[i]));
     if (i > 0 && knots[i] < knots[i - 1])
-      fail(name + ": knot " + std::to_string(i) + " = " + str(knots[i]) +
-           " decreases from knot " + std::to_string(i - 1) + " = " + str(knots[i - 1]));
+      fail(name + ": knot " + std::to_string(i) + " = " + formatNumber(knots[i]) +
+           " decreases from knot " + std::to_string(i - 1) + " = " + formatNumber(knots[i - 1]));
   }
   const size_t p = static_cast<size_t>(order - 1);
   if (!(knots[p] < knots[static_cast<size_t>(count)]))
-    fail(name + ": empty parameter domain [" + str(knots[p]) + ", " +
-         str(knots[static_cast<size_t>(count)]) + "]");
+    fail(name + ": empty parameter domain [" + formatNumber(knots[p]) + ", " +
+         formatNumber(knots[static_cast<size_t>(count)]) + "]");
   // Multiplicity above the order would make a zero-width gap in the basis.
   for (size_t i = 0; i + static_cast<size_t>(order) < knots.size(); ++i) {
     if (knots[i] == knots[i + static_cast<size_t>(order)])
-      fail(name + ": knot " + str(knots[i]) + " at index " + std::to_string(i) +
+      fail(name + ": knot " + formatNumber(knots[i]) + " at index " + std::to_string(i) +
            " has multiplicity above order " + std::to_string(order));
   }
 }

@@ -21,23 +21,14 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 namespace incise::cutting {
 namespace {
 
-using detail::str;
 
 [[noreturn]] void fail(const char* who, const std::string& what) {
   throw std::invalid_argument(std::string(who) + ": " + what);
-}
-
-std::string str2(const Eigen::Vector2d& p) {
-  std::ostringstream s;
-  s.imbue(std::locale::classic());
-  s.precision(17);
-  s << '(' << p[0] << ", " << p[1] << ')';
-  return s.str();
 }
 
 void requireAtLeast(const char* who, const char* name, int value, int least) {
@@ -47,18 +38,18 @@ void requireAtLeast(const char* who, const char* name, int value, int least) {
 
 void requirePositive(const char* who, const char* name, double value) {
   if (!std::isfinite(value) || !(value > 0))
-    fail(who, std::string(name) + " = " + str(value) + " is not finite and > 0");
+    fail(who, std::string(name) + " = " + formatNumber(value) + " is not finite and > 0");
 }
 
 void requireFinite(const char* who, const char* name, const Eigen::Vector3d& p) {
-  if (!p.allFinite()) fail(who, std::string(name) + " = " + str(p) + " is not finite");
+  if (!p.allFinite()) fail(who, std::string(name) + " = " + formatPoint(p) + " is not finite");
 }
 
 // `faces` is computed in double so that huge arguments cannot overflow before they are refused.
 void requireFaceBudget(const char* who, double faces, const std::string& arguments) {
   if (faces > static_cast<double>(kMaxShapeFaces)) {
     fail(who,
-         arguments + " would give " + str(faces) + " faces, more than " + std::to_string(kMaxShapeFaces));
+         arguments + " would give " + formatNumber(faces) + " faces, more than " + std::to_string(kMaxShapeFaces));
   }
 }
 
@@ -279,9 +270,9 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions) {
   for (int a = 0; a < 3; ++a) {
     const double size = box.max()[a] - box.min()[a];
     if (!(size > 0) || !std::isfinite(size)) {
-      fail(who, std::string("box size along ") + "xyz"[a] + " = " + str(size) +
-                    " is not finite and > 0 (box " + str(Eigen::Vector3d(box.min())) + " - " +
-                    str(Eigen::Vector3d(box.max())) + ")");
+      fail(who, std::string("box size along ") + "xyz"[a] + " = " + formatNumber(size) +
+                    " is not finite and > 0 (box " + formatPoint(Eigen::Vector3d(box.min())) + " - " +
+                    formatPoint(Eigen::Vector3d(box.max())) + ")");
     }
   }
   requireAtLeast(who, "divisions", divisions, 1);
@@ -336,7 +327,7 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
   requireFinite(who, "base_centre_m", base_centre_m);
   requireFinite(who, "axis_m", axis_m);
   if (!(axis_m.norm() > 0) || !std::isfinite(axis_m.norm())) {
-    fail(who, "axis_m = " + str(axis_m) + " has length " + str(axis_m.norm()) + ": must be finite and > 0");
+    fail(who, "axis_m = " + formatPoint(axis_m) + " has length " + formatNumber(axis_m.norm()) + ": must be finite and > 0");
   }
   requirePositive(who, "radius_m", radius_m);
   requireAtLeast(who, "segments", segments, 3);
@@ -461,14 +452,14 @@ SurfaceMesh makePrism(const std::vector<Eigen::Vector2d>& outline_m, double z0_m
     fail(who, "outline_m has " + std::to_string(outline_m.size()) + " points, needs >= 3");
   for (int i = 0; i < n; ++i) {
     if (!outline_m[static_cast<std::size_t>(i)].allFinite()) {
-      fail(who, "outline point " + std::to_string(i) + " = " + str2(outline_m[static_cast<std::size_t>(i)]) +
+      fail(who, "outline point " + std::to_string(i) + " = " + formatPoint(outline_m[static_cast<std::size_t>(i)]) +
                     " is not finite");
     }
   }
-  if (!std::isfinite(z0_m)) fail(who, "z0_m = " + str(z0_m) + " is not finite");
-  if (!std::isfinite(z1_m)) fail(who, "z1_m = " + str(z1_m) + " is not finite");
+  if (!std::isfinite(z0_m)) fail(who, "z0_m = " + formatNumber(z0_m) + " is not finite");
+  if (!std::isfinite(z1_m)) fail(who, "z1_m = " + formatNumber(z1_m) + " is not finite");
   if (!(z1_m > z0_m))
-    fail(who, "z1_m = " + str(z1_m) + " is not > z0_m = " + str(z0_m) + " (height must be > 0)");
+    fail(who, "z1_m = " + formatNumber(z1_m) + " is not > z0_m = " + formatNumber(z0_m) + " (height must be > 0)");
   requireAtLeast(who, "rings", rings, 1);
   requireFaceBudget(who, 2.0 * n * rings + 2.0 * (n - 2),
                     std::to_string(n) + " outline points and rings = " + std::to_string(rings));

@@ -1,6 +1,6 @@
 #include "incise/cutting/surface_mesh.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <array>
@@ -28,7 +28,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
@@ -110,7 +109,7 @@ void parseVertex(const std::vector<std::string_view>& tokens, double scale, int 
   Eigen::Vector3d p;
   for (int a = 0; a < 3; ++a) p[a] = parseCoordinate(tokens[static_cast<size_t>(a + 1)], where);
   p *= scale;
-  if (!p.allFinite()) fail(where + "coordinate overflows after scaling by " + str(scale));
+  if (!p.allFinite()) fail(where + "coordinate overflows after scaling by " + formatNumber(scale));
   raw.points.push_back(p);
   raw.point_lines.push_back(line);
 }
@@ -727,8 +726,8 @@ void SurfaceMesh::setKind(TriMesh::FaceHandle f, FaceKind kind) {
 
 TriMesh::VertexHandle SurfaceMesh::addVertex(const Eigen::Vector3d& p, VertexKind kind) {
   if (!p.allFinite())
-    throw std::invalid_argument("SurfaceMesh::addVertex: non-finite point (" + str(p.x()) + ", " +
-                                str(p.y()) + ", " + str(p.z()) + ")");
+    throw std::invalid_argument("SurfaceMesh::addVertex: non-finite point (" + formatNumber(p.x()) + ", " +
+                                formatNumber(p.y()) + ", " + formatNumber(p.z()) + ")");
   const VertexHandle v = mesh_.add_vertex(toOpenMesh(p));
   mesh_.property(vertex_kind_, v) = kind;
   return v;
@@ -748,7 +747,7 @@ TriMesh::FaceHandle SurfaceMesh::addFace(TriMesh::VertexHandle v0, TriMesh::Vert
 
 SurfaceMesh loadSurfaceMesh(const std::filesystem::path& path, double scale) {
   if (!std::isfinite(scale) || scale <= 0.0)
-    throw std::invalid_argument("loadSurfaceMesh: scale must be finite and > 0, got " + str(scale));
+    throw std::invalid_argument("loadSurfaceMesh: scale must be finite and > 0, got " + formatNumber(scale));
   const std::string ext = lowerExtension(path);
   if (ext == ".ply" || ext == ".off" || ext == ".stl") return readWithOpenMesh(path, ext, scale);
   if (ext != ".obj") fail(path.string() + ": unsupported mesh format '" + ext + "' (obj, ply, off, stl)");

@@ -1,4 +1,5 @@
 #include "incise/cutting/tet_mesh.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <charconv>
@@ -84,12 +85,6 @@ void forEachFace(const std::vector<FaceSide>& sides, Visit visit) {
   }
 }
 
-// Streamed, not concatenated: GCC 12 warns falsely (-Wrestrict, PR 105651) on "(" + std::string.
-std::string faceText(const std::array<int, 3>& k) {
-  std::ostringstream s;
-  s << '(' << k[0] << ", " << k[1] << ", " << k[2] << ')';
-  return s.str();
-}
 
 // Writes path + ".tmp" and renames it to path on commit(); removes the .tmp otherwise.
 class AtomicText {
@@ -267,7 +262,7 @@ TetCheck checkConforming(const TetMesh& mesh) {
       implied[static_cast<size_t>(y.tet)][static_cast<size_t>(y.local)] = x.tet;
     } else {
       ++check.non_manifold_faces;
-      problem("face " + faceText(x.key) + " shared by " + std::to_string(count) + " tets" +
+      problem("face " + formatIndices(x.key) + " shared by " + std::to_string(count) + " tets" +
               (count == 2 ? " on the same side" : "") + " (tet " + std::to_string(x.tet) + ", tet " +
               std::to_string(sides[first + 1].tet) + ")");
     }

@@ -1,6 +1,6 @@
 #include "incise/cutting/vertex_grid.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
@@ -22,10 +21,7 @@ constexpr std::int64_t kMinCell = -(std::int64_t{1} << 20);
 
 VertexGrid::VertexGrid(double cell_size) : cell_size_(cell_size) {
   if (!std::isfinite(cell_size) || cell_size <= 0.0) {
-    std::ostringstream s;
-    s.precision(17);
-    s << "VertexGrid: cell size must be finite and > 0, got " << cell_size;
-    throw std::invalid_argument(s.str());
+    throw std::invalid_argument("VertexGrid: cell size must be finite and > 0, got " + formatNumber(cell_size));
   }
 }
 
@@ -55,7 +51,7 @@ std::int64_t VertexGrid::key(const Eigen::Vector3d& p) const noexcept {
 
 void VertexGrid::checkPoint(const Eigen::Vector3d& p, int id, const char* who) const {
   if (!p.allFinite())
-    throw std::invalid_argument(std::string("VertexGrid::") + who + ": non-finite point " + str(p) +
+    throw std::invalid_argument(std::string("VertexGrid::") + who + ": non-finite point " + formatPoint(p) +
                                 " for id " + std::to_string(id));
 }
 
@@ -72,7 +68,7 @@ VertexGrid::Location VertexGrid::locate(int id, const Eigen::Vector3d& p, const 
     if (it != cell->second.end()) return {cell, it};
   }
   throw std::invalid_argument(std::string("VertexGrid::") + who + ": no entry for id " + std::to_string(id) +
-                              " at " + str(p));
+                              " at " + formatPoint(p));
 }
 
 void VertexGrid::move(int id, const Eigen::Vector3d& from, const Eigen::Vector3d& to) {

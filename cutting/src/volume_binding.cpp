@@ -1,6 +1,6 @@
 #include "incise/cutting/volume_binding.h"
 
-#include "format.h"
+#include "incise/cutting/format.h"
 
 #include <algorithm>
 #include <cmath>

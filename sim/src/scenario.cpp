@@ -7,108 +7,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_reader.h"
+
 namespace incise::sim {
 
 namespace {
 
 using nlohmann::json;
 
-// Reads typed values out of a JSON object and names file and key path in every error.
-class Reader {
- public:
-  Reader(const std::filesystem::path& file, const json& object, std::string path)
-      : file_(file), object_(object), path_(std::move(path)) {
-    if (!object_.is_object()) fail(path_.empty() ? "the document must be a JSON object" : "must be an object");
-  }
-
-  [[noreturn]] void fail(const std::string& message, const std::string& key = "") const {
-    const std::string where = key.empty() ? path_ : (path_.empty() ? key : path_ + "." + key);
-    throw ScenarioError(file_.string() + ": " + (where.empty() ? "" : where + ": ") + message);
-  }
-
-  bool has(const char* key) const { return object_.contains(key); }
-
-  Reader child(const char* key) const {
-    if (!has(key)) return Reader(file_, json::object(), join(key));
-    return Reader(file_, object_.at(key), join(key));
-  }
-
-  double number(const char* key, double fallback, double lo, double hi) const {
-    if (!has(key)) return fallback;
-    const json& v = object_.at(key);
-    if (!v.is_number()) fail("must be a number, got " + v.dump(), key);
-    const double x = v.get<double>();
-    if (!(x >= lo && x <= hi)) fail(std::to_string(x) + " is outside [" + str(lo) + ", " + str(hi) + "]", key);
-    return x;
-  }
-
-  int integer(const char* key, int fallback, int lo, int hi) const {
-    if (!has(key)) return fallback;
-    const json& v = object_.at(key);
-    if (!v.is_number_integer()) fail("must be an integer, got " + v.dump(), key);
-    const long long x = v.get<long long>();
-    if (x < lo || x > hi) fail(std::to_string(x) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", key);
-    return static_cast<int>(x);
-  }
-
-  std::string text(const char* key, const char* fallback) const {
-    if (!has(key)) {
-      if (fallback) return fallback;
-      fail("is missing", key);
-    }
-    const json& v = object_.at(key);
-    if (!v.is_string()) fail("must be a string, got " + v.dump(), key);
-    return v.get<std::string>();
-  }
-
-  Eigen::Vector3d vector(const char* key, const Eigen::Vector3d& fallback) const {
-    if (!has(key)) return fallback;
-    const json& v = object_.at(key);
-    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
-      fail("must be an array of 3 numbers, got " + v.dump(), key);
-    return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-  }
-
-  // A path relative to the scenario file, which must exist.
-  std::filesystem::path file(const char* key) const {
-    const std::filesystem::path p = file_.parent_path() / text(key, nullptr);
-    if (!std::filesystem::exists(p)) fail("file " + p.string() + " does not exist", key);
-    return p;
-  }
-
-  const json& raw() const { return object_; }
-  const std::filesystem::path& filePath() const { return file_; }
-  std::string join(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
-
- private:
-  static std::string str(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-  }
-
-  std::filesystem::path file_;
-  json object_;
-  std::string path_;
-};
-
-json parse(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw ScenarioError(file.string() + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string s = text.str();
-  try {
-    return json::parse(s);
-  } catch (const json::parse_error& e) {
-    // nlohmann gives a byte offset: turn it into line:column.
-    const size_t at = std::min<size_t>(e.byte == 0 ? 0 : e.byte - 1, s.size());
-    const size_t line = 1 + static_cast<size_t>(std::count(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-    const size_t line_start = s.rfind('\n', at == 0 ? 0 : at - 1);
-    const size_t column = at - (line_start == std::string::npos ? 0 : line_start + 1) + 1;
-    throw ScenarioError(file.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": JSON syntax error");
-  }
-}
+using Reader = detail::JsonReader;
 
 void readIncision(const Reader& r, cutting::CutterOptions& c) {
   cutting::IncisionOptions& i = c.incision;
@@ -131,20 +38,13 @@ void readTets(const Reader& r, TetTissueOptions& t) {
   if (t.mesh.radius_edge_ratio != 0.0 && t.mesh.radius_edge_ratio < 1.0)
     r.fail("must be 0 (no quality refinement) or >= 1", "radius_edge_ratio");
   t.mesh.max_volume_m3 = r.number("max_volume_m3", t.mesh.max_volume_m3, 0.0, 1.0);
-  if (r.has("keep_surface")) {
-    if (!r.raw().at("keep_surface").is_boolean()) r.fail("must be true or false", "keep_surface");
-    t.mesh.keep_surface = r.raw().at("keep_surface").get<bool>();
-  }
+  t.mesh.keep_surface = r.boolean("keep_surface", t.mesh.keep_surface);
   t.cutter.snap_tolerance_m = r.number("snap_tolerance_m", t.cutter.snap_tolerance_m, 0.0, 1.0);
 }
 
 std::vector<StrokeSpec> readStrokes(const Reader& source) {
-  if (!source.has("strokes") || !source.raw().at("strokes").is_array() || source.raw().at("strokes").empty())
-    source.fail("must be a non-empty array of strokes", "strokes");
   std::vector<StrokeSpec> strokes;
-  const json& list = source.raw().at("strokes");
-  for (size_t k = 0; k < list.size(); ++k) {
-    const Reader s(source.filePath(), list[k], source.join("strokes") + "[" + std::to_string(k) + "]");
+  for (const Reader& s : source.objects("strokes")) {
     StrokeSpec spec;
     spec.start_m = s.vector("start_m", spec.start_m);
     spec.direction = s.vector("direction", spec.direction);
@@ -161,7 +61,7 @@ std::vector<StrokeSpec> readStrokes(const Reader& source) {
 }  // namespace
 
 Scenario loadScenario(const std::filesystem::path& file) {
-  const json document = parse(file);
+  const json document = detail::parseJsonFile(file);
   const Reader root(file, document, "");
   Scenario s;
   s.file = file;

@@ -28,13 +28,10 @@
 #include <Eigen/Core>
 
 #include "incise/cutting/surface_mesh.h"
+#include "incise/sim/scenario_error.h"
 #include "incise/sim/world.h"
 
 namespace incise::sim {
-
-struct ScenarioError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 struct StrokeSpec {
   Eigen::Vector3d start_m = Eigen::Vector3d::Zero();

@@ -1,0 +1,127 @@
+#include "json_reader.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "incise/cutting/format.h"
+
+namespace incise::sim::detail {
+
+using nlohmann::json;
+using cutting::formatNumber;
+
+TextPosition positionOf(const std::string& text, std::size_t offset) {
+  const std::size_t at = std::min(offset, text.size());
+  TextPosition p;
+  p.line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+  const std::size_t line_start = at == 0 ? std::string::npos : text.rfind('\n', at - 1);
+  p.column = at - (line_start == std::string::npos ? 0 : line_start + 1) + 1;
+  return p;
+}
+
+json parseJsonFile(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ScenarioError(file.string() + ": cannot open");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  try {
+    return json::parse(s);
+  } catch (const json::parse_error& e) {
+    // nlohmann counts the byte it stopped at from 1; the position is that byte's.
+    const TextPosition p = positionOf(s, e.byte == 0 ? 0 : e.byte - 1);
+    throw ScenarioError(file.string() + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) +
+                        ": JSON syntax error");
+  }
+}
+
+JsonReader::JsonReader(std::filesystem::path file, const json& object, std::string key_path)
+    : file_(std::move(file)), object_(object), path_(std::move(key_path)) {
+  if (!object_.is_object()) fail(path_.empty() ? "the document must be a JSON object" : "must be an object");
+}
+
+void JsonReader::fail(const std::string& message, const std::string& key) const {
+  const std::string where = key.empty() ? path_ : join(key.c_str());
+  throw ScenarioError(file_.string() + ": " + (where.empty() ? "" : where + ": ") + message);
+}
+
+JsonReader JsonReader::child(const char* key) const {
+  if (!has(key)) return JsonReader(file_, json::object(), join(key));
+  return JsonReader(file_, object_.at(key), join(key));
+}
+
+JsonReader JsonReader::requiredChild(const char* key) const {
+  if (!has(key)) fail("is missing", key);
+  return child(key);
+}
+
+std::vector<JsonReader> JsonReader::objects(const char* key) const {
+  if (!has(key) || !object_.at(key).is_array() || object_.at(key).empty()) fail("must be a non-empty array", key);
+  std::vector<JsonReader> list;
+  const json& array = object_.at(key);
+  for (std::size_t k = 0; k < array.size(); ++k)
+    list.emplace_back(file_, array[k], join(key) + "[" + std::to_string(k) + "]");
+  return list;
+}
+
+double JsonReader::number(const char* key, double fallback, double lo, double hi) const {
+  if (!has(key)) return fallback;
+  const json& v = object_.at(key);
+  if (!v.is_number()) fail("must be a number, got " + v.dump(), key);
+  const double x = v.get<double>();
+  if (!(x >= lo && x <= hi))
+    fail(formatNumber(x) + " is outside [" + formatNumber(lo) + ", " + formatNumber(hi) + "]", key);
+  return x;
+}
+
+int JsonReader::integer(const char* key, int fallback, int lo, int hi) const {
+  if (!has(key)) return fallback;
+  const json& v = object_.at(key);
+  if (!v.is_number_integer()) fail("must be an integer, got " + v.dump(), key);
+  const long long x = v.get<long long>();
+  if (x < lo || x > hi)
+    fail(std::to_string(x) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", key);
+  return static_cast<int>(x);
+}
+
+bool JsonReader::boolean(const char* key, bool fallback) const {
+  if (!has(key)) return fallback;
+  if (!object_.at(key).is_boolean()) fail("must be true or false", key);
+  return object_.at(key).get<bool>();
+}
+
+std::string JsonReader::text(const char* key, const char* fallback) const {
+  if (!has(key)) {
+    if (fallback) return fallback;
+    fail("is missing", key);
+  }
+  const json& v = object_.at(key);
+  if (!v.is_string()) fail("must be a string, got " + v.dump(), key);
+  return v.get<std::string>();
+}
+
+std::string JsonReader::choice(const char* key, const char* fallback, const std::vector<std::string>& choices) const {
+  const std::string value = text(key, fallback);
+  if (std::find(choices.begin(), choices.end(), value) != choices.end()) return value;
+  std::string list;
+  for (std::size_t i = 0; i < choices.size(); ++i)
+    list += (i == 0 ? "\"" : (i + 1 == choices.size() ? " or \"" : ", \"")) + choices[i] + "\"";
+  fail("must be " + list + ", got \"" + value + "\"", key);
+}
+
+Eigen::Vector3d JsonReader::vector(const char* key, const Eigen::Vector3d& fallback) const {
+  if (!has(key)) return fallback;
+  const json& v = object_.at(key);
+  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+    fail("must be an array of 3 numbers, got " + v.dump(), key);
+  return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+std::filesystem::path JsonReader::file(const char* key) const {
+  const std::filesystem::path p = file_.parent_path() / text(key, nullptr);
+  if (!std::filesystem::exists(p)) fail("file " + p.string() + " does not exist", key);
+  return p;
+}
+
+}  // namespace incise::sim::detail

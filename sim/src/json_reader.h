@@ -1,0 +1,67 @@
+// Private to sim: the one typed reader of incise's JSON inputs (replay scenarios, wrap scenarios). Parsing
+// a file reports a syntax error as "file:line:column: JSON syntax error: <what>"; a JsonReader over one
+// object reads typed values with a default and a range and names the file and the key path in every error
+// ("file: tissue.tets.max_volume_m3: -1 is outside [0, 1]").
+// Threads: any (values only). Cost: O(file size) to parse; O(1) per value. Failure: ScenarioError.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "incise/sim/scenario_error.h"
+
+namespace incise::sim::detail {
+
+// The document in `file`: throws ScenarioError "file: cannot open" or "file:line:column: JSON syntax error".
+nlohmann::json parseJsonFile(const std::filesystem::path& file);
+
+// Line and column (1-based) of byte `offset` in `text`.
+struct TextPosition {
+  std::size_t line = 1, column = 1;
+};
+TextPosition positionOf(const std::string& text, std::size_t offset);
+
+class JsonReader {
+ public:
+  // `key_path` is the dotted path of `object` in the document ("" for the root). Throws unless `object` is
+  // a JSON object.
+  JsonReader(std::filesystem::path file, const nlohmann::json& object, std::string key_path);
+
+  [[noreturn]] void fail(const std::string& message, const std::string& key = "") const;
+
+  bool has(const char* key) const { return object_.contains(key); }
+  // The object under `key`; an empty object when the key is absent (its values take their defaults).
+  JsonReader child(const char* key) const;
+  // The object under `key`, which must be present.
+  JsonReader requiredChild(const char* key) const;
+  // Each object of the array under `key`, which must be present and non-empty; its entries' key paths
+  // read "key[i]".
+  std::vector<JsonReader> objects(const char* key) const;
+
+  double number(const char* key, double fallback, double lo, double hi) const;
+  int integer(const char* key, int fallback, int lo, int hi) const;
+  bool boolean(const char* key, bool fallback) const;
+  // nullptr as the fallback: the key is required.
+  std::string text(const char* key, const char* fallback) const;
+  // The text under `key`, which must be one of `choices` (the message lists them).
+  std::string choice(const char* key, const char* fallback, const std::vector<std::string>& choices) const;
+  Eigen::Vector3d vector(const char* key, const Eigen::Vector3d& fallback) const;
+  // A path relative to the file's folder, which must exist.
+  std::filesystem::path file(const char* key) const;
+
+  const nlohmann::json& raw() const { return object_; }
+  const std::filesystem::path& filePath() const { return file_; }
+  std::string join(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+
+ private:
+  std::filesystem::path file_;
+  nlohmann::json object_;
+  std::string path_;
+};
+
+}  // namespace incise::sim::detail
