@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/trace_csv.h"
 #include "scenario_run.h"
 

@@ -11,6 +11,8 @@
 #include <sstream>
 
 #include "commands.h"
+#include "incise/cutting/surface_cutter.h"
+#include "incise/cutting/tet_cutter.h"
 #include "incise/cutting/mesh_hash.h"
 #include "incise/sim/simulation.h"
 #include "json_output.h"

@@ -1,4 +1,5 @@
 #include "scenario_run.h"
+#include "incise/cutting/surface_mesh.h"
 
 #include <cstdio>
 #include <cstdlib>

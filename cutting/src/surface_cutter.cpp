@@ -84,7 +84,7 @@ bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
 }
 
 void SurfaceCutter::settle() noexcept {
-  if (active()) finish(false);
+  if (active()) finish(FinishWork::Later);
   // The incision's carried work is done now, whatever the budget, and its wound set to its final, settled
   // opening: a state that depends on the samples alone, not on how far frames had advanced its time
   // response when the next stroke began.
@@ -150,11 +150,11 @@ CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return exte
 
 CutStep SurfaceCutter::extend(std::span<const StrokeSample> samples) noexcept { return process(add(samples)); }
 
-CutStep SurfaceCutter::addSample(const StrokeSample& sample, bool on_surface) noexcept {
-  return add(std::span(&sample, 1), on_surface);
+CutStep SurfaceCutter::addSample(const StrokeSample& sample, SampleOrigin origin) noexcept {
+  return add(std::span(&sample, 1), origin);
 }
 
-CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, bool on_surface) noexcept {
+CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin origin) noexcept {
   CutStep step;
   if (!active()) {
     step.sample = SampleStatus::Ended;
@@ -165,7 +165,7 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, bool on_surfac
       step.sample = SampleStatus::RefusedNaN;
       continue;
     }
-    if (!on_surface && !onSurface(sample.point_m)) {
+    if (origin == SampleOrigin::Unchecked && !onSurface(sample.point_m)) {
       step.left_surface = true;
       incision_->finish();
       break;
@@ -184,11 +184,11 @@ CutStep SurfaceCutter::advance(double t_s) noexcept {
   return process(step);
 }
 
-CutStep SurfaceCutter::finish(bool process_now) noexcept {
+CutStep SurfaceCutter::finish(FinishWork work) noexcept {
   CutStep step;
   if (!incision_) return step;
   incision_->finish();
-  return process_now ? process(step) : step;
+  return work == FinishWork::Now ? process(step) : step;
 }
 
 CutStep SurfaceCutter::process(CutStep step) noexcept {
@@ -582,7 +582,6 @@ std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, c
       });
 }
 
-std::vector<TriMesh::VertexHandle> SurfaceCutter::seam() const { return {chain_.begin(), chain_.end()}; }
 
 std::optional<SurfaceCutter::Binding> SurfaceCutter::binding(TriMesh::VertexHandle v) const {
   if (!v.is_valid() || v.idx() >= static_cast<int>(mesh_.mesh().n_vertices()) || !bound(v)) return std::nullopt;

@@ -15,7 +15,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
 
 namespace {
 
@@ -23,7 +22,7 @@ namespace {
 
 void checkFinite(const Eigen::Vector3d& x, const char* who, const char* what) {
   if (!x.allFinite())
-    throw std::invalid_argument(std::string(who) + ": " + what + " " + str(x) + " is not finite");
+    throw std::invalid_argument(std::string(who) + ": " + what + " " + formatPoint(x) + " is not finite");
 }
 
 // Greville parameter of control i along one axis, kept on the control's own side of a C^-1 knot.

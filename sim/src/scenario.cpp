@@ -1,5 +1,8 @@
 #include "incise/sim/scenario.h"
 
+#include "incise/cutting/incision.h"
+#include "incise/cutting/surface_mesh.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -72,7 +75,7 @@ Scenario loadScenario(const std::filesystem::path& file) {
   s.mesh = tissue.file("mesh");
   s.scale = tissue.number("scale", 1.0, 1e-9, 1e9);
   s.subdivide = tissue.integer("subdivide", 0, 0, 5);
-  TissueParams& tp = s.world.tissue;
+  TissueOptions& tp = s.world.tissue;
   tp.stiffness_N_per_m = tissue.number("stiffness_N_per_m", tp.stiffness_N_per_m, 0.0, 1e7);
   tp.damping_N_s_per_m = tissue.number("damping_N_s_per_m", tp.damping_N_s_per_m, 0.0, 1e5);
   tp.cutting_resistance_N = tissue.number("cutting_resistance_N", tp.cutting_resistance_N, 0.0, 1e3);

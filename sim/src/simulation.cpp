@@ -1,4 +1,5 @@
 #include "incise/sim/simulation.h"
+#include "incise/cutting/surface_cutter.h"
 
 #include <pthread.h>
 #include <sched.h>

@@ -1,5 +1,10 @@
 #include "incise/sim/world.h"
 
+#include "incise/cutting/surface_cutter.h"
+#include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/tet_cutter.h"
+#include "incise/cutting/tetrahedralize.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -48,6 +53,12 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
   }
 }
 
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+int World::incisions() const noexcept { return cutter_->stats().incisions; }
+
 void World::followTets(bool unlimited) noexcept {
   if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, unlimited);
 }
@@ -78,7 +89,7 @@ void World::contact(const devices::PoseSample& pose, HapticState& state) noexcep
 
 Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& velocity) const noexcept {
   if (!state.contact) return Eigen::Vector3d::Zero();
-  const TissueParams& t = options_.tissue;
+  const TissueOptions& t = options_.tissue;
   const double normal_speed = velocity.dot(state.normal);
   const double normal_N = std::max(0.0, t.stiffness_N_per_m * state.penetration_m - t.damping_N_s_per_m * normal_speed);
   Eigen::Vector3d f = normal_N * state.normal;
@@ -107,10 +118,10 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
         }
         cutter_->begin(sample, pose.orientation * Eigen::Vector3d::UnitX());
       } else {
-        cutter_->addSample(sample, true);  // on the surface by contact; the work is done in cut()
+        cutter_->addSample(sample, cutting::SampleOrigin::OnSurface);  // on the surface by contact; the work is done in cut()
       }
     } else if (cutter_->active()) {
-      cutter_->finish(false);  // the blade left the tissue (or the button was released)
+      cutter_->finish(cutting::FinishWork::Later);  // the blade left the tissue (or the button was released)
     }
     if (has_pose_) velocity_m_per_s_ = (pose.tip_m - last_pose_.tip_m) / (pose.time_s - last_pose_.time_s);
     last_pose_ = pose;

@@ -241,7 +241,7 @@ TEST_CASE("bspline_curve: a rejected knot insertion names the value and leaves t
 
   REQUIRE_THROWS_AS(curve.insertKnot(0.1, 3), std::invalid_argument);
   REQUIRE_THROWS_WITH(curve.insertKnot(0.1, 3),
-                      Contains("0.10000000000000001") && Contains("multiplicity 2"));
+                      Contains("t = 0.1 ") && Contains("multiplicity 2"));
   CHECK(unchanged());
   curve.insertKnot(0.6, 4);
   REQUIRE_THROWS_WITH(curve.insertKnot(0.6), Contains("0.59999999999999998"));

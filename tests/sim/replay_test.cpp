@@ -1,4 +1,6 @@
 #include "incise/sim/simulation.h"
+#include "incise/cutting/surface_cutter.h"
+#include "incise/cutting/tet_cutter.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,5 @@
 #include "incise/sim/world.h"
+#include "incise/cutting/surface_cutter.h"
 
 #include <catch2/catch.hpp>
 

@@ -41,45 +41,12 @@
 #include <vector>
 
 #include "incise/cutting/incision.h"
+#include "incise/cutting/surface_cutter_options.h"
 #include "incise/cutting/surface_mesh.h"
 #include "incise/cutting/surface_query.h"
 #include "incise/cutting/vertex_grid.h"
 
 namespace incise::cutting {
-
-struct CutterOptions {
-  IncisionOptions incision;
-  int wall_rows = 3;                 // vertices per wall column and side, the bottom included (>= 1)
-  double contact_tolerance_m = 0.0;  // a sample farther than this from every vertex has left the surface;
-                                     // 0 = 3 x the mesh's mean edge length
-  // The per-call work budget, in point inversions (the dominant cost of a column step, about 1-2 us each):
-  // a call stops there and the next one resumes, so a frame's cost stays bounded on dense meshes while the
-  // cut trails a little more. 0 = no limit (finish everything that is final in each call). The resulting
-  // mesh does not depend on it.
-  int max_inversions_per_call = 0;
-};
-
-// What one call did. Counts are for the call; totals live in CutStats.
-struct CutStep {
-  SampleStatus sample = SampleStatus::Accepted;
-  bool left_surface = false;  // the sample was off the surface: the incision was finished
-  bool failed = false;        // an internal topology failure stopped the incision (message in CutStats)
-  int columns = 0;            // lattice columns processed
-  int vertices_bound = 0;     // vertices parameterised
-  int edges_split = 0;
-  int vertices_duplicated = 0;
-  int wall_faces = 0;         // wall faces (re)built
-  int vertices_moved = 0;     // re-deformed
-};
-
-struct CutStats {
-  int incisions = 0;
-  int seam_vertices = 0;      // of the current incision's chain
-  int edges_split = 0;        // totals over all incisions
-  int vertices_duplicated = 0;
-  int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
-  std::string failure;        // first internal failure, empty if none
-};
 
 class SurfaceCutter {
  public:
@@ -102,14 +69,14 @@ class SurfaceCutter {
   CutStep extend(const StrokeSample& sample) noexcept;
   CutStep extend(std::span<const StrokeSample> samples) noexcept;
   // Adds a sample without processing: the work waits for the next advance() (a frame's one cutting call).
-  // `on_surface`: the caller found the point on the surface (a contact query), so the cutter does not
-  // check again.
-  CutStep addSample(const StrokeSample& sample, bool on_surface = false) noexcept;
+  // SampleOrigin::OnSurface: the caller found the point on the surface (a contact query), so the cutter
+  // does not check again.
+  CutStep addSample(const StrokeSample& sample, SampleOrigin origin = SampleOrigin::Unchecked) noexcept;
   // Lets the wound's opening evolve to time t_s without new samples (no-op without an active incision).
   CutStep advance(double t_s) noexcept;
-  // Finishes the current incision: the cut reaches the last station. Never throws. With process = false
-  // the remaining work waits for advance().
-  CutStep finish(bool process = true) noexcept;
+  // Finishes the current incision: the cut reaches the last station. Never throws. With
+  // FinishWork::Later the remaining work waits for advance().
+  CutStep finish(FinishWork work = FinishWork::Now) noexcept;
 
   bool active() const noexcept { return incision_ != nullptr && !incision_->finished(); }
   // Lattice columns that are final, and how many of them have been cut: the cut is visible up to
@@ -127,8 +94,6 @@ class SurfaceCutter {
   const Incision* incision() const noexcept { return incision_.get(); }
   const CutStats& stats() const noexcept { return stats_; }
   const SurfaceMesh& surface() const noexcept { return mesh_; }
-  // The current incision's seam, from its start to its tip (original handles: the u < 1/2 side).
-  std::vector<TriMesh::VertexHandle> seam() const;
   // Per-vertex data of the current incision: parameters (u, v, w) and rest position, if bound.
   struct Binding {
     Eigen::Vector3d uvw;
@@ -158,7 +123,7 @@ class SurfaceCutter {
   bool bound(TriMesh::VertexHandle v) const { return incision_index_ >= 0 && data(v).incision == incision_index_; }
 
   CutStep process(CutStep step) noexcept;
-  CutStep add(std::span<const StrokeSample> samples, bool on_surface = false) noexcept;
+  CutStep add(std::span<const StrokeSample> samples, SampleOrigin origin = SampleOrigin::Unchecked) noexcept;
   bool processColumn(int column, int& budget, CutStep& step);  // false: budget spent, resume next call
   bool bindVertex(TriMesh::VertexHandle v, int column, int& budget);
   void splitCrossings(const std::vector<TriMesh::VertexHandle>& fresh, CutStep& step);

@@ -27,7 +27,6 @@
 
 #include <Eigen/Core>
 
-#include "incise/cutting/surface_mesh.h"
 #include "incise/sim/scenario_error.h"
 #include "incise/sim/world.h"
 

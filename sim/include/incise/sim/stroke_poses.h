@@ -11,7 +11,6 @@
 
 #include <vector>
 
-#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/pose_sample.h"
 #include "incise/sim/scenario.h"
 

@@ -26,23 +26,32 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 
 #include <Eigen/Core>
 
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/tet_cutter.h"
-#include "incise/cutting/tetrahedralize.h"
+#include "incise/cutting/surface_cutter_options.h"
+#include "incise/cutting/tet_cutter_options.h"
+#include "incise/cutting/tetrahedralize_options.h"
 #include "incise/devices/pose_sample.h"
+
+// OpenMesh stays out of sim's public headers: the tissue and its cutters are held through pointers, and
+// a caller that reads them includes incise/cutting/surface_mesh.h, surface_cutter.h or tet_cutter.h.
+namespace incise::cutting {
+class SurfaceMesh;
+class SurfaceCutter;
+class TetCutter;
+}  // namespace incise::cutting
 
 namespace incise::sim {
 
-struct ToolParams {
+struct ToolOptions {
   double blade_length_m = 0.03;  // from the handle end of the blade to its tip
   int cut_button = -1;           // the button bit that enables cutting; -1: the blade always cuts
 };
 
-struct TissueParams {
+struct TissueOptions {
   double stiffness_N_per_m = 400.0;    // penalty spring along the contact normal
   double damping_N_s_per_m = 2.0;      // against the normal velocity while in contact
   double cutting_resistance_N = 0.6;   // against the tangential motion while cutting
@@ -60,8 +69,8 @@ struct TetTissueOptions {
 struct WorldOptions {
   cutting::CutterOptions cutter;
   TetTissueOptions tets;
-  ToolParams tool;
-  TissueParams tissue;
+  ToolOptions tool;
+  TissueOptions tissue;
   double cut_budget_us = 300.0;  // per-frame time for cutting work, turned into an inversion budget
   double us_per_inversion = 2.0; // the conversion (measured on the reference machine; see README)
 };
@@ -86,6 +95,9 @@ struct StepResult {
 class World {
  public:
   World(cutting::SurfaceMesh tissue, const WorldOptions& options);
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
 
   // One whole frame at time t_s: updateTool(poses, dt_s) then cut(t_s). Callers that time the two
   // parts (Simulation) call them separately.
@@ -102,7 +114,7 @@ class World {
   const cutting::SurfaceMesh& tissue() const noexcept { return *tissue_; }
   const cutting::SurfaceCutter& cutter() const noexcept { return *cutter_; }
   const WorldOptions& options() const noexcept { return options_; }
-  int incisions() const noexcept { return cutter_->stats().incisions; }
+  int incisions() const noexcept;
   // The tissue's tets and their cutter; nullptr unless options.tets.enabled.
   const cutting::TetCutter* tets() const noexcept { return tets_.get(); }
 

@@ -1,0 +1,52 @@
+// The surface cutter's options and per-call results (cutting/include/incise/cutting/surface_cutter.h), in
+// a header without OpenMesh so that sim's public headers can hold them. Units: metres; counts per call.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "incise/cutting/incision.h"
+
+namespace incise::cutting {
+
+// Where a stroke sample comes from: Unchecked, the cutter checks that it lies on the surface; OnSurface,
+// the caller found it there (a contact query) and the check is skipped.
+enum class SampleOrigin : std::uint8_t { Unchecked, OnSurface };
+// When finish() does an incision's remaining work: Now (whatever the budget), or Later (in advance()).
+enum class FinishWork : std::uint8_t { Now, Later };
+
+struct CutterOptions {
+  IncisionOptions incision;
+  int wall_rows = 3;                 // vertices per wall column and side, the bottom included (>= 1)
+  double contact_tolerance_m = 0.0;  // a sample farther than this from every vertex has left the surface;
+                                     // 0 = 3 x the mesh's mean edge length
+  // The per-call work budget, in point inversions (the dominant cost of a column step, about 1-2 us each):
+  // a call stops there and the next one resumes, so a frame's cost stays bounded on dense meshes while the
+  // cut trails a little more. 0 = no limit (finish everything that is final in each call). The resulting
+  // mesh does not depend on it.
+  int max_inversions_per_call = 0;
+};
+
+// What one call did. Counts are for the call; totals live in CutStats.
+struct CutStep {
+  SampleStatus sample = SampleStatus::Accepted;
+  bool left_surface = false;  // the sample was off the surface: the incision was finished
+  bool failed = false;        // an internal topology failure stopped the incision (message in CutStats)
+  int columns = 0;            // lattice columns processed
+  int vertices_bound = 0;     // vertices parameterised
+  int edges_split = 0;
+  int vertices_duplicated = 0;
+  int wall_faces = 0;         // wall faces (re)built
+  int vertices_moved = 0;     // re-deformed
+};
+
+struct CutStats {
+  int incisions = 0;
+  int seam_vertices = 0;      // of the current incision's chain
+  int edges_split = 0;        // totals over all incisions
+  int vertices_duplicated = 0;
+  int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
+  std::string failure;        // first internal failure, empty if none
+};
+
+}  // namespace incise::cutting
