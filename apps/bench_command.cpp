@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "data_dir.h"
 #include "incise/sim/simulation.h"
 #include "machine_info.h"
 #include "scenario_run.h"
@@ -14,8 +15,8 @@ namespace incise::apps {
 namespace {
 
 struct BenchArgs {
-  std::vector<std::string> scenarios{INCISE_SCENARIOS_DIR "/bunny-straight.json", INCISE_SCENARIOS_DIR "/bunny-curved.json",
-                                     INCISE_SCENARIOS_DIR "/bunny-crossing.json"};
+  std::vector<std::string> scenarios{shippedFile("bunny-straight.json"), shippedFile("bunny-curved.json"),
+                                     shippedFile("bunny-crossing.json")};
   double seconds = 60.0;
   std::int64_t spin_us = 200;  // sleep_until wakes up to ~1 ms late on this VM; a haptic loop spins the rest
 };

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "data_dir.h"
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
 #include "json_output.h"
@@ -20,7 +21,7 @@ namespace {
 using namespace incise::cutting;
 
 struct CutArgs {
-  std::string mesh = INCISE_SCENARIOS_DIR "/meshes/bunny.obj";
+  std::string mesh = shippedFile("meshes/bunny.obj");
   double scale = 0.01;  // the bunny's file is in centimetres
   int subdivide = 2;
   std::vector<double> start{-0.012, 0.0, 0.015};

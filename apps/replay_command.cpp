@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "data_dir.h"
 #include "incise/cutting/surface_cutter.h"
 #include "incise/cutting/tet_cutter.h"
 #include "incise/cutting/mesh_hash.h"
@@ -23,7 +24,7 @@ namespace incise::apps {
 namespace {
 
 struct ReplayArgs {
-  std::string scenario = kDefaultScenario;
+  std::string scenario = shippedFile("bunny-straight.json");
   bool realtime = false;
   bool fast = false;
   std::string out = "out/replay";

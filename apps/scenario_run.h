@@ -1,4 +1,4 @@
-// What replay, record and bench share: a scenario's tissue, world and poses, and the default scenario.
+// What replay, record and bench share: a scenario's tissue, world and poses.
 #pragma once
 
 #include <memory>
@@ -11,7 +11,6 @@
 
 namespace incise::apps {
 
-inline const char* kDefaultScenario = INCISE_SCENARIOS_DIR "/bunny-straight.json";
 
 struct LoadedScenario {
   sim::Scenario scenario;
