@@ -3,11 +3,13 @@
 // scenario the frame, haptic and cut times (p50 / p99 / p99.9 / max), pose-to-visible latency in frames,
 // deadline misses, the targets, and the machine.
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.h"
 #include "data_dir.h"
 #include "incise/sim/simulation.h"
 #include "machine_info.h"
+#include "progress.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -31,6 +33,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
   int replays = 0;
   double wall_s = 0.0;
   std::int64_t overruns = 0;
+  Progress progress("bench " + std::filesystem::path(path).stem().string(), seconds);
   while (static_cast<double>(stats.frames()) * 1e-3 < seconds) {
     LoadedScenario run;
     try {
@@ -40,7 +43,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
     }
     name = run.scenario.name;
     sim::ReplayOptions options;
-    options.realtime = true;
+    options.pace = sim::ReplayPace::RealTime;
     options.period_us = run.scenario.periodUs();
     options.settle_s = run.scenario.settle_s;
     options.stats = &stats;
@@ -51,7 +54,9 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
     wall_s += report.wall_s;
     overruns += report.loop.overruns;
     ++replays;
+    progress.update(static_cast<double>(stats.frames()) * 1e-3);
   }
+  progress.finish();
   const sim::LatencySummary s = stats.summary();
   return {{"scenario", name},
           {"replays", replays},

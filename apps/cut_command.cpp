@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "data_dir.h"
+#include "progress.h"
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
 #include "json_output.h"
@@ -20,6 +21,13 @@ namespace {
 
 using namespace incise::cutting;
 
+enum class MeshFormat : std::uint8_t { Obj, Ply, Both };
+
+// The --format value (CLI11 has checked it is one of the three).
+MeshFormat meshFormat(const std::string& name) {
+  return name == "ply" ? MeshFormat::Ply : name == "both" ? MeshFormat::Both : MeshFormat::Obj;
+}
+
 struct CutArgs {
   std::string mesh = shippedFile("meshes/bunny.obj");
   double scale = 0.01;  // the bunny's file is in centimetres
@@ -30,7 +38,7 @@ struct CutArgs {
   double bend_m = 0.0;
   double speed_m_per_s = 0.05;
   std::string out = "out/cut";
-  std::string format = "obj";
+  MeshFormat format = MeshFormat::Obj;
   CutterOptions cutter;
 };
 
@@ -82,16 +90,21 @@ int runCut(CutArgs& a) {
     if (step.sample != SampleStatus::Accepted) ++skipped;
     return step;
   };
+  Progress progress("cut", static_cast<double>(stroke.samples.size()));
   time([&] { return cutter->begin(stroke.first, stroke.blade_direction); });
-  for (const StrokeSample& sample : stroke.samples) time([&] { return cutter->extend(sample); });
+  for (std::size_t k = 0; k < stroke.samples.size(); ++k) {
+    time([&] { return cutter->extend(stroke.samples[k]); });
+    progress.update(static_cast<double>(k + 1));
+  }
+  progress.finish();
   cutter->finish();
   cutter->advance(stroke.samples.empty() ? stroke.first.time_s : stroke.samples.back().time_s);
 
   const MeshSummary summary = summarize(mesh);
   const std::filesystem::path out(a.out);
   try {
-    if (a.format == "obj" || a.format == "both") saveObj(mesh, out / "cut.obj");
-    if (a.format == "ply" || a.format == "both") savePly(mesh, out / "cut.ply");
+    if (a.format != MeshFormat::Ply) saveObj(mesh, out / "cut.obj");
+    if (a.format != MeshFormat::Obj) savePly(mesh, out / "cut.ply");
     nlohmann::json report = {
         {"options", optionsJson(a)},
         {"mesh", nlohmann::json::parse(toJson(summary))},
@@ -137,7 +150,10 @@ void addCutCommand(CLI::App& app) {
   cmd->add_option("--beta", args->cutter.incision.beta_m, "lattice spacing along the normal (m)")->capture_default_str();
   cmd->add_option("--spacing", args->cutter.incision.spacing_m, "stroke resampling step (m)")->capture_default_str();
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
-  cmd->add_option("--format", args->format, "obj, ply or both")->check(CLI::IsMember({"obj", "ply", "both"}))->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--format", [args](const std::string& name) { args->format = meshFormat(name); }, "obj, ply or both")
+      ->check(CLI::IsMember({"obj", "ply", "both"}))
+      ->default_str("obj");
   cmd->callback([args] {
     const int code = runCut(*args);
     if (code != 0) std::exit(code);

@@ -17,6 +17,7 @@
 #include "incise/cutting/mesh_hash.h"
 #include "incise/sim/simulation.h"
 #include "json_output.h"
+#include "progress.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -79,10 +80,16 @@ int runReplay(const ReplayArgs& a) {
   if (error) failWith("replay", "cannot create output directory " + a.out + ": " + error.message());
 
   sim::ReplayOptions options;
-  options.realtime = a.realtime && !a.fast;
+  options.pace = a.realtime && !a.fast ? sim::ReplayPace::RealTime : sim::ReplayPace::Fast;
   options.period_us = run.scenario.periodUs();
   options.settle_s = run.scenario.settle_s;
+  // A bar for a fast replay (a real-time one takes the trace's own time, shown by nothing else).
+  Progress progress("replay " + run.scenario.name,
+                    (run.poses.back().time_s - run.poses.front().time_s + options.settle_s) * run.scenario.rate_hz);
+  if (options.pace == sim::ReplayPace::Fast && progress.drawing())
+    options.observer = [&progress](const sim::Snapshot& s) { progress.update(static_cast<double>(s.frame)); };
   const sim::ReplayReport report = sim::replay(*run.world, run.poses, options);
+  progress.finish();
   const cutting::SurfaceMesh& tissue = run.world->tissue();
   const cutting::MeshSummary mesh = cutting::summarize(tissue);
   const std::uint64_t hash = cutting::geometryHash(tissue);
@@ -94,7 +101,7 @@ int runReplay(const ReplayArgs& a) {
     cutting::saveObj(tissue, out / "cut.obj");
     nlohmann::json json = {
         {"scenario", run.scenario.name},
-        {"mode", options.realtime ? "realtime" : "fast"},
+        {"mode", options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast"},
         {"period_us", options.period_us},
         {"frames", report.frames},
         {"simulated_s", report.simulated_s},
@@ -131,7 +138,7 @@ int runReplay(const ReplayArgs& a) {
   std::printf("incise replay %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened; "
               "frame p99 %.1f us, haptic p99 %.1f us, pose-to-visible p99 %.0f frames, %lld deadline misses; "
               "closed two-manifold: %s; geometry %s%s; wrote %s\n",
-              run.scenario.name.c_str(), options.realtime ? "realtime" : "fast", static_cast<long long>(report.frames),
+              run.scenario.name.c_str(), options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast", static_cast<long long>(report.frames),
               static_cast<long long>(report.poses), report.incisions, stats.vertices_duplicated,
               report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
               static_cast<long long>(report.latency.deadline_misses), mesh.closed_two_manifold ? "yes" : "NO",

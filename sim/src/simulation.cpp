@@ -135,13 +135,101 @@ bool Simulation::takeSnapshot(Snapshot& out) noexcept {
   return true;
 }
 
+namespace {
+
+// The feeder and the reader keep off the loop's core (the last one) when the options pin threads.
+void pinToOtherCpus(bool pin, int cpus) noexcept {
+  if (!pin) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (int c = 0; c < cpus - 1; ++c) CPU_SET(c, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+}
+
+// What both paces share: the trace, the simulation, its loop and the test for the end of the replay.
+struct ReplayRun {
+  World& world;
+  std::span<const devices::PoseSample> trace;
+  const ReplayOptions& options;
+  Simulation& sim;
+  FixedRateLoop& loop;
+  ReplayReport& report;
+  double end_s;
+  bool pin;
+  int cpus;
+  std::atomic<std::size_t> fed{0};
+
+  // Every pose fed and taken (or dropped), no cutting work carried, and the settle time reached.
+  bool finished(const FrameInfo& info) const noexcept {
+    return fed.load(std::memory_order_acquire) == trace.size() &&
+           sim.posesTaken() + sim.posesDropped() == static_cast<std::int64_t>(trace.size()) &&
+           !world.cutter().pending() && sim.frameTime(info.frame) >= end_s;
+  }
+};
+
+void replayFast(ReplayRun& run) {
+  Snapshot snapshot;
+  run.loop.runFast(
+      [&](const FrameInfo& info) {
+        const double t_s = run.sim.frameTime(info.frame);
+        std::size_t i = run.fed.load(std::memory_order_relaxed);
+        while (i < run.trace.size() && run.trace[i].time_s <= t_s + 1e-12) run.sim.pushPose(run.trace[i++]);
+        run.fed.store(i, std::memory_order_release);
+        run.sim.frame(info);
+        if (run.options.observer && run.sim.takeSnapshot(snapshot)) {
+          run.options.observer(snapshot);
+          ++run.report.snapshots_read;
+        }
+        if (run.finished(info)) run.loop.requestStop();
+      },
+      std::numeric_limits<std::int64_t>::max());
+}
+
+void replayRealTime(ReplayRun& run) {
+  std::atomic<bool> done{false};
+  const auto start = Clock::now() + std::chrono::milliseconds(5);
+  const double t0_s = run.trace.front().time_s;
+  std::thread feeder([&] {  // the "device": releases each pose at its time
+    pinToOtherCpus(run.pin, run.cpus);
+    for (std::size_t i = 0; i < run.trace.size(); ++i) {
+      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                std::chrono::duration<double>(run.trace[i].time_s - t0_s)));
+      while (!run.sim.pushPose(run.trace[i]) && !done.load()) std::this_thread::yield();
+      run.fed.store(i + 1, std::memory_order_release);
+    }
+  });
+  std::thread reader([&] {  // a viewer: takes snapshots while the loop runs
+    pinToOtherCpus(run.pin, run.cpus);
+    Snapshot snapshot;
+    while (true) {
+      const bool last = done.load(std::memory_order_acquire);  // after the loop stopped: one final take
+      if (run.sim.takeSnapshot(snapshot)) {
+        ++run.report.snapshots_read;
+        if (run.options.observer) run.options.observer(snapshot);
+      }
+      if (last) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  });
+  std::this_thread::sleep_until(start);
+  run.loop.start([&](const FrameInfo& info) {
+    run.sim.frame(info);
+    if (run.finished(info)) run.loop.requestStop();
+  });
+  while (run.loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  run.loop.stop();
+  done.store(true, std::memory_order_release);
+  feeder.join();
+  reader.join();
+}
+
+}  // namespace
+
 ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, const ReplayOptions& options,
                     ForceSink* sink) {
   if (trace.empty()) throw std::invalid_argument("replay: the trace is empty");
   if (options.period_us <= 0 || !(options.settle_s >= 0.0)) throw std::invalid_argument("replay: bad period or settle time");
-  const double t0_s = trace.front().time_s;
-  const double end_s = trace.back().time_s + options.settle_s;
-  Simulation sim(world, sink, options.period_us, t0_s, options.stats);
+  Simulation sim(world, sink, options.period_us, trace.front().time_s, options.stats);
   FixedRateLoopOptions loop_options;
   loop_options.period_us = options.period_us;
   loop_options.realtime_priority = options.realtime_priority;
@@ -149,71 +237,15 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   const int cpus = static_cast<int>(std::thread::hardware_concurrency());
   const bool pin = options.pin_threads && cpus >= 2;
   if (pin) loop_options.cpu = cpus - 1;
-  const auto pinToOthers = [&] {  // the feeder and the reader keep off the loop's core
-    if (!pin) return;
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    for (int c = 0; c < cpus - 1; ++c) CPU_SET(c, &set);
-    pthread_setaffinity_np(pthread_self(), sizeof set, &set);
-  };
   FixedRateLoop loop(loop_options);
   ReplayReport report;
+  ReplayRun run{world, trace, options, sim, loop, report, trace.back().time_s + options.settle_s, pin, cpus};
 
-  std::atomic<std::size_t> fed{0};
-  const auto finished = [&](const FrameInfo& info) {
-    return fed.load(std::memory_order_acquire) == trace.size() && sim.posesTaken() + sim.posesDropped() ==
-           static_cast<std::int64_t>(trace.size()) && !world.cutter().pending() && sim.frameTime(info.frame) >= end_s;
-  };
   const auto wall_start = Clock::now();
-  if (!options.realtime) {
-    Snapshot snapshot;
-    loop.runFast(
-        [&](const FrameInfo& info) {
-          const double t_s = sim.frameTime(info.frame);
-          std::size_t i = fed.load(std::memory_order_relaxed);
-          while (i < trace.size() && trace[i].time_s <= t_s + 1e-12) sim.pushPose(trace[i++]);
-          fed.store(i, std::memory_order_release);
-          sim.frame(info);
-          if (options.observer && sim.takeSnapshot(snapshot)) options.observer(snapshot), ++report.snapshots_read;
-          if (finished(info)) loop.requestStop();
-        },
-        std::numeric_limits<std::int64_t>::max());
-  } else {
-    std::atomic<bool> done{false};
-    const auto start = Clock::now() + std::chrono::milliseconds(5);
-    std::thread feeder([&] {  // the "device": releases each pose at its time
-      pinToOthers();
-      for (std::size_t i = 0; i < trace.size(); ++i) {
-        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                   std::chrono::duration<double>(trace[i].time_s - t0_s)));
-        while (!sim.pushPose(trace[i]) && !done.load()) std::this_thread::yield();
-        fed.store(i + 1, std::memory_order_release);
-      }
-    });
-    std::thread reader([&] {  // a viewer: takes snapshots while the loop runs
-      pinToOthers();
-      Snapshot snapshot;
-      while (true) {
-        const bool last = done.load(std::memory_order_acquire);  // after the loop stopped: one final take
-        if (sim.takeSnapshot(snapshot)) {
-          ++report.snapshots_read;
-          if (options.observer) options.observer(snapshot);
-        }
-        if (last) break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-      }
-    });
-    std::this_thread::sleep_until(start);
-    loop.start([&](const FrameInfo& info) {
-      sim.frame(info);
-      if (finished(info)) loop.requestStop();
-    });
-    while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    loop.stop();
-    done.store(true, std::memory_order_release);
-    feeder.join();
-    reader.join();
-  }
+  if (options.pace == ReplayPace::Fast)
+    replayFast(run);
+  else
+    replayRealTime(run);
   report.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
   report.latency = sim.stats().summary();
   report.loop = loop.counters();

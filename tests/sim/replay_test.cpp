@@ -22,12 +22,12 @@ struct Run {
   int seam_vertices;
 };
 
-Run replayScenario(const char* name, bool realtime, sim::ForceSink* sink = nullptr) {
+Run replayScenario(const char* name, sim::ReplayPace pace, sim::ForceSink* sink = nullptr) {
   const sim::Scenario s = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
   sim::World world(sim::loadTissue(s), s.world);
   const auto poses = devices::TraceReader::readAll(s.trace);
   sim::ReplayOptions options;
-  options.realtime = realtime;
+  options.pace = pace;
   options.period_us = s.periodUs();
   options.settle_s = s.settle_s;
   Run run{sim::replay(world, poses, options, sink), cutting::geometryHash(world.tissue()),
@@ -50,8 +50,8 @@ struct StallingSink : sim::ForceSink {
 }  // namespace
 
 TEST_CASE("replay: fast and real-time replays give the same geometry", "[sim]") {
-  const Run fast = replayScenario("bunny-straight", false);
-  const Run realtime = replayScenario("bunny-straight", true);
+  const Run fast = replayScenario("bunny-straight", sim::ReplayPace::Fast);
+  const Run realtime = replayScenario("bunny-straight", sim::ReplayPace::RealTime);
   REQUIRE(fast.seam_vertices > 50);
   REQUIRE(fast.hash == realtime.hash);
   REQUIRE(fast.report.frames == realtime.report.frames);
@@ -63,12 +63,12 @@ TEST_CASE("replay: fast and real-time replays give the same geometry", "[sim]") 
 }
 
 TEST_CASE("replay: a tet tissue is cut, the same fast and in real time", "[sim]") {
-  const auto cut = [](bool realtime) {
+  const auto cut = [](sim::ReplayPace pace) {
     const sim::Scenario s = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/bunny-tets.json");
     sim::World world(sim::loadTissue(s), s.world);
     REQUIRE(world.tets() != nullptr);
     sim::ReplayOptions options;
-    options.realtime = realtime;
+    options.pace = pace;
     options.period_us = s.periodUs();
     options.settle_s = s.settle_s;
     sim::replay(world, devices::TraceReader::readAll(s.trace), options);
@@ -76,7 +76,7 @@ TEST_CASE("replay: a tet tissue is cut, the same fast and in real time", "[sim]"
     REQUIRE(world.tets()->stats().failure.empty());
     return world.tets()->view(true);
   };
-  const cutting::TetView fast = cut(false), realtime = cut(true);
+  const cutting::TetView fast = cut(sim::ReplayPace::Fast), realtime = cut(sim::ReplayPace::RealTime);
   REQUIRE(fast.split.end() - std::find(fast.split.begin(), fast.split.end(), 1) > 50);  // pieces of cut tets
   REQUIRE(cutting::checkConforming(fast.mesh).conforming);
   REQUIRE(fast.inverted_tets == 0);
@@ -86,7 +86,7 @@ TEST_CASE("replay: a tet tissue is cut, the same fast and in real time", "[sim]"
 }
 
 TEST_CASE("replay: the crossing scenario gives the same geometry fast and in real time", "[sim][slow]") {
-  REQUIRE(replayScenario("bunny-crossing", false).hash == replayScenario("bunny-crossing", true).hash);
+  REQUIRE(replayScenario("bunny-crossing", sim::ReplayPace::Fast).hash == replayScenario("bunny-crossing", sim::ReplayPace::RealTime).hash);
 }
 
 TEST_CASE("replay: snapshots are read from another thread while the loop runs", "[sim][threads]") {
@@ -94,7 +94,7 @@ TEST_CASE("replay: snapshots are read from another thread while the loop runs", 
   sim::World world(sim::loadTissue(s), s.world);
   const auto poses = devices::TraceReader::readAll(s.trace);
   sim::ReplayOptions options;
-  options.realtime = true;
+  options.pace = sim::ReplayPace::RealTime;
   std::int64_t last_frame = -1;
   int seen = 0, out_of_order = 0, columns_went_back = 0, last_done = 0, last_incisions = 0, timed = 0;
   options.observer = [&](const sim::Snapshot& snapshot) {  // runs on the reader thread
@@ -118,7 +118,7 @@ TEST_CASE("replay: snapshots are read from another thread while the loop runs", 
 TEST_CASE("replay: period error and deadline misses are measured and reported", "[sim]") {
   StallingSink sink;
   sink.stall_at = 300;
-  const Run run = replayScenario("bunny-straight", true, &sink);
+  const Run run = replayScenario("bunny-straight", sim::ReplayPace::RealTime, &sink);
   REQUIRE(sink.frames == run.report.frames);
   REQUIRE(sink.max_force_N > 0.1);  // the sink received real forces
   REQUIRE(run.report.latency.deadline_misses >= 1);
@@ -126,11 +126,11 @@ TEST_CASE("replay: period error and deadline misses are measured and reported", 
   REQUIRE(run.report.loop.overruns + run.report.loop.skipped_deadlines >= 1);
   REQUIRE(run.report.latency.period_error_us.max > 0.0);
   // The cut still finished, and the stall changed nothing in it.
-  REQUIRE(run.hash == replayScenario("bunny-straight", false).hash);
+  REQUIRE(run.hash == replayScenario("bunny-straight", sim::ReplayPace::Fast).hash);
 }
 
 TEST_CASE("replay: pose-to-visible latency stays within 3 frames", "[sim]") {
-  const Run run = replayScenario("bunny-curved", false);
+  const Run run = replayScenario("bunny-curved", sim::ReplayPace::Fast);
   REQUIRE(run.report.latency.pose_to_visible_frames.count > 20);
   REQUIRE(run.report.latency.pose_to_visible_frames.p99 <= 3.0);
 }

@@ -116,9 +116,13 @@ class Simulation {
   double last_publish_us_ = 0.0, last_frame_us_ = 0.0;
 };
 
+// Fast: the frames run back to back on the caller's thread, as fast as possible (same frames, same dt).
+// RealTime: a feeder thread releases the poses at their times and FixedRateLoop paces the frames.
+enum class ReplayPace : std::uint8_t { Fast, RealTime };
+
 struct ReplayOptions {
-  bool realtime = false;          // true: a feeder thread releases poses at their times, FixedRateLoop paces
-  std::int64_t period_us = 1000;  // false: as fast as possible, same frames, same dt
+  ReplayPace pace = ReplayPace::Fast;
+  std::int64_t period_us = 1000;
   double settle_s = 0.2;          // simulated time after the last pose before the replay ends
   bool realtime_priority = false;
   std::int64_t spin_us = 0;       // busy-wait this long before each deadline (sleep wake-ups are late)
