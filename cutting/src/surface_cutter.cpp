@@ -14,6 +14,10 @@ namespace incise::cutting {
 
 namespace {
 
+// OpenMesh's delete_face(face, delete_isolated_vertices): a deleted face's vertices stay (they are the
+// seam's, re-attached to the faces that replace it).
+constexpr bool kKeepIsolatedVertices = false;
+
 using VH = TriMesh::VertexHandle;
 using FH = TriMesh::FaceHandle;
 
@@ -415,7 +419,7 @@ bool SurfaceCutter::duplicate(VH c) {
     plus.push_back(t);
   }
   for (const Around& a : around)
-    if (a.side == 1) m.delete_face(a.face, false);
+    if (a.side == 1) m.delete_face(a.face, kKeepIsolatedVertices);
   VertexData copy = data(c);
   const VH c_plus = addBoundVertex(copy.rest_m, copy.uvw, 1, VertexKind::Seam);
   data(c).side = -1;
@@ -463,7 +467,7 @@ void SurfaceCutter::deleteStrip(VH a, VH b) {
   const auto it = strips_.find(segmentKey(a, b));
   if (it == strips_.end()) return;
   for (const FH f : it->second)
-    if (!mesh_.mesh().status(f).deleted()) mesh_.mesh().delete_face(f, false);
+    if (!mesh_.mesh().status(f).deleted()) mesh_.mesh().delete_face(f, kKeepIsolatedVertices);
   strips_.erase(it);
 }
 
@@ -494,14 +498,15 @@ bool SurfaceCutter::buildStrip(VH a, VH b, CutStep& step) {
   const bool a_doubled = data(a).doubled, b_doubled = data(b).doubled;
   if (!a_doubled && !b_doubled) return true;
   const size_t height = static_cast<size_t>(options_.wall_rows) + 1;
-  const auto side = [&](VH v, bool doubled, bool plus) {
+  enum class Side : std::uint8_t { Minus, Plus };
+  const auto side = [&](VH v, bool doubled, Side s) {
     if (!doubled) return std::vector<VH>(height, v);
     const WallColumn& c = columns_.at(v.idx());
-    return plus ? c.plus : c.minus;
+    return s == Side::Plus ? c.plus : c.minus;
   };
   std::vector<FH> faces;
-  if (!addStripSide(side(a, a_doubled, false), side(b, b_doubled, false), faces)) return false;
-  if (!addStripSide(side(a, a_doubled, true), side(b, b_doubled, true), faces)) return false;
+  if (!addStripSide(side(a, a_doubled, Side::Minus), side(b, b_doubled, Side::Minus), faces)) return false;
+  if (!addStripSide(side(a, a_doubled, Side::Plus), side(b, b_doubled, Side::Plus), faces)) return false;
   step.wall_faces += static_cast<int>(faces.size());
   strips_[segmentKey(a, b)] = std::move(faces);
   return true;

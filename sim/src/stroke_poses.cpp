@@ -1,6 +1,7 @@
 #include "incise/sim/stroke_poses.h"
 
 #include <cmath>
+#include <cstdint>
 
 #include <Eigen/Geometry>
 
@@ -23,22 +24,25 @@ Eigen::Quaterniond bladeOrientation(const Eigen::Vector3d& normal, const Eigen::
   return Eigen::Quaterniond(r).normalized();
 }
 
+// Whether the pose holds the cut button (button 0) down.
+enum class Blade : std::uint8_t { Up, Cutting };
+
 class Timeline {
  public:
   explicit Timeline(double rate_hz) : dt_s_(1.0 / rate_hz) {}
-  void add(std::vector<devices::PoseSample>& poses, const Eigen::Vector3d& tip, const Eigen::Quaterniond& q, bool cut) {
+  void add(std::vector<devices::PoseSample>& poses, const Eigen::Vector3d& tip, const Eigen::Quaterniond& q, Blade blade) {
     devices::PoseSample p;
     p.time_s = dt_s_ * static_cast<double>(count_++);
     p.tip_m = tip;
     p.orientation = q;
-    p.buttons = cut ? 1u : 0u;
+    p.buttons = blade == Blade::Cutting ? 1u : 0u;
     poses.push_back(p);
   }
   // Poses from a to b over duration_s (both ends included once).
   void move(std::vector<devices::PoseSample>& poses, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-            const Eigen::Quaterniond& q, double duration_s, bool cut) {
+            const Eigen::Quaterniond& q, double duration_s, Blade blade) {
     const int steps = std::max(1, static_cast<int>(std::lround(duration_s / dt_s_)));
-    for (int k = 0; k <= steps; ++k) add(poses, a + (b - a) * (double(k) / steps), q, cut);
+    for (int k = 0; k <= steps; ++k) add(poses, a + (b - a) * (double(k) / steps), q, blade);
   }
   double dt() const { return dt_s_; }
   double now() const { return dt_s_ * static_cast<double>(count_); }
@@ -68,8 +72,8 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
     const Eigen::Quaterniond q0 = bladeOrientation(n0, stroke.blade_direction);
     const Eigen::Vector3d above = stroke.first.point_m + kHoverM * n0;
     const Eigen::Vector3d in = stroke.first.point_m - tip_depth_m * n0;
-    timeline.move(poses, above, above, q0, spec.pause_s, false);
-    timeline.move(poses, above, in, q0, kDescentS, true);
+    timeline.move(poses, above, above, q0, spec.pause_s, Blade::Up);
+    timeline.move(poses, above, in, q0, kDescentS, Blade::Cutting);
     Eigen::Vector3d tip = in;
     Eigen::Quaterniond q = q0;
     for (size_t k = 0; k < stroke.samples.size(); ++k) {
@@ -78,10 +82,10 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
                                                                    : stroke.blade_direction;
       q = bladeOrientation(s.normal, travel);
       tip = s.point_m - tip_depth_m * s.normal;
-      timeline.add(poses, tip, q, true);
+      timeline.add(poses, tip, q, Blade::Cutting);
     }
     const Eigen::Vector3d out = tip + (tip_depth_m + kHoverM) * (q * Eigen::Vector3d::UnitZ());
-    timeline.move(poses, tip, out, q, kDescentS, false);
+    timeline.move(poses, tip, out, q, kDescentS, Blade::Up);
   }
   return poses;
 }
