@@ -14,7 +14,7 @@
 
 namespace incise::cutting {
 
-using detail::str;
+static std::string str(double x) { return formatNumber(x); }
 
 namespace {
 

@@ -15,7 +15,7 @@
 
 namespace incise::cutting {
 
-using detail::str;
+static std::string str(const Eigen::Vector3d& p) { return formatPoint(p); }
 
 namespace {
 
