@@ -36,8 +36,10 @@ struct Soup {
 // Closes each opening left by separate(): a loop of boundary edges whose vertices all lie on `plane` on
 // one side. Its two halves, from its lowest-v vertex to its highest, are given the same v-values (each
 // half's edges split where the other half has a vertex) and welded vertex to vertex: once F is stitched
-// both halves map onto the same seam, so the weld closes the surface without a flat face. A half that is
-// not strictly monotone in v leaves that loop open (returned count).
+// both halves map onto the same seam, so the weld closes the surface without a flat face. An opening that
+// cannot be welded (beyond the box, a half not strictly monotone in v, a face already joining the halves,
+// or a weld that would not leave a two-manifold) gets a strip of thin triangles between its halves instead,
+// if that leaves a two-manifold; else it stays open. Returns the openings left open.
 // Cost O((V + F) log F) plus O(F) per welded vertex.
 int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box);
 
