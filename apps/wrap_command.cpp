@@ -191,7 +191,7 @@ WrapScenario loadWrap(const std::filesystem::path& file) {
     o.kernel = kernel == "gaussian" ? DffdKernel::Gaussian : DffdKernel::QuadraticBSpline;
     o.kernel_width = l.number("kernel_width", o.kernel_width, 1e-3, 1e4);
     o.clearance_m = l.number("clearance_m", o.clearance_m, 0.0, 1.0);
-    o.v_knots = l.boolean("v_knots", o.v_knots);
+    o.v_knots = l.boolean("v_knots", o.v_knots == VKnots::AtObstacleExtremes) ? VKnots::AtObstacleExtremes : VKnots::None;
     const std::string fold = l.text("on_fold", "refuse");
     if (fold != "refuse" && fold != "widen") l.bad("on_fold", "must be \"refuse\" or \"widen\"");
     o.on_fold = fold == "widen" ? FoldPolicy::Widen : FoldPolicy::Refuse;
@@ -205,7 +205,7 @@ WrapScenario loadWrap(const std::filesystem::path& file) {
     s.frames = m.integer("frames", s.frames, 1, 100000);
   }
   try {
-    validateModel(s.model, s.treatment == "capped");
+    validateModel(s.model, s.treatment == "capped" ? ModelClosure::Closed : ModelClosure::MayBeOpen);
   } catch (const DffdError& e) {
     root.bad("model", e.what());
   }
@@ -232,7 +232,7 @@ Frame wrapFrame(const WrapScenario& s, const GlobalDffd& base, int f) {
     out.mesh = cappedDeform(moved, base);
     min_det_j = base.minJacobian(1);
   } else {
-    const DffdSplit split = splitAtDiscontinuities(moved, base, s.treatment == "stitched");
+    const DffdSplit split = splitAtDiscontinuities(moved, base, s.treatment == "stitched" ? Openings::Close : Openings::Leave);
     GlobalDffd dffd = base;
     if (s.treatment == "stitched")
       for (int i = 0; i < static_cast<int>(dffd.obstacles().size()); ++i) dffd.stitch(i, stitchLevel(split, dffd, i));

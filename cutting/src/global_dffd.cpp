@@ -15,6 +15,15 @@
 #include "tensor_kernel.h"
 
 namespace incise::cutting {
+
+DffdError::DffdError(DffdErrorKind kind_, const std::string& message, std::string obstacle_, std::string other_obstacle_,
+                     int controls_needed_)
+    : std::runtime_error(message),
+      kind(kind_),
+      obstacle(std::move(obstacle_)),
+      other_obstacle(std::move(other_obstacle_)),
+      controls_needed(controls_needed_) {}
+
 namespace {
 
 struct Triangle {
@@ -143,7 +152,7 @@ GlobalDffd::GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdO
   if (!(o.epsilon > 0.0 && o.epsilon < 1e-3)) throw std::invalid_argument("GlobalDffd: epsilon = " + formatNumber(o.epsilon) + " must be in (0, 1e-3)");
   if (!(o.clearance_m >= 0.0) || !std::isfinite(o.clearance_m))
     throw std::invalid_argument("GlobalDffd: clearance_m = " + formatNumber(o.clearance_m) + " must be >= 0");
-  if (obstacles.empty() && !o.box) throw DffdError("GlobalDffd: no obstacle and no box: the lattice has no extent");
+  if (obstacles.empty() && !o.box) throw DffdError(DffdErrorKind::NoExtent, "GlobalDffd: no obstacle and no box: the lattice has no extent");
   place(obstacles);
   wrap(obstacles);
   markMovedCells();
@@ -155,13 +164,13 @@ void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
   for (const Obstacle& ob : obstacles) {
     const ManifoldReport report = checkManifold(ob.mesh.mesh());
     if (!report.closed_two_manifold)
-      throw DffdError("obstacle '" + ob.name + "': not a closed two-manifold: " + report.first_problem);
+      throw DffdError(DffdErrorKind::ObstacleNotClosed, "obstacle '" + ob.name + "': not a closed two-manifold: " + report.first_problem, ob.name);
     DffdObstacle d;
     d.name = ob.name;
     d.input_index = static_cast<int>(obstacles_.size());
     const std::vector<Triangle> tris = triangles(ob.mesh.mesh());
     for (const Triangle& t : tris) {
-      if (!t.a.allFinite() || !t.b.allFinite() || !t.c.allFinite()) throw DffdError("obstacle '" + ob.name + "': a vertex is not finite");
+      if (!t.a.allFinite() || !t.b.allFinite() || !t.c.allFinite()) throw DffdError(DffdErrorKind::ObstacleNotFinite, "obstacle '" + ob.name + "': a vertex is not finite", ob.name);
       d.box.extend(t.box);
     }
     d.u = centreOfMass(tris).x();
@@ -174,9 +183,11 @@ void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
       throw std::invalid_argument("GlobalDffd: the lattice box is empty or not finite");
     for (const DffdObstacle& d : obstacles_)
       if (!box_.contains(d.box))
-        throw DffdError("obstacle '" + d.name + "' lies outside the lattice box (its box [" + formatNumber(d.box.min().x()) + ", " +
+        throw DffdError(DffdErrorKind::ObstacleOutsideBox,
+                        "obstacle '" + d.name + "' lies outside the lattice box (its box [" + formatNumber(d.box.min().x()) + ", " +
                         formatNumber(d.box.max().x()) + "] x [" + formatNumber(d.box.min().y()) + ", " + formatNumber(d.box.max().y()) + "] x [" +
-                        formatNumber(d.box.min().z()) + ", " + formatNumber(d.box.max().z()) + "])");
+                        formatNumber(d.box.min().z()) + ", " + formatNumber(d.box.max().z()) + "])",
+                        d.name);
   } else {
     box_ = all;
     box_.min().array() -= options_.margin_m;
@@ -185,13 +196,15 @@ void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
   std::sort(obstacles_.begin(), obstacles_.end(), [](const DffdObstacle& a, const DffdObstacle& b) { return a.u < b.u; });
   for (size_t i = 1; i < obstacles_.size(); ++i)
     if (!(obstacles_[i].u > obstacles_[i - 1].u))
-      throw DffdError("obstacles '" + obstacles_[i - 1].name + "' and '" + obstacles_[i].name + "' have the same centre in u");
+      throw DffdError(DffdErrorKind::SameCentre,
+                      "obstacles '" + obstacles_[i - 1].name + "' and '" + obstacles_[i].name + "' have the same centre in u",
+                      obstacles_[i - 1].name, obstacles_[i].name);
   volume_ = BSplineVolume::identity(box_, {order, order, order}, options_.controls);
   for (const DffdObstacle& d : obstacles_) {
     const int have = multiplicity(volume_.knots(0), d.u);
     if (have < order) volume_.insertKnot(0, d.u, order - have);
   }
-  if (options_.v_knots) {
+  if (options_.v_knots == VKnots::AtObstacleExtremes) {
     const auto domain = volume_.domain(1);
     for (const DffdObstacle& d : obstacles_)
       for (const double v : {d.box.min().y(), d.box.max().y()}) {
@@ -247,12 +260,16 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
     // keep any basis function from seeing both moves.
     const int needed = static_cast<int>(std::ceil(2.0 * options_.kernel_width)) + order - 1;
     const int have = static_cast<int>(std::floor((b.u - a.u) / spacing_u_));
-    if (have < needed)
-      throw DffdError("obstacles '" + a.name + "' and '" + b.name + "' are too close for order " + std::to_string(order) +
-                      " and kernel width " + formatNumber(options_.kernel_width) + ": " + std::to_string(needed) +
-                      " control spacings are needed between their discontinuities, there are " + std::to_string(have) +
-                      " (raise controls[0] from " + std::to_string(options_.controls[0]) + " to at least " +
-                      std::to_string(static_cast<int>(std::ceil(double(options_.controls[0]) * needed / std::max(have, 1)))) + ")");
+    if (have < needed) {
+      const int controls = static_cast<int>(std::ceil(double(options_.controls[0]) * needed / std::max(have, 1)));
+      throw DffdError(DffdErrorKind::TooClose,
+                      "obstacles '" + a.name + "' and '" + b.name + "' are too close for order " + std::to_string(order) +
+                          " and kernel width " + formatNumber(options_.kernel_width) + ": " + std::to_string(needed) +
+                          " control spacings are needed between their discontinuities, there are " + std::to_string(have) +
+                          " (raise controls[0] from " + std::to_string(options_.controls[0]) + " to at least " +
+                          std::to_string(controls) + ")",
+                      a.name, b.name, controls);
+    }
   }
   // The conservative boundary curves and the moves, per obstacle and control row.
   struct Move {
@@ -272,8 +289,10 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
         const double z = d.box.min().z() + extent.z() * (sk + 0.3456789) / 64.0;
         const int n = entries(tris, y, z);
         if (n > 1)
-          throw DffdError("obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + formatNumber(y) + ", w = " + formatNumber(z) +
-                          " enters it " + std::to_string(n) + " times (the projection onto C-(v), C+(v) needs one)");
+          throw DffdError(DffdErrorKind::NotMonotone,
+                          "obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + formatNumber(y) + ", w = " +
+                              formatNumber(z) + " enters it " + std::to_string(n) + " times (the projection onto C-(v), C+(v) needs one)",
+                          d.name);
       }
     for (int k = 0; k < counts[2]; ++k)
       for (int j = 0; j < counts[1]; ++j) {
@@ -300,8 +319,11 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
       return std::abs(a.i_minus - fold.i) < std::abs(b.i_minus - fold.i);
     });
     if (options_.on_fold == FoldPolicy::Refuse || width + 1.0 > counts[0])
-      throw DffdError("obstacle '" + nearest->name + "': the kernel (width " + formatNumber(width) + " planes) would fold the lattice (Theorem 1): " +
-                      fold.message + "; widen kernel_width, add control planes in u or use FoldPolicy::Widen");
+      throw DffdError(DffdErrorKind::Folds,
+                      "obstacle '" + nearest->name + "': the kernel (width " + formatNumber(width) +
+                          " planes) would fold the lattice (Theorem 1): " + fold.message +
+                          "; widen kernel_width, add control planes in u or use FoldPolicy::Widen",
+                      nearest->name);
     for (int k = 0; k < counts[2]; ++k)  // back to the unmoved controls
       for (int j = 0; j < counts[1]; ++j)
         for (int i = 0; i < counts[0]; ++i) volume_.setControl(i, j, k, rest[static_cast<size_t>(volume_.controlIndex(i, j, k))]);

@@ -40,7 +40,7 @@ void soupOf(std::span<const Eigen::Vector3d> positions, std::span<const std::arr
   for (const auto& f : s.faces)
     for (const int v : f)
       if (v < 0 || static_cast<size_t>(v) >= positions.size())
-        throw DffdError("splitAtDiscontinuities: a face refers to vertex " + std::to_string(v) + " of " +
+        throw DffdError(DffdErrorKind::BadInput, "splitAtDiscontinuities: a face refers to vertex " + std::to_string(v) + " of " +
                         std::to_string(positions.size()));
 }
 
@@ -171,18 +171,18 @@ SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std:
   for (size_t f = 0; f < faces.size(); ++f) {
     const auto& t = faces[f];
     if (!m.add_face(handles[static_cast<size_t>(t[0])], handles[static_cast<size_t>(t[1])], handles[static_cast<size_t>(t[2])]).is_valid())
-      throw DffdError("splitting the model: face " + std::to_string(f) + " cannot be added (the model is not a two-manifold there)");
+      throw DffdError(DffdErrorKind::NotTwoManifold, "splitting the model: face " + std::to_string(f) + " cannot be added (the model is not a two-manifold there)");
   }
   return mesh;
 }
 
-void splitSoup(Soup& s, const GlobalDffd& dffd, bool close_openings, DffdSplit& split) {
+void splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdSplit& split) {
   for (size_t i = 0; i < dffd.obstacles().size(); ++i) {
     splitAt(s, dffd.obstacles()[i].u, static_cast<int>(i), dffd.box());
     separate(s, static_cast<int>(i), dffd.obstacles()[i].u);
   }
   split.left_open = 0;
-  if (!close_openings) {  // nothing welded, every vertex used: hand the buffers over (swapped, both reused)
+  if (openings == Openings::Leave) {  // nothing welded, every vertex used: hand the buffers over (swapped, both reused)
     std::swap(split.rest_m, s.x);
     std::swap(split.source_vertex, s.source);
     std::swap(split.source_edge, s.edge);
@@ -224,37 +224,37 @@ Soup& scratchSoup() {
 
 }  // namespace
 
-DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings) {
+DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, Openings openings) {
   Soup soup = soupOf(model.mesh());
   DffdSplit split;
-  splitSoup(soup, dffd, close_openings, split);
+  splitSoup(soup, dffd, openings, split);
   return split;
 }
 
 DffdSplit splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions, std::span<const std::array<int, 3>> faces,
-                                 const GlobalDffd& dffd, bool close_openings) {
+                                 const GlobalDffd& dffd, Openings openings) {
   DffdSplit split;
-  splitAtDiscontinuities(positions, faces, dffd, close_openings, split);
+  splitAtDiscontinuities(positions, faces, dffd, openings, split);
   return split;
 }
 
 void splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions, std::span<const std::array<int, 3>> faces,
-                            const GlobalDffd& dffd, bool close_openings, DffdSplit& out) {
+                            const GlobalDffd& dffd, Openings openings, DffdSplit& out) {
   Soup& soup = scratchSoup();
   soupOf(positions, faces, soup);
-  splitSoup(soup, dffd, close_openings, out);
+  splitSoup(soup, dffd, openings, out);
 }
 
 SurfaceMesh DffdSplit::surface(std::span<const Eigen::Vector3d> positions) const {
   if (!positions.empty() && positions.size() != rest_m.size())
-    throw DffdError("DffdSplit::surface: " + std::to_string(positions.size()) + " positions for " + std::to_string(rest_m.size()) +
+    throw DffdError(DffdErrorKind::BadInput, "DffdSplit::surface: " + std::to_string(positions.size()) + " positions for " + std::to_string(rest_m.size()) +
                     " vertices");
   return meshOf(positions.empty() ? rest_m : std::vector<Eigen::Vector3d>(positions.begin(), positions.end()), faces);
 }
 
 void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) {
   if (out.size() != split.rest_m.size())
-    throw DffdError("deformSplit: " + std::to_string(out.size()) + " output positions for " + std::to_string(split.rest_m.size()) +
+    throw DffdError(DffdErrorKind::BadInput, "deformSplit: " + std::to_string(out.size()) + " output positions for " + std::to_string(split.rest_m.size()) +
                     " split vertices");
   for (size_t v = 0; v < out.size(); ++v) out[v] = dffd.map(split.rest_m[v], split.side[v]);
 }
@@ -269,7 +269,7 @@ namespace {
 
 std::vector<Eigen::Vector3d> restOf(const DffdSplit& split) {
   if (split.side.size() != split.rest_m.size())
-    throw DffdError("DffdBinding: the split has " + std::to_string(split.rest_m.size()) + " vertices but " +
+    throw DffdError(DffdErrorKind::BadInput, "DffdBinding: the split has " + std::to_string(split.rest_m.size()) + " vertices but " +
                     std::to_string(split.side.size()) + " sides");
   return split.rest_m;
 }
@@ -308,13 +308,13 @@ DffdBinding::DffdBinding(const DffdSplit& split, const GlobalDffd& dffd)
 
 void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) const {
   if (out.size() != rest_.size())
-    throw DffdError("DffdBinding::deform: " + std::to_string(out.size()) + " output positions for " + std::to_string(rest_.size()) +
+    throw DffdError(DffdErrorKind::BadInput, "DffdBinding::deform: " + std::to_string(out.size()) + " output positions for " + std::to_string(rest_.size()) +
                     " split vertices");
   const size_t n = inside_.size();
   // The bound vertices' positions go to out[0, n) first, then each to its own slot, last first: inside_ is
   // increasing with inside_[b] >= b, so a move never overwrites a position still to be moved.
   if (!binding_.deformAll(dffd.volume(), out.first(n)))
-    throw DffdError("DffdBinding::deform: the GlobalDffd's lattice (orders or knots) is not the one the split was bound to");
+    throw DffdError(DffdErrorKind::OtherLattice, "DffdBinding::deform: the GlobalDffd's lattice (orders or knots) is not the one the split was bound to");
   // As map(): a vertex in a cell where no control moved is its rest position exactly.
   for (size_t b = n; b-- > 0;)
     out[static_cast<size_t>(inside_[b])] = dffd.identityCell(cells_[b]) ? rest_[static_cast<size_t>(inside_[b])] : out[b];
@@ -328,12 +328,13 @@ void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out)
   }
 }
 
-void validateModel(const SurfaceMesh& model, bool closed) {
+void validateModel(const SurfaceMesh& model, ModelClosure closure) {
+  const bool closed = closure == ModelClosure::Closed;
   const ManifoldReport report = checkManifold(model.mesh());
   if (report.closed_two_manifold) return;
   const bool only_open = report.degenerate_faces == 0 && report.non_manifold_edges == 0 && report.non_manifold_vertices == 0;
   if (only_open && !closed && model.mesh().n_faces() > 0) return;  // a two-manifold with boundary
-  throw DffdError("the model is not " + std::string(closed ? "a closed two-manifold" : "a two-manifold without degenerate faces") +
+  throw DffdError(DffdErrorKind::BadModel, "the model is not " + std::string(closed ? "a closed two-manifold" : "a two-manifold without degenerate faces") +
                   ": " + report.first_problem);
 }
 
