@@ -134,6 +134,23 @@ int multiplicity(const std::vector<double>& knots, double t) {
   return static_cast<int>(std::count(knots.begin(), knots.end(), t));
 }
 
+// Monotone in v: every line along u through the obstacle enters it once (sampled at the control rows and
+// between them, slightly off the grid so that no line runs through a vertex or an edge); else DffdError.
+void checkMonotone(const DffdObstacle& d, const std::vector<Triangle>& tris) {
+  const Eigen::Vector3d extent = d.box.sizes();
+  for (int sj = 1; sj < 64; ++sj)
+    for (int sk = 1; sk < 64; ++sk) {
+      const double y = d.box.min().y() + extent.y() * (sj + 0.1234567) / 64.0;
+      const double z = d.box.min().z() + extent.z() * (sk + 0.3456789) / 64.0;
+      const int n = entries(tris, y, z);
+      if (n > 1)
+        throw DffdError(DffdErrorKind::NotMonotone,
+                        "obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + formatNumber(y) + ", w = " +
+                            formatNumber(z) + " enters it " + std::to_string(n) + " times (the projection onto C-(v), C+(v) needs one)",
+                        d.name);
+    }
+}
+
 }  // namespace
 
 GlobalDffd::GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdOptions& options)
@@ -280,20 +297,7 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
   for (size_t i = 0; i < obstacles_.size(); ++i) {
     DffdObstacle& d = obstacles_[i];
     const std::vector<Triangle> tris = triangles(obstacles[static_cast<size_t>(d.input_index)].mesh.mesh());
-    // Monotone in v: every line along u through the obstacle enters it once (sampled at the control rows
-    // and between them, slightly off the grid so that no line runs through a vertex or an edge).
-    const Eigen::Vector3d extent = d.box.sizes();
-    for (int sj = 1; sj < 64; ++sj)
-      for (int sk = 1; sk < 64; ++sk) {
-        const double y = d.box.min().y() + extent.y() * (sj + 0.1234567) / 64.0;
-        const double z = d.box.min().z() + extent.z() * (sk + 0.3456789) / 64.0;
-        const int n = entries(tris, y, z);
-        if (n > 1)
-          throw DffdError(DffdErrorKind::NotMonotone,
-                          "obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + formatNumber(y) + ", w = " +
-                              formatNumber(z) + " enters it " + std::to_string(n) + " times (the projection onto C-(v), C+(v) needs one)",
-                          d.name);
-      }
+    checkMonotone(d, tris);
     for (int k = 0; k < counts[2]; ++k)
       for (int j = 0; j < counts[1]; ++j) {
         double x_min, x_max;
