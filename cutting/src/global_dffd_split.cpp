@@ -76,14 +76,13 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
   // plane (separate()'s candidates, with the faces of snapped vertices).
   s.touching.clear();
   const size_t count = s.faces.size();
-  const auto piece = [&](size_t f, bool first, std::array<int, 3> t) {
-    if (first) {
-      s.faces[f] = t;
-      s.touching.push_back(static_cast<int>(f));
-    } else {
-      s.touching.push_back(static_cast<int>(s.faces.size()));
-      s.faces.push_back(t);
-    }
+  const auto firstPiece = [&](size_t f, std::array<int, 3> t) {
+    s.faces[f] = t;
+    s.touching.push_back(static_cast<int>(f));
+  };
+  const auto otherPiece = [&](std::array<int, 3> t) {
+    s.touching.push_back(static_cast<int>(s.faces.size()));
+    s.faces.push_back(t);
   };
   for (size_t i = 0; i < count; ++i) {
     const std::array<int, 3> f = s.faces[i];
@@ -98,17 +97,17 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
     const int s_b = sg[(r + 1) % 3], s_c = sg[(r + 2) % 3];
     if (s_b == 0) {  // b on the plane: the crossing is on c-a
       const int p = point(c, a);
-      piece(i, true, {a, b, p});
-      piece(i, false, {b, c, p});
+      firstPiece(i, {a, b, p});
+      otherPiece({b, c, p});
     } else if (s_c == 0) {  // c on the plane: the crossing is on a-b
       const int p = point(a, b);
-      piece(i, true, {a, p, c});
-      piece(i, false, {p, b, c});
+      firstPiece(i, {a, p, c});
+      otherPiece({p, b, c});
     } else {  // a alone: crossings on a-b and c-a
       const int p = point(a, b), q = point(c, a);
-      piece(i, true, {a, p, q});
-      piece(i, false, {p, b, c});
-      piece(i, false, {p, c, q});
+      firstPiece(i, {a, p, q});
+      otherPiece({p, b, c});
+      otherPiece({p, c, q});
     }
   }
   if (snapped) {  // faces around vertices put on the plane: a full pass (rare)
