@@ -15,8 +15,8 @@
 // plane splits, the worst penetration of the deformed robot into a bar on that frame (and over all frames;
 // the undeformed split's, to show the measure sees the overlap), GlobalDffd's construction time and min
 // det J (2 samples per cell), and the time to build an OpenMesh mesh of the split (for output; not in the
-// frame). Other scenes: the bars tilted 20 degrees about y (across u: GlobalDffd
-// refuses it; controls[0] is raised as its "too close" message asks, and the messages are reported),
+// frame). Other scenes: the bars tilted 20 degrees about y (across u: GlobalDffd refuses it; controls[0]
+// is raised as its TooClose refusal asks, DffdError::controls_needed, and the messages are reported),
 // 2.4 degrees about y (2 mm bars and the lattice of scenarios/wrap/robot-bars-rotated.json), and 20
 // degrees about x (leaning along the motion, each bar stays in its plane x = x_i).
 #include <algorithm>
@@ -157,16 +157,12 @@ nlohmann::json optionsJson(const GlobalDffdOptions& o) {
           {"kernel_width_spacings", o.kernel_width},
           {"clearance_m", o.clearance_m},
           {"epsilon", o.epsilon},
-          {"v_knots", o.v_knots},
+          {"v_knots", o.v_knots == VKnots::AtObstacleExtremes},
           {"on_fold", o.on_fold == FoldPolicy::Refuse ? "refuse" : "widen"}};
 }
 
-// The number the "too close" message asks controls[0] to be raised to, or 0.
-int raiseControlsTo(const std::string& message) {
-  const std::string key = "to at least ";
-  const size_t at = message.find(key);
-  return at == std::string::npos ? 0 : std::atoi(message.c_str() + at + key.size());
-}
+// The number a "too close" refusal asks controls[0] to be raised to, or 0.
+int raiseControlsTo(const DffdError& e) { return e.kind == DffdErrorKind::TooClose ? e.controls_needed : 0; }
 
 nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOptions options, const SurfaceMesh& robot,
                         const std::vector<int>& part) {
@@ -178,7 +174,7 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
                         {"bars_x_m", {-kBarSpacing + kBarOffset, kBarOffset, kBarSpacing + kBarOffset}},
                         {"bar_radius_m", tilt.radius_m},
                         {"bar_z_m", {-tilt.reach_m, kRobotHeight + tilt.reach_m}}};
-  // GlobalDffd, with controls[0] raised as its "too close" message asks (at most twice).
+  // GlobalDffd, with controls[0] raised as its TooClose refusal asks (at most twice).
   std::optional<GlobalDffd> built;
   double build_ms = 0.0;
   nlohmann::json refusals = nlohmann::json::array();
@@ -189,7 +185,7 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
       build_ms = msSince(t_build);
     } catch (const DffdError& e) {
       refusals.push_back({{"controls", options.controls}, {"message", e.what()}});
-      const int raise = raiseControlsTo(e.what());
+      const int raise = raiseControlsTo(e);
       if (raise <= options.controls[0]) break;
       options.controls[0] = raise;
     }
@@ -229,7 +225,7 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
   DffdSplit frame_split;  // reused frame after frame
   {  // one untimed frame first: the split's buffers are allocated once, then reused (steady state timed)
     for (size_t v = 0; v < rest.size(); ++v) moved_at[v] = rest[v] + Eigen::Vector3d(0.0, kStartY, 0.0);
-    splitAtDiscontinuities(moved_at, triangles, dffd, false, frame_split);
+    splitAtDiscontinuities(moved_at, triangles, dffd, Openings::Leave, frame_split);
     positions_at.resize(frame_split.rest_m.size());
     deformSplit(frame_split, dffd, positions_at);
   }
@@ -238,7 +234,7 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
     const double dy = kStartY + (kEndY - kStartY) * frame / (kFrames - 1);
     const auto start = Clock::now();  // move, split, deform: positions and triangles ready to draw
     for (size_t v = 0; v < rest.size(); ++v) moved_at[v] = rest[v] + Eigen::Vector3d(0.0, dy, 0.0);
-    splitAtDiscontinuities(moved_at, triangles, dffd, false, frame_split);
+    splitAtDiscontinuities(moved_at, triangles, dffd, Openings::Leave, frame_split);
     const double split_part_ms = msSince(start);
     positions_at.resize(frame_split.rest_m.size());
     deformSplit(frame_split, dffd, positions_at);

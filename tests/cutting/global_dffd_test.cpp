@@ -1,6 +1,7 @@
-// Tests for cutting/src/global_dffd.cpp: a sphere moving along v through a cylinder splits around it and
-// re-forms; identity away from the obstacle; a bound split re-deforms exactly; Theorem 1's guard; obstacles
-// too close, not monotone, open or outside the lattice refused with their name.
+// Tests for cutting/src/global_dffd*.cpp (the lattice, the split, the openings): a sphere moving along v
+// through a cylinder splits around it and re-forms; identity away from the obstacle; a bound split
+// re-deforms exactly; Theorem 1's guard; obstacles too close, not monotone, open or outside the lattice
+// refused with their name (and DffdError's fields).
 #include "incise/cutting/global_dffd.h"
 
 #include <algorithm>
@@ -112,7 +113,7 @@ TEST_CASE("global_dffd: stitched and capped outputs are closed", "[cutting]") {
   const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, 0.004, 0.0), 0.012, 3);
   SECTION("stitched: the openings zipped, F's discontinuity planes moved to w_s") {
     GlobalDffd dffd({bar()}, options());
-    const DffdSplit split = splitAtDiscontinuities(sphere, dffd, true);
+    const DffdSplit split = splitAtDiscontinuities(sphere, dffd, Openings::Close);
     CHECK(split.left_open == 0);
     dffd.stitch(0, stitchLevel(split, dffd, 0));
     const SurfaceMesh out = deformSplit(split, dffd);
@@ -148,10 +149,10 @@ TEST_CASE("global_dffd: splitting from arrays into a reused split gives the same
     for (auto v = sphere.mesh().cfv_ccwiter(f); v.is_valid(); ++v) t[static_cast<size_t>(k++)] = v->idx();
     faces.push_back(t);
   }
-  const DffdSplit reference = splitAtDiscontinuities(sphere, dffd, true);
+  const DffdSplit reference = splitAtDiscontinuities(sphere, dffd, Openings::Close);
   DffdSplit reused;
   for (int round = 0; round < 3; ++round) {  // a second scene in between: the buffers must not leak into it
-    splitAtDiscontinuities(positions, faces, dffd, true, reused);
+    splitAtDiscontinuities(positions, faces, dffd, Openings::Close, reused);
     CHECK(reused.rest_m == reference.rest_m);
     CHECK(reused.faces == reference.faces);
     CHECK(reused.side == reference.side);
@@ -172,17 +173,17 @@ TEST_CASE("global_dffd: a model with a degenerate face, or open where closure is
   auto p = flat.mesh().point(v);
   for (auto n = flat.mesh().vv_iter(v); n.is_valid(); ++n) p = flat.mesh().point(*n);  // onto a neighbour
   flat.mesh().set_point(v, p);
-  REQUIRE_THROWS_WITH(validateModel(flat, false), Contains("degenerate face"));
+  REQUIRE_THROWS_WITH(validateModel(flat, ModelClosure::MayBeOpen), Contains("degenerate face"));
   SurfaceMesh open = makeSphere(Eigen::Vector3d::Zero(), 0.01, 1);
   open.mesh().delete_face(*open.mesh().faces_begin());
   open.mesh().garbage_collection();
-  CHECK_NOTHROW(validateModel(open, false));
-  REQUIRE_THROWS_WITH(validateModel(open, true), Contains("not a closed two-manifold"));
+  CHECK_NOTHROW(validateModel(open, ModelClosure::MayBeOpen));
+  REQUIRE_THROWS_WITH(validateModel(open, ModelClosure::Closed), Contains("not a closed two-manifold"));
 }
 
 TEST_CASE("global_dffd: knots at the obstacle's v-extremes close the lips behind it sooner (Figure 4)", "[cutting]") {
   // The widest gap between the two lips of a split vertex beyond the bar's far side in v (y > radius).
-  const auto gapBehind = [](bool v_knots) {
+  const auto gapBehind = [](VKnots v_knots) {
     GlobalDffdOptions o = options();
     o.v_knots = v_knots;
     const GlobalDffd dffd({bar()}, o);
@@ -198,7 +199,7 @@ TEST_CASE("global_dffd: knots at the obstacle's v-extremes close the lips behind
       if (yz.first > 0.0065) widest = std::max(widest, (out[static_cast<size_t>(pair[0])] - out[static_cast<size_t>(pair[1])]).norm());
     return widest;
   };
-  const double with = gapBehind(true), without = gapBehind(false);
+  const double with = gapBehind(VKnots::AtObstacleExtremes), without = gapBehind(VKnots::None);
   INFO("gap behind the bar: " << with << " m with the v-knots, " << without << " m without");
   CHECK(with < without);
 }
@@ -217,7 +218,7 @@ TEST_CASE("global_dffd: a bound split re-deforms to exactly the positions deform
   // Centred on the bar, and half out of the box along v (those vertices keep their rest position).
   for (const double y : {0.002, 0.022}) {
     const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, y, 0.001), 0.012, 3);
-    const DffdSplit split = splitAtDiscontinuities(sphere, dffd, true);
+    const DffdSplit split = splitAtDiscontinuities(sphere, dffd, Openings::Close);
     const DffdBinding binding(split, dffd);
     REQUIRE(binding.size() == split.rest_m.size());
     CHECK(binding.bound() > 0);
@@ -263,6 +264,16 @@ TEST_CASE("global_dffd: a kernel that would fold the lattice is refused, or wide
 TEST_CASE("global_dffd: obstacles too close, not monotone, open or outside the box are refused by name", "[cutting]") {
   REQUIRE_THROWS_WITH(GlobalDffd({bar(-0.008, "left"), bar(0.008, "right")}, options()),
                       Contains("'left' and 'right' are too close") && Contains("control spacings are needed"));
+  try {
+    const GlobalDffd refused({bar(-0.008, "left"), bar(0.008, "right")}, options());
+    FAIL("obstacles too close were accepted");
+  } catch (const DffdError& e) {  // the same in fields: the kind, the obstacles and the controls asked for
+    CHECK(e.kind == DffdErrorKind::TooClose);
+    CHECK(e.obstacle == "left");
+    CHECK(e.other_obstacle == "right");
+    CHECK(e.controls_needed > options().controls[0]);
+    CHECK_THAT(e.what(), Contains("to at least " + std::to_string(e.controls_needed) + ")"));
+  }
   // A U-shaped prism opening towards -y: a line along u through its arms enters it twice.
   const std::vector<Eigen::Vector2d> u_shape = {{-0.01, -0.01}, {-0.006, -0.01}, {-0.006, 0.004}, {0.006, 0.004},
                                                 {0.006, -0.01}, {0.01, -0.01},   {0.01, 0.01},    {-0.01, 0.01}};
@@ -275,6 +286,12 @@ TEST_CASE("global_dffd: obstacles too close, not monotone, open or outside the b
   GlobalDffdOptions small = options();
   small.box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-0.004), Eigen::Vector3d::Constant(0.004));
   REQUIRE_THROWS_WITH(GlobalDffd({bar()}, small), Contains("'bar' lies outside the lattice box"));
+  try {
+    const GlobalDffd refused({bar()}, small);
+  } catch (const DffdError& e) {
+    CHECK(e.kind == DffdErrorKind::ObstacleOutsideBox);
+    CHECK(e.obstacle == "bar");
+  }
   GlobalDffdOptions bad = options();
   bad.kernel_width = 0;
   REQUIRE_THROWS_AS(GlobalDffd({bar()}, bad), std::invalid_argument);

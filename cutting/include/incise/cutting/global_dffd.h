@@ -24,7 +24,9 @@
 // two-manifold, outside the lattice box, not monotone in v (a line along u at some (v, w) enters it more
 // than once — the paper's stated limit), two obstacles too close for the order and the kernel (with the
 // number of control planes that would be needed), a kernel that would fold F under FoldPolicy::Refuse;
-// std::invalid_argument for bad options.
+// its fields (kind, obstacle, controls_needed) say the same for code. std::invalid_argument for bad options.
+// Sources: global_dffd.cpp (the lattice and the projection), global_dffd_split.cpp (the model split),
+// global_dffd_openings.cpp (open, stitched, capped).
 #pragma once
 
 #include <array>
@@ -43,12 +45,45 @@
 
 namespace incise::cutting {
 
+// What a DffdError is about, for a caller that reacts to it (the benchmark raises controls[0] when told
+// TooClose); what() says it in words.
+enum class DffdErrorKind : std::uint8_t {
+  NoExtent,            // no obstacle and no box
+  ObstacleNotClosed,   // an obstacle is not a closed two-manifold
+  ObstacleNotFinite,   // an obstacle's vertex is not finite
+  ObstacleOutsideBox,  // an obstacle lies outside the given lattice box
+  SameCentre,          // two obstacles have the same centre in u
+  TooClose,            // two obstacles are too close for the order and the kernel (controls_needed)
+  NotMonotone,         // a line along u enters an obstacle more than once
+  Folds,               // the kernel would fold F (Theorem 1)
+  BadModel,            // validateModel refused the model
+  NotTwoManifold,      // the split model cannot be rebuilt as a two-manifold
+  BadInput,            // counts that do not match: positions, faces' vertex indices
+  OtherLattice,        // DffdBinding::deform with a lattice other than the one bound
+};
+
 struct DffdError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  DffdError(DffdErrorKind kind, const std::string& message, std::string obstacle = {}, std::string other_obstacle = {},
+            int controls_needed = 0);
+
+  DffdErrorKind kind;
+  std::string obstacle;        // the obstacle at fault (the first of two), "" when the error is not about one
+  std::string other_obstacle;  // SameCentre, TooClose: the second obstacle
+  int controls_needed = 0;     // TooClose: controls[0] must be raised to at least this
 };
 
 enum class DffdKernel : std::uint8_t { Gaussian, QuadraticBSpline };
 enum class FoldPolicy : std::uint8_t { Refuse, Widen };
+// Whether order - 1 knots go in v at each obstacle's v-extremes (Figure 4: the lips close sooner behind it).
+enum class VKnots : std::uint8_t { None, AtObstacleExtremes };
+// What becomes of the openings the split leaves (§3.2): left open (splitAtDiscontinuities with
+// Openings::Leave, deformSplit), stitched (Openings::Close, GlobalDffd::stitch at stitchLevel, deformSplit)
+// or capped (cappedDeform; the model must be closed).
+enum class OpeningTreatment : std::uint8_t { Open, Stitched, Capped };
+// splitAtDiscontinuities: leave the openings, or close them (welded, else a strip) for stitching.
+enum class Openings : std::uint8_t { Leave, Close };
+// validateModel: whether the model may have a boundary or must be closed.
+enum class ModelClosure : std::uint8_t { MayBeOpen, Closed };
 
 struct GlobalDffdOptions {
   int order = 4;                            // o, in u, v and w
@@ -60,7 +95,7 @@ struct GlobalDffdOptions {
                                             // the uniform lattice (distance in u from the discontinuity)
   double epsilon = 1e-9;                    // split vertices are mapped at u_i -/+ epsilon
   double clearance_m = 0.0;                 // extra gap left between the wrapped model and the obstacle
-  bool v_knots = true;                      // order - 1 knots in v at each obstacle's v-extremes
+  VKnots v_knots = VKnots::AtObstacleExtremes;  // order - 1 knots in v at each obstacle's v-extremes
   FoldPolicy on_fold = FoldPolicy::Refuse;
 };
 
@@ -122,10 +157,11 @@ class GlobalDffd {
   std::vector<std::uint8_t> moved_cell_;  // per knot cell (span indices, i-fastest): a control of its support moved
 };
 
-// Checks a model before it is split: a two-manifold (it may be open unless `closed` is asked: the capped
-// treatment needs it closed) with no degenerate face (a repeated vertex or no area: its crossing would be
-// undefined). Throws DffdError naming the first face, edge or vertex at fault (0-based). O(V + E log E + F).
-void validateModel(const SurfaceMesh& model, bool closed);
+// Checks a model before it is split: a two-manifold (it may be open unless ModelClosure::Closed is asked:
+// the capped treatment needs it closed) with no degenerate face (a repeated vertex or no area: its crossing
+// would be undefined). Throws DffdError naming the first face, edge or vertex at fault (0-based).
+// O(V + E log E + F).
+void validateModel(const SurfaceMesh& model, ModelClosure closure);
 
 // The model split at every discontinuity (§3.2): each edge crossing u = u_i is split there (the whole
 // section, also beyond the box, where F is the identity and the lips stay together), vertices within
@@ -141,9 +177,9 @@ struct DffdSplit {
   std::vector<std::array<int, 2>> source_edge;  // per split point: the model edge's ends; {-1, -1} otherwise
   std::vector<std::int8_t> side;             // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
   std::vector<int> plane;                    // per vertex: index of the obstacle whose plane it lies on, or -1
-  int left_open = 0;                         // openings close_openings could not close (see below)
+  int left_open = 0;                         // openings Openings::Close could not close (see below)
 };
-// With close_openings, every opening the split leaves (a loop of duplicated vertices on one side of one
+// With Openings::Close, every opening the split leaves (a loop of duplicated vertices on one side of one
 // plane) is closed: its two halves, from its lowest-v vertex to its highest, get the same v-values (edges
 // split where the other half has a vertex) and are welded vertex to vertex. Once F is stitched
 // (GlobalDffd::stitch) both halves map onto the same seam, so the output is closed with no flat face. An
@@ -152,14 +188,14 @@ struct DffdSplit {
 // order of v instead, if that leaves a two-manifold; else it stays open (counted in left_open).
 // Cost O((V + F) log F) (plus O(F) per welded vertex). Failure: DffdError if the split model cannot be
 // rebuilt as a two-manifold.
-DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, bool close_openings = false);
+DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, Openings openings = Openings::Leave);
 // The same from the model's vertex positions and triangles (a moving model: its triangles never change).
 DffdSplit splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,
-                                 const GlobalDffd& dffd, bool close_openings = false);
+                                 const GlobalDffd& dffd, Openings openings = Openings::Leave);
 // The same into `out`, reusing its buffers (and per-thread working buffers): frame after frame, almost no
 // allocation once warmed up. Threads: one call at a time per thread.
 void splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,
-                            const GlobalDffd& dffd, bool close_openings, DffdSplit& out);
+                            const GlobalDffd& dffd, Openings openings, DffdSplit& out);
 
 // §3.2's stitching level for obstacle `index`: the mean w of the split's vertices on its plane (the box's
 // centre in w if there are none). O(V).

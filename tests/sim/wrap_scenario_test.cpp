@@ -1,0 +1,126 @@
+// Tests for sim/src/wrap_scenario.cpp: the shipped wrap scenarios load with their values (and the
+// defaults); syntax errors give file:line:column, bad values the key path, a bad obstacle its name.
+#include "incise/sim/wrap_scenario.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using namespace incise;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// Writes `text` as a wrap scenario in a folder with the bunny under meshes/ (so "meshes/bunny.obj" resolves).
+std::filesystem::path wrapFile(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "incise_wrap_scenario_test";
+  std::filesystem::create_directories(dir / "meshes");
+  const auto bunny = dir / "meshes" / "bunny.obj";
+  if (!std::filesystem::exists(bunny)) std::filesystem::copy_file(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", bunny);
+  const auto path = dir / (name + ".json");
+  std::ofstream(path) << text;
+  return path;
+}
+
+const std::string kBar = R"({ "name": "bar", "shape": "cylinder", "base_m": [0, 0, -0.03], "axis_m": [0, 0, 0.06], "radius_m": 0.005 })";
+
+// A scenario with a sphere for the model, `obstacles` and `more` keys.
+std::string scene(const std::string& obstacles, const std::string& more = "") {
+  return R"({ "model": { "shape": "sphere", "radius_m": 0.01 }, "obstacles": [ )" + obstacles + " ]" + more + " }";
+}
+
+}  // namespace
+
+TEST_CASE("wrap scenario: the shipped scenarios load with their values", "[sim]") {
+  const sim::WrapScenario s = sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/sphere-cylinder.json");
+  CHECK(s.name == "sphere-cylinder");
+  CHECK(s.model.mesh().n_vertices() > 0);
+  REQUIRE(s.obstacles.size() == 1);
+  CHECK(s.obstacles[0].name == "cylinder");
+  CHECK(s.obstacles[0].mesh.mesh().n_faces() > 0);
+  CHECK(s.options.order == 4);
+  CHECK(s.options.controls == std::array<int, 3>{24, 16, 8});
+  CHECK(s.options.margin_m == 0.025);
+  CHECK(s.options.kernel == cutting::DffdKernel::QuadraticBSpline);
+  CHECK(s.options.kernel_width == 6.0);
+  CHECK(s.options.clearance_m == 0.0005);
+  CHECK(s.options.v_knots == cutting::VKnots::AtObstacleExtremes);
+  CHECK(s.options.on_fold == cutting::FoldPolicy::Refuse);
+  CHECK(s.treatment == cutting::OpeningTreatment::Open);
+  CHECK(s.translate_m == Eigen::Vector3d(0.0, 0.07, 0.0));
+  CHECK(s.frames == 14);
+  CHECK(s.format == sim::WrapFormat::Obj);
+  CHECK(s.tolerance_m == 1e-6);
+  // The sphere squashed in z (stretch [1, 1, 0.5]) around its centre at y = -0.045.
+  double z_max = 0.0;
+  for (const auto v : s.model.mesh().vertices()) z_max = std::max(z_max, double(s.model.mesh().point(v)[2]));
+  CHECK(std::abs(z_max - 0.01) < 1e-9);
+
+  const sim::WrapScenario capped = sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/part-silhouette.json");
+  CHECK(capped.treatment == cutting::OpeningTreatment::Capped);
+  CHECK(capped.options.on_fold == cutting::FoldPolicy::Widen);
+  CHECK(capped.obstacles.at(0).name == "face");
+  const sim::WrapScenario stitched = sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/bunny-tool-stitched.json");
+  CHECK(stitched.treatment == cutting::OpeningTreatment::Stitched);
+  CHECK(stitched.obstacles.at(0).name == "tool");
+  CHECK(sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/sphere-cylinder-no-v-knots.json").options.v_knots == cutting::VKnots::None);
+}
+
+TEST_CASE("wrap scenario: defaults fill what a scenario leaves out", "[sim]") {
+  const std::string unnamed = R"({ "shape": "sphere", "centre_m": [0.05, 0, 0] })";
+  const sim::WrapScenario s = sim::loadWrapScenario(wrapFile("defaults", scene(kBar + ", " + unnamed)));
+  CHECK(s.name == "defaults");
+  REQUIRE(s.obstacles.size() == 2);
+  CHECK(s.obstacles[1].name == "obstacle 1");  // an obstacle without a name is named by its index
+  const cutting::GlobalDffdOptions o;
+  CHECK(s.options.controls == o.controls);
+  CHECK(s.options.kernel_width == o.kernel_width);
+  CHECK(s.treatment == cutting::OpeningTreatment::Open);
+  CHECK(s.frames == 20);
+  CHECK(s.translate_m == Eigen::Vector3d(0.0, 0.1, 0.0));
+  CHECK(s.format == sim::WrapFormat::Obj);
+  CHECK(sim::treatmentName(cutting::OpeningTreatment::Stitched) == std::string("stitched"));
+  CHECK(sim::formatName(sim::WrapFormat::Ply) == std::string("ply"));
+}
+
+TEST_CASE("wrap scenario: bad scenarios name the file and the key, the line or the obstacle", "[sim]") {
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("syntax", "{\n  \"model\": { \"shape\": \"sphere\" },\n  \"obstacles\": [ ]]\n}")),
+                      Contains("syntax.json:3:") && Contains("JSON syntax error"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("range", scene(kBar, R"(, "motion": { "frames": 0 })"))),
+                      Contains("range.json: motion.frames: 0 is outside [1, 100000]"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("type", scene(kBar, R"(, "lattice": { "kernel_width": "wide" })"))),
+                      Contains("type.json: lattice.kernel_width: must be a number"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("shape", R"({ "model": { "shape": "cube" }, "obstacles": [ )" + kBar + " ] }")),
+                      Contains("shape.json: model.shape: must be box, cylinder, sphere, prism or robot, got \"cube\""));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("obshape", scene(R"({ "name": "rod", "shape": "cone" })"))),
+                      Contains("obshape.json: obstacles[0].shape: must be box"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("treat", scene(kBar, R"(, "treatment": "glued")"))),
+                      Contains("treat.json: treatment: must be \"open\", \"stitched\" or \"capped\", got \"glued\""));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("kernel", scene(kBar, R"(, "lattice": { "kernel": "box" })"))),
+                      Contains("kernel.json: lattice.kernel: must be \"bspline\" or \"gaussian\""));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("noname", scene(R"({ "name": 7, "shape": "sphere" })"))),
+                      Contains("noname.json: obstacles[0].name: must be a string"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("nomesh", R"({ "model": { "mesh": "meshes/gone.obj" }, "obstacles": [ )" + kBar + " ] }")),
+                      Contains("nomesh.json: model.mesh: file") && Contains("gone.obj does not exist"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("obmesh", scene(R"({ "name": "lid", "mesh": "meshes/lid.obj" })"))),
+                      Contains("obmesh.json: obstacles[0].mesh: file") && Contains("lid.obj does not exist"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("nomodel", R"({ "obstacles": [ )" + kBar + " ] }")),
+                      Contains("nomodel.json: model: must be an object"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("noobstacles", R"({ "model": { "shape": "sphere" }, "obstacles": [] })")),
+                      Contains("noobstacles.json: obstacles: must be a non-empty array"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("notobject", "[1, 2]")), Contains("notobject.json: the document must be a JSON object"));
+  REQUIRE_THROWS_AS(sim::loadWrapScenario("/nonexistent/wrap.json"), sim::ScenarioError);
+}
+
+TEST_CASE("wrap scenario: a mesh that cannot be loaded names the file, and the obstacle", "[sim]") {
+  std::ofstream(std::filesystem::temp_directory_path() / "incise_wrap_scenario_test" / "meshes" / "open.obj")
+      << "v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nv 0 0 0.01\nf 1 3 2\nf 1 2 4\nf 2 3 4\n";
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("openob", scene(R"({ "name": "lid", "mesh": "meshes/open.obj" })"))),
+                      Contains("openob.json: obstacle 'lid': ") && Contains("open surface"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("openmodel", R"({ "model": { "mesh": "meshes/open.obj" }, "obstacles": [ )" + kBar + " ] }")),
+                      Contains("openmodel.json: ") && Contains("open surface"));
+  CHECK_NOTHROW(sim::loadWrapScenario(
+      wrapFile("bunny", R"({ "model": { "mesh": "meshes/bunny.obj", "scale": 0.01 }, "obstacles": [ )" + kBar + R"( ], "treatment": "capped" })")));
+}
