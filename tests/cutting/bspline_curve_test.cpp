@@ -244,7 +244,7 @@ TEST_CASE("bspline_curve: a rejected knot insertion names the value and leaves t
                       Contains("t = 0.1 ") && Contains("multiplicity 2"));
   CHECK(unchanged());
   curve.insertKnot(0.6, 4);
-  REQUIRE_THROWS_WITH(curve.insertKnot(0.6), Contains("0.59999999999999998"));
+  REQUIRE_THROWS_WITH(curve.insertKnot(0.6), Contains("t = 0.6 "));
   curve = original;
   REQUIRE_THROWS_WITH(curve.insertKnot(kNaN), Contains("nan"));
   REQUIRE_THROWS_WITH(curve.insertKnot(-1.0), Contains("-1"));  // the domain end is not strictly inside
