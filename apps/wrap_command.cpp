@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -22,6 +21,7 @@
 #include "incise/cutting/global_dffd.h"
 #include "incise/sim/wrap_scenario.h"
 #include "json_output.h"
+#include "progress.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -76,14 +76,6 @@ Frame wrapFrame(const WrapScenario& s, const GlobalDffd& base, int f) {
   return out;
 }
 
-void progress(int done, int total) {
-  if (!isatty(fileno(stderr))) return;
-  const int width = 40, filled = width * done / total;
-  std::fprintf(stderr, "\r[%s%s] %d/%d", std::string(static_cast<size_t>(filled), '#').c_str(),
-               std::string(static_cast<size_t>(width - filled), ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-}
-
 int runWrap(const std::string& scenario, const std::string& out_dir) {
   WrapScenario s;
   try {
@@ -104,6 +96,7 @@ int runWrap(const std::string& scenario, const std::string& out_dir) {
   std::string lines;
   bool ok = true;
   double worst = 0.0;
+  Progress progress("wrap " + s.name, s.frames + 1);
   for (int f = 0; f <= s.frames; ++f) {
     Frame frame;
     try {
@@ -118,8 +111,9 @@ int runWrap(const std::string& scenario, const std::string& out_dir) {
     worst = std::max(worst, penetration);
     ok = ok && penetration <= s.tolerance_m && (s.treatment == OpeningTreatment::Open || frame.line["boundary_loops"].get<int>() == 0);
     lines += frame.line.dump() + "\n";
-    progress(f + 1, s.frames + 1);
+    progress.update(f + 1);
   }
+  progress.finish();
   try {
     writeFileAtomically(out / "frames.jsonl", lines);
   } catch (const FileError& e) {
