@@ -14,8 +14,6 @@
 
 namespace incise::cutting {
 
-using detail::str;
-
 namespace {
 
 
@@ -48,8 +46,8 @@ VolumeBinding::VolumeBinding(const BSplineVolume& volume, std::span<const Eigen:
   for (size_t p = 0; p < n_points; ++p) {
     const Eigen::Vector3d& t = parameters[p];
     if (!volume.inDomain(t[0], t[1], t[2]))
-      throw std::invalid_argument("VolumeBinding: parameter point " + std::to_string(p) + " (" + str(t[0]) + ", " +
-                                  str(t[1]) + ", " + str(t[2]) + ") is NaN or outside the volume's domain");
+      throw std::invalid_argument("VolumeBinding: parameter point " + std::to_string(p) + " (" + formatNumber(t[0]) + ", " +
+                                  formatNumber(t[1]) + ", " + formatNumber(t[2]) + ") is NaN or outside the volume's domain");
     int corner[3];
     double* out = basis.data() + p * static_cast<size_t>(basis_stride_);
     for (int a = 0; a < 3; ++a) {

@@ -15,15 +15,13 @@
 
 namespace incise::cutting {
 
-using detail::str;
-
 namespace {
 
 
 
 void checkFinite(const Eigen::Vector3d& x, const char* who, const char* what) {
   if (!x.allFinite())
-    throw std::invalid_argument(std::string(who) + ": " + what + " " + str(x) + " is not finite");
+    throw std::invalid_argument(std::string(who) + ": " + what + " " + formatPoint(x) + " is not finite");
 }
 
 // Greville parameter of control i along one axis, kept on the control's own side of a C^-1 knot.
