@@ -1,6 +1,7 @@
 #include "incise/cutting/surface_mesh.h"
 
 #include "incise/cutting/format.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <array>
@@ -524,20 +525,14 @@ void checkVertex(Checker& c, VertexHandle v, int uses) {
 }
 
 int componentCount(const TriMesh& mesh) {
-  std::vector<int> parent(mesh.n_vertices());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[static_cast<size_t>(x)] != x)
-      x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
-    return x;
-  };
+  std::vector<int> storage;
+  detail::UnionFind components(storage, mesh.n_vertices());
   for (const auto e : mesh.edges()) {
     const auto h = mesh.halfedge_handle(e, 0);
-    parent[static_cast<size_t>(find(mesh.from_vertex_handle(h).idx()))] =
-        find(mesh.to_vertex_handle(h).idx());
+    components.unite(mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx());
   }
   int roots = 0;
-  for (const VertexHandle v : mesh.vertices()) roots += find(v.idx()) == v.idx();
+  for (const VertexHandle v : mesh.vertices()) roots += components.isRoot(v.idx());
   return roots;
 }
 

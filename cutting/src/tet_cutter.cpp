@@ -12,6 +12,7 @@
 #include "incise/cutting/surface_mesh.h"
 #include "incise/cutting/volume_inversion.h"
 #include "tet_split.h"
+#include "union_find.h"
 
 namespace incise::cutting {
 namespace {
@@ -26,12 +27,6 @@ double medianEdgeLength(const TetMesh& mesh, double& longest) {
   longest = *std::max_element(lengths.begin(), lengths.end());
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   return lengths[lengths.size() / 2];
-}
-
-// Union-find over a few elements (the tets around one node).
-int findRoot(std::vector<int>& parent, int i) {
-  while (parent[static_cast<size_t>(i)] != i) i = parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
-  return i;
 }
 
 }  // namespace
@@ -485,21 +480,20 @@ void TetCutter::separate(int x) {
   }
   std::sort(faces_.begin(), faces_.end(),
             [](const auto& p, const auto& q) { return std::tie(p[0], p[1], p[2]) < std::tie(q[0], q[1], q[2]); });
-  parent_.resize(elems.size());
-  std::iota(parent_.begin(), parent_.end(), 0);
+  detail::UnionFind joined(parent_, elems.size());  // over the children around x (a few)
   for (size_t i = 1; i < faces_.size(); ++i)
     if (faces_[i][0] == faces_[i - 1][0] && faces_[i][1] == faces_[i - 1][1])
-      parent_[static_cast<size_t>(findRoot(parent_, faces_[i][2]))] = findRoot(parent_, faces_[i - 1][2]);
+      joined.unite(faces_[i][2], faces_[i - 1][2]);
   // Each group's side: +1 if it holds + pieces only, -1 if - only, 0 if both or none.
   std::vector<std::uint8_t>& seen = group_seen_;
   seen.assign(elems.size(), 0);
   for (size_t k = 0; k < elems.size(); ++k) {
     const int s = children_[static_cast<size_t>(elems[k])].side;
-    if (s != 0) seen[static_cast<size_t>(findRoot(parent_, static_cast<int>(k)))] |= s > 0 ? 2u : 1u;
+    if (s != 0) seen[static_cast<size_t>(joined.find(static_cast<int>(k)))] |= s > 0 ? 2u : 1u;
   }
   int groups = 0, plus_groups = 0;
   for (size_t k = 0; k < elems.size(); ++k) {
-    if (findRoot(parent_, static_cast<int>(k)) != static_cast<int>(k)) continue;
+    if (!joined.isRoot(static_cast<int>(k))) continue;
     ++groups;
     if (seen[k] == 2u) ++plus_groups;
   }
@@ -519,7 +513,7 @@ void TetCutter::separate(int x) {
   const int copy = nodes_[static_cast<size_t>(x)].copy;
   if (doubled) setSide(copy, open ? 1 : 2);
   for (size_t k = 0; k < elems.size(); ++k) {
-    const bool to_copy = doubled && seen[static_cast<size_t>(findRoot(parent_, static_cast<int>(k)))] == 2u;
+    const bool to_copy = doubled && seen[static_cast<size_t>(joined.find(static_cast<int>(k)))] == 2u;
     for (int& n : children_[static_cast<size_t>(elems[k])].nodes)
       if (canonical(n) == x) n = to_copy ? copy : x;
   }
