@@ -1,5 +1,6 @@
 #include "incise/cutting/surface_mesh.h"
 
+#include "incise/cutting/atomic_file.h"
 #include "incise/cutting/format.h"
 #include "union_find.h"
 
@@ -544,61 +545,6 @@ int countOf(const Range& range) {
 // ---------------------------------------------------------------------------------------------------------
 // Saving
 
-// Writes `path + ".tmp"` through a buffer and renames it to `path` on commit(); removes the .tmp otherwise.
-class AtomicFile {
- public:
-  explicit AtomicFile(const std::filesystem::path& path) : path_(path), tmp_(path.string() + ".tmp") {
-    file_ = std::fopen(tmp_.c_str(), "wb");
-    if (!file_) fail("cannot write " + tmp_.string() + ": " + std::strerror(errno));
-    buffer_.reserve(kChunk + 256);
-  }
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-  ~AtomicFile() {
-    if (file_) std::fclose(file_);
-    if (!committed_) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp_, ignored);
-    }
-  }
-
-  void write(std::string_view text) {
-    buffer_ += text;
-    if (buffer_.size() >= kChunk) flush();
-  }
-  void number(double x) {
-    append(std::to_chars(scratch_, scratch_ + sizeof scratch_, x, std::chars_format::general, 17));
-  }
-  void number(long long x) { append(std::to_chars(scratch_, scratch_ + sizeof scratch_, x)); }
-
-  void commit() {
-    flush();
-    const bool closed = std::fclose(std::exchange(file_, nullptr)) == 0;
-    if (!closed) fail("cannot write " + tmp_.string() + ": " + std::strerror(errno));
-    std::error_code error;
-    std::filesystem::rename(tmp_, path_, error);
-    if (error) fail("cannot rename " + tmp_.string() + " to " + path_.string() + ": " + error.message());
-    committed_ = true;
-  }
-
- private:
-  static constexpr size_t kChunk = 1 << 20;
-  void append(std::to_chars_result r) {
-    write(std::string_view(scratch_, static_cast<size_t>(r.ptr - scratch_)));
-  }
-  void flush() {
-    if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
-      fail("cannot write " + tmp_.string() + ": " + std::strerror(errno));
-    buffer_.clear();
-  }
-
-  std::filesystem::path path_, tmp_;
-  std::FILE* file_ = nullptr;
-  std::string buffer_;
-  char scratch_[64];
-  bool committed_ = false;
-};
-
 // New 0-based indices of non-deleted vertices (-1 for deleted ones), in handle order. Throws for a
 // non-finite position before anything is written.
 std::vector<int> compactVertices(const TriMesh& mesh, const std::filesystem::path& path) {
@@ -616,39 +562,40 @@ std::vector<int> compactVertices(const TriMesh& mesh, const std::filesystem::pat
 void writeFaceVertices(AtomicFile& out, const TriMesh& mesh, FaceHandle f, const std::vector<int>& index,
                        int base) {
   for (const VertexHandle v : mesh.fv_range(f)) {
-    out.write(" ");
-    out.number(static_cast<long long>(index[static_cast<size_t>(v.idx())] + base));
+    out << ' ' << index[static_cast<size_t>(v.idx())] + base;
   }
 }
 
-void writeObjGroup(AtomicFile& out, const SurfaceMesh& surface, const std::vector<int>& index, bool wall) {
+// The OBJ groups, in file order: tissue (original and split faces), then wall.
+enum class ObjGroup { Tissue, Wall };
+
+void writeObjGroup(AtomicFile& out, const SurfaceMesh& surface, const std::vector<int>& index, ObjGroup group) {
   const TriMesh& mesh = surface.mesh();
+  const bool wall = group == ObjGroup::Wall;
   bool header = false;
   for (const FaceHandle f : mesh.faces()) {
     if ((surface.kind(f) == FaceKind::Wall) != wall) continue;
-    if (!header) out.write(wall ? "g wall\n" : "g tissue\n");
+    if (!header) out << (wall ? "g wall\n" : "g tissue\n");
     header = true;
-    out.write("f");
+    out << 'f';
     writeFaceVertices(out, mesh, f, index, 1);
-    out.write("\n");
+    out << '\n';
   }
 }
 
 void writePoint(AtomicFile& out, const OpenMesh::Vec3d& p) {
   for (int a = 0; a < 3; ++a) {
-    if (a > 0) out.write(" ");
-    out.number(p[a]);
+    if (a > 0) out << ' ';
+    out.number17(p[a]);
   }
 }
 
 void writePlyHeader(AtomicFile& out, const TriMesh& mesh) {
-  out.write(
-      "ply\nformat ascii 1.0\ncomment incise surface mesh; vertex kind 0 original, 1 seam, 2 wall; "
-      "face kind 0 original, 1 split, 2 wall\nelement vertex ");
-  out.number(static_cast<long long>(countOf(mesh.vertices())));
-  out.write("\nproperty double x\nproperty double y\nproperty double z\nproperty uchar kind\nelement face ");
-  out.number(static_cast<long long>(countOf(mesh.faces())));
-  out.write("\nproperty list uchar int vertex_indices\nproperty uchar kind\nend_header\n");
+  out << "ply\nformat ascii 1.0\ncomment incise surface mesh; vertex kind 0 original, 1 seam, 2 wall; "
+         "face kind 0 original, 1 split, 2 wall\nelement vertex "
+      << countOf(mesh.vertices())
+      << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar kind\nelement face "
+      << countOf(mesh.faces()) << "\nproperty list uchar int vertex_indices\nproperty uchar kind\nend_header\n";
 }
 
 }  // namespace
@@ -769,37 +716,37 @@ ManifoldReport checkManifold(const TriMesh& mesh) {
 void saveObj(const SurfaceMesh& surface, const std::filesystem::path& path) {
   const TriMesh& mesh = surface.mesh();
   const std::vector<int> index = compactVertices(mesh, path);
-  AtomicFile out(path);
-  out.write("# incise surface mesh: groups tissue (original and split faces) and wall\n");
-  for (const VertexHandle v : mesh.vertices()) {
-    out.write("v ");
-    writePoint(out, mesh.point(v));
-    out.write("\n");
-  }
-  writeObjGroup(out, surface, index, false);
-  writeObjGroup(out, surface, index, true);
-  out.commit();
+  rethrowFileErrorAs<MeshError>([&] {
+    AtomicFile out(path);
+    out << "# incise surface mesh: groups tissue (original and split faces) and wall\n";
+    for (const VertexHandle v : mesh.vertices()) {
+      out << "v ";
+      writePoint(out, mesh.point(v));
+      out << '\n';
+    }
+    writeObjGroup(out, surface, index, ObjGroup::Tissue);
+    writeObjGroup(out, surface, index, ObjGroup::Wall);
+    out.commit();
+  });
 }
 
 void savePly(const SurfaceMesh& surface, const std::filesystem::path& path) {
   const TriMesh& mesh = surface.mesh();
   const std::vector<int> index = compactVertices(mesh, path);
-  AtomicFile out(path);
-  writePlyHeader(out, mesh);
-  for (const VertexHandle v : mesh.vertices()) {
-    writePoint(out, mesh.point(v));
-    out.write(" ");
-    out.number(static_cast<long long>(surface.kind(v)));
-    out.write("\n");
-  }
-  for (const FaceHandle f : mesh.faces()) {
-    out.number(static_cast<long long>(mesh.valence(f)));
-    writeFaceVertices(out, mesh, f, index, 0);
-    out.write(" ");
-    out.number(static_cast<long long>(surface.kind(f)));
-    out.write("\n");
-  }
-  out.commit();
+  rethrowFileErrorAs<MeshError>([&] {
+    AtomicFile out(path);
+    writePlyHeader(out, mesh);
+    for (const VertexHandle v : mesh.vertices()) {
+      writePoint(out, mesh.point(v));
+      out << ' ' << static_cast<int>(surface.kind(v)) << '\n';
+    }
+    for (const FaceHandle f : mesh.faces()) {
+      out << static_cast<long long>(mesh.valence(f));
+      writeFaceVertices(out, mesh, f, index, 0);
+      out << ' ' << static_cast<int>(surface.kind(f)) << '\n';
+    }
+    out.commit();
+  });
 }
 
 MeshSummary summarize(const SurfaceMesh& surface) {
