@@ -17,14 +17,13 @@
 namespace incise::cutting {
 namespace {
 
-double medianEdgeLength(const TetMesh& mesh, double& longest) {
+double medianEdgeLength(const TetMesh& mesh) {
   std::vector<double> lengths;
   lengths.reserve(mesh.tets.size() * 6);
   for (const auto& t : mesh.tets)
     for (const auto& e : detail::kTetEdges)
       lengths.push_back((mesh.nodes_m[static_cast<size_t>(t[e[0]])] - mesh.nodes_m[static_cast<size_t>(t[e[1]])]).norm());
-  if (lengths.empty()) return longest = 0.0;
-  longest = *std::max_element(lengths.begin(), lengths.end());
+  if (lengths.empty()) return 0.0;
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   return lengths[lengths.size() / 2];
 }
@@ -41,16 +40,14 @@ TetCutter::TetCutter(TetMesh tissue, const TetCutterOptions& options) : options_
   if (tissue.tets.empty()) throw MeshError("TetCutter: the tissue has no tets");
   const TetCheck check = checkConforming(tissue);
   if (!check.conforming) throw MeshError("TetCutter: the tissue is not conforming: " + check.first_problem);
-  double longest = 0.0;
-  const double median = medianEdgeLength(tissue, longest);
+  const double median = medianEdgeLength(tissue);
   snap_m_ = options.snap_tolerance_m > 0.0 ? options.snap_tolerance_m : 0.2 * median;
   rebuild(std::move(tissue));
 }
 
 void TetCutter::rebuild(TetMesh mesh) {
   const size_t n_nodes = mesh.nodes_m.size(), n_tets = mesh.tets.size();
-  double longest = 0.0;
-  const double median = medianEdgeLength(mesh, longest);
+  const double median = medianEdgeLength(mesh);
   median_edge_m_ = median;
   base_tets_ = mesh.tets;
   rest_m_ = mesh.nodes_m;
