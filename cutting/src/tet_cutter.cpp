@@ -17,6 +17,10 @@
 namespace incise::cutting {
 namespace {
 
+// view()'s argument: the nodes where the cut has moved them, or at rest.
+constexpr bool kDeformed = true;
+constexpr bool kAtRest = false;
+
 double medianEdgeLength(const TetMesh& mesh) {
   std::vector<double> lengths;
   lengths.reserve(mesh.tets.size() * 6);
@@ -119,7 +123,7 @@ void TetCutter::reserveHeadroom() {
 }
 
 void TetCutter::startIncision(int incision_number) {
-  if (incision_number_ >= 0) rebuild(view(true).mesh);  // the previous wound, settled, is the new rest
+  if (incision_number_ >= 0) rebuild(view(kDeformed).mesh);  // the previous wound, settled, is the new rest
   incision_number_ = incision_number;
   const IncisionOptions& o = incision_->options();
   next_column_ = o.order - 1;
@@ -577,7 +581,7 @@ TetView TetCutter::view(bool deformed) const {
       v.split.push_back(tet_state_[t] == 0 ? 0 : tet_state_[t] == 2 ? 1 : 2);
     }
   TetMesh rest;  // quality of the split tets is judged at rest
-  if (deformed) rest = view(false).mesh;
+  if (deformed) rest = view(kAtRest).mesh;
   const TetMesh& at_rest = deformed ? rest : v.mesh;
   for (size_t t = 0; t < v.mesh.tets.size(); ++t) {
     if (tetVolume(v.mesh, static_cast<int>(t)) <= 0.0) ++v.inverted_tets;
