@@ -3,15 +3,10 @@
 #include "incise/cutting/format.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <sstream>
-#include <string_view>
-#include <system_error>
 #include <tuple>
 #include <utility>
 
@@ -232,7 +227,6 @@ void requireValidFields(const TetMesh& mesh, const std::map<std::string, std::ve
                                   " values for " + std::to_string(mesh.tets.size()) + " tets");
   }
 }
-
 
 // The three coordinates of a node, 17 significant digits each, separated by spaces.
 void writeNode(AtomicFile& out, const Eigen::Vector3d& p) {
