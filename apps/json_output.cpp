@@ -2,31 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <numeric>
-#include <stdexcept>
-#include <system_error>
+
+#include "incise/cutting/atomic_file.h"
 
 namespace incise::apps {
 
 void writeJsonAtomically(const nlohmann::json& document, const std::filesystem::path& path) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << document.dump(2) << '\n';
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw std::runtime_error("cannot write " + path.string());
-    }
-  }
-  std::error_code error;
-  std::filesystem::rename(tmp, path, error);
-  if (error) {
-    std::filesystem::remove(tmp, error);
-    throw std::runtime_error("cannot write " + path.string());
-  }
+  cutting::writeFileAtomically(path, document.dump(2) + "\n");
 }
 
 nlohmann::json timingSummary(std::vector<double> values_us) {

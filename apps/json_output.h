@@ -1,5 +1,6 @@
-// Writing a JSON document the way every incise output is written: to path + ".tmp", then renamed, so a
-// crash or a full disk never leaves half a file. Throws std::runtime_error naming the path.
+// Writing a JSON document the way every incise output is written (cutting::writeFileAtomically: to
+// path + ".tmp", then renamed), so a crash or a full disk never leaves half a file. Throws
+// cutting::FileError (a std::runtime_error) naming the file.
 #pragma once
 
 #include <filesystem>

@@ -16,22 +16,19 @@
 namespace incise::cutting {
 namespace {
 
-double medianEdgeLength(const TetMesh& mesh, double& longest) {
+// view()'s argument: the nodes where the cut has moved them, or at rest.
+constexpr bool kDeformed = true;
+constexpr bool kAtRest = false;
+
+double medianEdgeLength(const TetMesh& mesh) {
   std::vector<double> lengths;
   lengths.reserve(mesh.tets.size() * 6);
   for (const auto& t : mesh.tets)
     for (const auto& e : detail::kTetEdges)
       lengths.push_back((mesh.nodes_m[static_cast<size_t>(t[e[0]])] - mesh.nodes_m[static_cast<size_t>(t[e[1]])]).norm());
-  if (lengths.empty()) return longest = 0.0;
-  longest = *std::max_element(lengths.begin(), lengths.end());
+  if (lengths.empty()) return 0.0;
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   return lengths[lengths.size() / 2];
-}
-
-// Union-find over a few elements (the tets around one node).
-int findRoot(std::vector<int>& parent, int i) {
-  while (parent[static_cast<size_t>(i)] != i) i = parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
-  return i;
 }
 
 }  // namespace
@@ -46,16 +43,14 @@ TetCutter::TetCutter(TetMesh tissue, const TetCutterOptions& options) : options_
   if (tissue.tets.empty()) throw MeshError("TetCutter: the tissue has no tets");
   const TetCheck check = checkConforming(tissue);
   if (!check.conforming) throw MeshError("TetCutter: the tissue is not conforming: " + check.first_problem);
-  double longest = 0.0;
-  const double median = medianEdgeLength(tissue, longest);
+  const double median = medianEdgeLength(tissue);
   snap_m_ = options.snap_tolerance_m > 0.0 ? options.snap_tolerance_m : 0.2 * median;
   rebuild(std::move(tissue));
 }
 
 void TetCutter::rebuild(TetMesh mesh) {
   const size_t n_nodes = mesh.nodes_m.size(), n_tets = mesh.tets.size();
-  double longest = 0.0;
-  const double median = medianEdgeLength(mesh, longest);
+  const double median = medianEdgeLength(mesh);
   median_edge_m_ = median;
   base_tets_ = mesh.tets;
   rest_m_ = mesh.nodes_m;
@@ -127,7 +122,7 @@ void TetCutter::reserveHeadroom() {
 }
 
 void TetCutter::startIncision(int incision_number) {
-  if (incision_number_ >= 0) rebuild(view(true).mesh);  // the previous wound, settled, is the new rest
+  if (incision_number_ >= 0) rebuild(view(kDeformed).mesh);  // the previous wound, settled, is the new rest
   incision_number_ = incision_number;
   const IncisionOptions& o = incision_->options();
   next_column_ = o.order - 1;
@@ -446,85 +441,6 @@ void TetCutter::subdivide(int t, TetStep& step) {
   ++step.tets_subdivided;
 }
 
-void TetCutter::supportTets(int x, std::vector<int>& out) const {
-  out.clear();
-  const Node& d = nodes_[static_cast<size_t>(x)];
-  const auto first = node_tets_.begin();
-  if (d.state == NodeState::EdgePoint) {
-    const int lo = edges_[static_cast<size_t>(d.support)][0], hi = edges_[static_cast<size_t>(d.support)][1];
-    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)], first + node_tets_first_[static_cast<size_t>(lo) + 1],
-                          first + node_tets_first_[static_cast<size_t>(hi)], first + node_tets_first_[static_cast<size_t>(hi) + 1],
-                          std::back_inserter(out));
-  } else {
-    out.assign(first + node_tets_first_[static_cast<size_t>(x)], first + node_tets_first_[static_cast<size_t>(x) + 1]);
-  }
-}
-
-void TetCutter::separate(int x) {
-  supportTets(x, scratch_);
-  // The children around x, and union-find over them through faces that contain x and are not cut faces.
-  std::vector<int>& elems = scratch2_;
-  elems.clear();
-  for (const int t : scratch_)
-    for (int c = child_first_[static_cast<size_t>(t)]; c < child_first_[static_cast<size_t>(t)] + child_count_[static_cast<size_t>(t)]; ++c)
-      for (const int n : children_[static_cast<size_t>(c)].nodes)
-        if (canonical(n) == x) {
-          elems.push_back(c);
-          break;
-        }
-  faces_.clear();
-  for (size_t k = 0; k < elems.size(); ++k) {
-    const Child& ch = children_[static_cast<size_t>(elems[k])];
-    for (int i = 0; i < 4; ++i) {
-      if (canonical(ch.nodes[static_cast<size_t>(i)]) == x || (ch.cut_faces >> i & 1u)) continue;
-      int other[2], m = 0;
-      for (int j = 0; j < 4; ++j)
-        if (j != i && canonical(ch.nodes[static_cast<size_t>(j)]) != x) other[m++] = canonical(ch.nodes[static_cast<size_t>(j)]);
-      faces_.push_back({std::min(other[0], other[1]), std::max(other[0], other[1]), static_cast<int>(k)});
-    }
-  }
-  std::sort(faces_.begin(), faces_.end(),
-            [](const auto& p, const auto& q) { return std::tie(p[0], p[1], p[2]) < std::tie(q[0], q[1], q[2]); });
-  parent_.resize(elems.size());
-  std::iota(parent_.begin(), parent_.end(), 0);
-  for (size_t i = 1; i < faces_.size(); ++i)
-    if (faces_[i][0] == faces_[i - 1][0] && faces_[i][1] == faces_[i - 1][1])
-      parent_[static_cast<size_t>(findRoot(parent_, faces_[i][2]))] = findRoot(parent_, faces_[i - 1][2]);
-  // Each group's side: +1 if it holds + pieces only, -1 if - only, 0 if both or none.
-  std::vector<std::uint8_t>& seen = group_seen_;
-  seen.assign(elems.size(), 0);
-  for (size_t k = 0; k < elems.size(); ++k) {
-    const int s = children_[static_cast<size_t>(elems[k])].side;
-    if (s != 0) seen[static_cast<size_t>(findRoot(parent_, static_cast<int>(k)))] |= s > 0 ? 2u : 1u;
-  }
-  int groups = 0, plus_groups = 0;
-  for (size_t k = 0; k < elems.size(); ++k) {
-    if (findRoot(parent_, static_cast<int>(k)) != static_cast<int>(k)) continue;
-    ++groups;
-    if (seen[k] == 2u) ++plus_groups;
-  }
-  Node& d = nodes_[static_cast<size_t>(x)];
-  const bool doubled = groups >= 2 && plus_groups > 0 && plus_groups < groups;
-  if (doubled && d.copy < 0) {
-    const Eigen::Vector3d rest = rest_m_[static_cast<size_t>(x)], uvw = d.uvw;
-    const int copy = addNode(rest, uvw, NodeState::Copy, 1);
-    nodes_[static_cast<size_t>(x)].copy = copy;
-    nodes_[static_cast<size_t>(copy)].origin = x;
-    ++stats_.duplicated_nodes;
-  }
-  // Below the blade's depth the two sides stay together (the mean of both, as the surface cutter's wall
-  // bottom): the tets there are cut apart (the blade's bottom passed through them) but the slit is shut.
-  const bool open = doubled && nodes_[static_cast<size_t>(x)].uvw[2] < incision_->bottomW();
-  setSide(x, open ? -1 : 2);
-  const int copy = nodes_[static_cast<size_t>(x)].copy;
-  if (doubled) setSide(copy, open ? 1 : 2);
-  for (size_t k = 0; k < elems.size(); ++k) {
-    const bool to_copy = doubled && seen[static_cast<size_t>(findRoot(parent_, static_cast<int>(k)))] == 2u;
-    for (int& n : children_[static_cast<size_t>(elems[k])].nodes)
-      if (canonical(n) == x) n = to_copy ? copy : x;
-  }
-}
-
 void TetCutter::redeform(const Incision& in, TetStep& step) {
   if (++stamp_ == 0) stamp_ = 1;
   const auto move = [&](int n) {
@@ -586,7 +502,7 @@ TetView TetCutter::view(bool deformed) const {
       v.split.push_back(tet_state_[t] == 0 ? 0 : tet_state_[t] == 2 ? 1 : 2);
     }
   TetMesh rest;  // quality of the split tets is judged at rest
-  if (deformed) rest = view(false).mesh;
+  if (deformed) rest = view(kAtRest).mesh;
   const TetMesh& at_rest = deformed ? rest : v.mesh;
   for (size_t t = 0; t < v.mesh.tets.size(); ++t) {
     if (tetVolume(v.mesh, static_cast<int>(t)) <= 0.0) ++v.inverted_tets;

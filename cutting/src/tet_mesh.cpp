@@ -1,16 +1,12 @@
 #include "incise/cutting/tet_mesh.h"
+#include "incise/cutting/atomic_file.h"
 #include "incise/cutting/format.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <sstream>
-#include <string_view>
-#include <system_error>
 #include <tuple>
 #include <utility>
 
@@ -85,67 +81,6 @@ void forEachFace(const std::vector<FaceSide>& sides, Visit visit) {
   }
 }
 
-
-// Writes path + ".tmp" and renames it to path on commit(); removes the .tmp otherwise.
-class AtomicText {
- public:
-  explicit AtomicText(std::filesystem::path path) : path_(std::move(path)), tmp_(path_.string() + ".tmp") {
-    file_ = std::fopen(tmp_.c_str(), "wb");
-    if (!file_) throw MeshError("cannot write " + tmp_.string() + ": " + std::strerror(errno));
-  }
-  AtomicText(const AtomicText&) = delete;
-  AtomicText& operator=(const AtomicText&) = delete;
-  ~AtomicText() {
-    if (file_) std::fclose(file_);
-    if (!renamed_) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp_, ignored);
-    }
-  }
-
-  AtomicText& operator<<(std::string_view text) {
-    buffer_ += text;
-    if (buffer_.size() >= (1u << 20)) flush();
-    return *this;
-  }
-  AtomicText& operator<<(double x) {
-    char s[64];
-    const auto r = std::to_chars(s, s + sizeof s, x, std::chars_format::general, 17);
-    return *this << std::string_view(s, static_cast<size_t>(r.ptr - s));
-  }
-  AtomicText& operator<<(long long x) {
-    char s[32];
-    const auto r = std::to_chars(s, s + sizeof s, x);
-    return *this << std::string_view(s, static_cast<size_t>(r.ptr - s));
-  }
-  AtomicText& operator<<(int x) { return *this << static_cast<long long>(x); }
-  AtomicText& operator<<(size_t x) { return *this << static_cast<long long>(x); }
-
-  // Flushes and closes the .tmp (throws on failure); rename() then moves it into place.
-  void close() {
-    flush();
-    if (std::fclose(std::exchange(file_, nullptr)) != 0)
-      throw MeshError("cannot write " + tmp_.string() + ": " + std::strerror(errno));
-  }
-  void rename() {
-    std::error_code error;
-    std::filesystem::rename(tmp_, path_, error);
-    if (error) throw MeshError("cannot rename " + tmp_.string() + " to " + path_.string() + ": " + error.message());
-    renamed_ = true;
-  }
-
- private:
-  void flush() {
-    if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
-      throw MeshError("cannot write " + tmp_.string() + ": " + std::strerror(errno));
-    buffer_.clear();
-  }
-
-  std::filesystem::path path_, tmp_;
-  std::FILE* file_ = nullptr;
-  std::string buffer_;
-  bool renamed_ = false;
-};
 
 void requireValidIndices(const TetMesh& mesh) {
   const long long n = static_cast<long long>(mesh.nodes_m.size());
@@ -293,17 +228,16 @@ void requireValidFields(const TetMesh& mesh, const std::map<std::string, std::ve
   }
 }
 
-}  // namespace
+// The three coordinates of a node, 17 significant digits each, separated by spaces.
+void writeNode(AtomicFile& out, const Eigen::Vector3d& p) {
+  out.number17(p[0]) << " ";
+  out.number17(p[1]) << " ";
+  out.number17(p[2]);
+}
 
-void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
-             const std::map<std::string, std::vector<int>>& cell_fields) {
-  requireValidIndices(mesh);
-  requireValidFields(mesh, cell_fields, "saveVtu");
-  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
-    if (!mesh.nodes_m[v].allFinite())
-      throw MeshError("cannot save " + path.string() + ": node " + std::to_string(v) + " is not finite");
-
-  AtomicText out(path);
+void writeVtu(const TetMesh& mesh, const std::filesystem::path& path,
+              const std::map<std::string, std::vector<int>>& cell_fields) {
+  AtomicFile out(path);
   out << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "  <UnstructuredGrid>\n"
@@ -311,7 +245,11 @@ void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
       << "\">\n"
       << "      <Points>\n"
       << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : mesh.nodes_m) out << "          " << p[0] << " " << p[1] << " " << p[2] << "\n";
+  for (const auto& p : mesh.nodes_m) {
+    out << "          ";
+    writeNode(out, p);
+    out << "\n";
+  }
   out << "        </DataArray>\n"
       << "      </Points>\n"
       << "      <Cells>\n"
@@ -337,22 +275,19 @@ void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
   out << "    </Piece>\n"
       << "  </UnstructuredGrid>\n"
       << "</VTKFile>\n";
-  out.close();
-  out.rename();
+  out.commit();
 }
 
-void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem,
-                 const std::map<std::string, std::vector<int>>& cell_fields) {
-  requireValidIndices(mesh);
-  requireValidFields(mesh, cell_fields, "saveNodeEle");
-  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
-    if (!mesh.nodes_m[v].allFinite())
-      throw MeshError("cannot save " + stem.string() + ".node: node " + std::to_string(v) + " is not finite");
-  AtomicText node(stem.string() + ".node");
+void writeNodeEle(const TetMesh& mesh, const std::filesystem::path& stem,
+                  const std::map<std::string, std::vector<int>>& cell_fields) {
+  AtomicFile node(stem.string() + ".node");
   node << mesh.nodes_m.size() << " 3 0 0\n";
-  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
-    node << v << " " << mesh.nodes_m[v][0] << " " << mesh.nodes_m[v][1] << " " << mesh.nodes_m[v][2] << "\n";
-  AtomicText ele(stem.string() + ".ele");
+  for (size_t v = 0; v < mesh.nodes_m.size(); ++v) {
+    node << v << " ";
+    writeNode(node, mesh.nodes_m[v]);
+    node << "\n";
+  }
+  AtomicFile ele(stem.string() + ".ele");
   ele << mesh.tets.size() << " 4 " << cell_fields.size() << "\n";
   if (!cell_fields.empty()) {
     ele << "# attributes:";
@@ -365,10 +300,34 @@ void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem,
     for (const auto& field : cell_fields) ele << " " << field.second[t];
     ele << "\n";
   }
+  // Both closed before either is renamed: a write failure leaves both previous files.
   node.close();
   ele.close();
-  node.rename();
-  ele.rename();
+  node.commit();
+  ele.commit();
+}
+
+}  // namespace
+
+void saveVtu(const TetMesh& mesh, const std::filesystem::path& path,
+             const std::map<std::string, std::vector<int>>& cell_fields) {
+  requireValidIndices(mesh);
+  requireValidFields(mesh, cell_fields, "saveVtu");
+  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
+    if (!mesh.nodes_m[v].allFinite())
+      throw MeshError("cannot save " + path.string() + ": node " + std::to_string(v) + " is not finite");
+
+  rethrowFileErrorAs<MeshError>([&] { writeVtu(mesh, path, cell_fields); });
+}
+
+void saveNodeEle(const TetMesh& mesh, const std::filesystem::path& stem,
+                 const std::map<std::string, std::vector<int>>& cell_fields) {
+  requireValidIndices(mesh);
+  requireValidFields(mesh, cell_fields, "saveNodeEle");
+  for (size_t v = 0; v < mesh.nodes_m.size(); ++v)
+    if (!mesh.nodes_m[v].allFinite())
+      throw MeshError("cannot save " + stem.string() + ".node: node " + std::to_string(v) + " is not finite");
+  rethrowFileErrorAs<MeshError>([&] { writeNodeEle(mesh, stem, cell_fields); });
 }
 
 }  // namespace incise::cutting

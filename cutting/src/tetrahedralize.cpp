@@ -50,26 +50,9 @@ const char* tetgenMeaning(int code) {
   }
 }
 
-}  // namespace
-
-TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& options) {
-  if (!std::isfinite(options.radius_edge_ratio) ||
-      (options.radius_edge_ratio != 0 && options.radius_edge_ratio < 1.0))
-    throw std::invalid_argument("tetrahedralize: radius_edge_ratio " + number(options.radius_edge_ratio) +
-                                " is not 0 or a finite value >= 1");
-  if (!std::isfinite(options.max_volume_m3) || options.max_volume_m3 < 0)
-    throw std::invalid_argument("tetrahedralize: max_volume_m3 " + number(options.max_volume_m3) +
-                                " is not a finite value >= 0");
-  const TriMesh& mesh = surface.mesh();
-  const ManifoldReport report = checkManifold(mesh);
-  if (!report.closed_two_manifold)
-    throw MeshError("tetrahedralize: the surface is not a closed two-manifold: " + report.first_problem);
-  // TetGen 1.5 may crash instead of failing on a self-intersecting surface: never hand it one.
-  if (const auto pair = findSelfIntersection(mesh))
-    throw MeshError("tetrahedralize: the surface intersects itself: face " + std::to_string(pair->first) +
-                    " and face " + std::to_string(pair->second));
-
-  tetgenio in, out;  // tetgenio frees its arrays with delete[]
+// The surface's non-deleted vertices and faces as TetGen's input (0-based): one facet of one triangle per
+// face. The arrays are TetGen's to free (tetgenio's destructor, with delete[]).
+void fillInput(const TriMesh& mesh, tetgenio& in) {
   in.firstnumber = 0;
   std::vector<int> compact(mesh.n_vertices(), -1);
   int vertices = 0;
@@ -101,22 +84,10 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& 
     int k = 0;
     for (const auto v : mesh.fv_range(f)) polygon.vertexlist[k++] = compact[static_cast<size_t>(v.idx())];
   }
+}
 
-  // p: the input is a piecewise linear complex; z: 0-based output; Q: quiet. Appended, not "q" + ...:
-  // GCC 12 warns falsely on that (-Wrestrict, PR 105651).
-  std::string switches = "pzQ";
-  if (options.radius_edge_ratio > 0) switches.append("q").append(number(options.radius_edge_ratio));
-  if (options.max_volume_m3 > 0) switches.append("a").append(number(options.max_volume_m3));
-  if (options.keep_surface) switches += "Y";
-  try {
-    ::tetrahedralize(switches.data(), &in, &out);
-  } catch (int code) {
-    throw MeshError("tetrahedralize: TetGen (switches \"" + switches + "\") failed with code " +
-                    std::to_string(code) + ": " + tetgenMeaning(code));
-  }
-  if (out.numberofcorners != 4)
-    throw MeshError("tetrahedralize: TetGen returned " + std::to_string(out.numberofcorners) + "-node tets");
-
+// TetGen's tets as a TetMesh, each positively oriented; throws MeshError for a node index out of range.
+TetMesh readOutput(const tetgenio& out) {
   TetMesh result;
   result.nodes_m.resize(static_cast<size_t>(out.numberofpoints));
   for (int i = 0; i < out.numberofpoints; ++i)
@@ -135,6 +106,47 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& 
                  result.nodes_m[static_cast<size_t>(tet[3])]) < 0)
       std::swap(tet[2], tet[3]);
   }
+  return result;
+}
+
+}  // namespace
+
+TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& options) {
+  if (!std::isfinite(options.radius_edge_ratio) ||
+      (options.radius_edge_ratio != 0 && options.radius_edge_ratio < 1.0))
+    throw std::invalid_argument("tetrahedralize: radius_edge_ratio " + number(options.radius_edge_ratio) +
+                                " is not 0 or a finite value >= 1");
+  if (!std::isfinite(options.max_volume_m3) || options.max_volume_m3 < 0)
+    throw std::invalid_argument("tetrahedralize: max_volume_m3 " + number(options.max_volume_m3) +
+                                " is not a finite value >= 0");
+  const TriMesh& mesh = surface.mesh();
+  const ManifoldReport report = checkManifold(mesh);
+  if (!report.closed_two_manifold)
+    throw MeshError("tetrahedralize: the surface is not a closed two-manifold: " + report.first_problem);
+  // TetGen 1.5 may crash instead of failing on a self-intersecting surface: never hand it one.
+  if (const auto pair = findSelfIntersection(mesh))
+    throw MeshError("tetrahedralize: the surface intersects itself: face " + std::to_string(pair->first) +
+                    " and face " + std::to_string(pair->second));
+
+  tetgenio in, out;  // tetgenio frees its arrays with delete[]
+  fillInput(mesh, in);
+
+  // p: the input is a piecewise linear complex; z: 0-based output; Q: quiet. Appended, not "q" + ...:
+  // GCC 12 warns falsely on that (-Wrestrict, PR 105651).
+  std::string switches = "pzQ";
+  if (options.radius_edge_ratio > 0) switches.append("q").append(number(options.radius_edge_ratio));
+  if (options.max_volume_m3 > 0) switches.append("a").append(number(options.max_volume_m3));
+  if (options.keep_surface) switches += "Y";
+  try {
+    ::tetrahedralize(switches.data(), &in, &out);
+  } catch (int code) {
+    throw MeshError("tetrahedralize: TetGen (switches \"" + switches + "\") failed with code " +
+                    std::to_string(code) + ": " + tetgenMeaning(code));
+  }
+  if (out.numberofcorners != 4)
+    throw MeshError("tetrahedralize: TetGen returned " + std::to_string(out.numberofcorners) + "-node tets");
+
+  TetMesh result = readOutput(out);
   buildAdjacency(result);
   return result;
 }

@@ -1,6 +1,7 @@
-// Tests for cutting/src/shapes.cpp: every generated mesh is a closed, outward-oriented two-manifold of genus
-// 0 per component with the expected element counts and volume; the face silhouette is non-convex and
-// monotone in y; the robot's parts are disjoint; bad arguments are refused with their value.
+// Tests for cutting/src/shapes.cpp and shapes_prism.cpp: every generated mesh is a closed, outward-oriented
+// two-manifold of genus 0 per component with the expected element counts and volume; the face silhouette
+// is non-convex and monotone in y; the robot's parts are disjoint; bad arguments are refused with their
+// value.
 #include "incise/cutting/shapes.h"
 
 #include <algorithm>

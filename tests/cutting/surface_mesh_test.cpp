@@ -1,5 +1,6 @@
-// Tests for cutting/src/surface_mesh.cpp: OBJ loading and its error messages, the closed-two-manifold
-// check, OBJ/PLY saving, kinds, the JSON summary and Loop subdivision of the bunny.
+// Tests for cutting/src/surface_mesh.cpp, surface_mesh_io.cpp and surface_mesh_check.cpp: OBJ loading and
+// its error messages, the closed-two-manifold check, OBJ/PLY saving, kinds, the JSON summary and Loop
+// subdivision of the bunny.
 #include "incise/cutting/surface_mesh.h"
 
 #include <algorithm>
@@ -353,7 +354,8 @@ TEST_CASE("surface_mesh: checkManifold counts boundary, pinched vertices, degene
           "[cutting]") {
   SECTION("a deleted face leaves 3 boundary edges, before and after garbage collection") {
     SurfaceMesh tet = tetrahedron();
-    tet.mesh().delete_face(TriMesh::FaceHandle(3), false);
+    const bool delete_isolated_vertices = false;  // there are none: every vertex keeps two faces
+    tet.mesh().delete_face(TriMesh::FaceHandle(3), delete_isolated_vertices);
     for (int pass = 0; pass < 2; ++pass) {
       const ManifoldReport r = checkManifold(tet.mesh());
       REQUIRE_FALSE(r.closed_two_manifold);

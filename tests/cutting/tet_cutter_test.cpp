@@ -1,6 +1,6 @@
-// Tests for cutting/src/tet_cutter.cpp and cutting/src/tet_split.cpp: single tets split in every case, and
-// the bunny's tets cut along a stroke with the surface cutter's incision: volume, conformity, separation,
-// agreement with the drawn surface, determinism, budgets, bad input.
+// Tests for cutting/src/tet_cutter.cpp, tet_cutter_separate.cpp and tet_split.cpp: single tets split in
+// every case, and the bunny's tets cut along a stroke with the surface cutter's incision: volume,
+// conformity, separation, agreement with the drawn surface, determinism, budgets, bad input.
 #include "incise/cutting/tet_cutter.h"
 
 #include <algorithm>
@@ -21,6 +21,11 @@
 namespace incise::cutting {
 namespace {
 
+// follow()'s budget switch and view()'s argument, by name.
+constexpr bool kUnlimited = true;
+constexpr bool kDeformed = true;
+constexpr bool kAtRest = false;
+
 // ---------------------------------------------------------------------------------------------------------
 // One tet, split by hand-made signs and edge points.
 
@@ -35,10 +40,14 @@ struct Sink final : detail::SteinerSink {
 const std::array<Eigen::Vector3d, 4> kCorners = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
                                                  Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1)};
 
+// How tetInput's tet is split: along phi = 0, or conformingly only (a crack-front tet: kept one piece).
+enum class Mode { Cut, ConformingOnly };
+
 // phi per node; points at the linear zero crossing on every edge whose ends have opposite signs (ids 10+e),
 // or only on `only_edges` for a conforming (not cut) subdivision.
-detail::SplitInput tetInput(std::array<double, 4> phi, bool cut, std::vector<int> only_edges = {}) {
+detail::SplitInput tetInput(std::array<double, 4> phi, Mode mode, std::vector<int> only_edges = {}) {
   detail::SplitInput in;
+  const bool cut = mode == Mode::Cut;
   in.cut = cut;
   for (int i = 0; i < 4; ++i) in.nodes[i] = {i, kCorners[i], phi[i] < 0 ? -1 : phi[i] > 0 ? 1 : 0};
   for (int e = 0; e < 6; ++e) {
@@ -101,7 +110,7 @@ void requireValidSplit(const Split& s) {
 }
 
 TEST_CASE("tet_split: a corner cut off through three edges", "[cutting]") {
-  const Split s = runSplit(tetInput({-1.0, 1.0, 1.0, 1.0}, true));
+  const Split s = runSplit(tetInput({-1.0, 1.0, 1.0, 1.0}, Mode::Cut));
   requireValidSplit(s);
   // The - piece is the corner tet (volume (1/2)^3 / 6) and the cut is the triangle through the midpoints.
   double minus = 0;
@@ -112,7 +121,7 @@ TEST_CASE("tet_split: a corner cut off through three edges", "[cutting]") {
 }
 
 TEST_CASE("tet_split: a quad cut through four edges", "[cutting]") {
-  const Split s = runSplit(tetInput({-1.0, -1.0, 1.0, 1.0}, true));
+  const Split s = runSplit(tetInput({-1.0, -1.0, 1.0, 1.0}, Mode::Cut));
   requireValidSplit(s);
   std::set<std::array<int, 3>> faces;
   cutArea(s, &faces);
@@ -122,19 +131,19 @@ TEST_CASE("tet_split: a quad cut through four edges", "[cutting]") {
 
 TEST_CASE("tet_split: cuts through a node, through two nodes and along a face", "[cutting]") {
   SECTION("a node and two edges") {
-    const Split s = runSplit(tetInput({0.0, -1.0, 1.0, 1.0}, true));
+    const Split s = runSplit(tetInput({0.0, -1.0, 1.0, 1.0}, Mode::Cut));
     requireValidSplit(s);
     // The triangle node 0 - midpoint(1, 2) - midpoint(1, 3), marked from both sides.
     const double area = 0.5 * Eigen::Vector3d(0.5, 0.5, 0).cross(Eigen::Vector3d(0.5, 0, 0.5)).norm();
     CHECK(cutArea(s) == Approx(2 * area).epsilon(1e-12));
   }
   SECTION("two nodes and an edge") {
-    const Split s = runSplit(tetInput({0.0, 0.0, -1.0, 2.0}, true));
+    const Split s = runSplit(tetInput({0.0, 0.0, -1.0, 2.0}, Mode::Cut));
     requireValidSplit(s);
     CHECK(s.mesh.tets.size() == 2);
   }
   SECTION("a face on the cut: no split, the face marked") {
-    const Split s = runSplit(tetInput({0.0, 0.0, 0.0, 1.0}, true));
+    const Split s = runSplit(tetInput({0.0, 0.0, 0.0, 1.0}, Mode::Cut));
     requireValidSplit(s);
     REQUIRE(s.mesh.tets.size() == 1);
     CHECK(s.cut_faces[0] == (1u << 3));
@@ -144,7 +153,7 @@ TEST_CASE("tet_split: cuts through a node, through two nodes and along a face", 
 
 TEST_CASE("tet_split: a crack-front tet keeps its split edges without separating", "[cutting]") {
   for (const std::vector<int>& edges : {std::vector<int>{0}, std::vector<int>{0, 1}, std::vector<int>{0, 1, 2}}) {
-    const Split s = runSplit(tetInput({-1.0, 1.0, 1.0, 1.0}, false, edges));
+    const Split s = runSplit(tetInput({-1.0, 1.0, 1.0, 1.0}, Mode::ConformingOnly, edges));
     requireValidSplit(s);
     CHECK(cutArea(s) == 0);
     // Every point on an edge is used (the faces it lies on are split there).
@@ -159,7 +168,7 @@ TEST_CASE("tet_split: a crack-front tet keeps its split edges without separating
 TEST_CASE("tet_split: two tets sharing a face triangulate it the same way", "[cutting]") {
   // Tets (0,1,2,3) and (1,0,2,4) share face 0-1-2; points on edges 0-1 and 0-2 of that face.
   const Eigen::Vector3d below(0.2, 0.3, -1.0);
-  detail::SplitInput a = tetInput({-1.0, 1.0, 1.0, 1.0}, true);
+  detail::SplitInput a = tetInput({-1.0, 1.0, 1.0, 1.0}, Mode::Cut);
   detail::SplitInput b;
   b.cut = false;
   const std::array<int, 4> ids = {1, 0, 2, 4};
@@ -226,10 +235,10 @@ Run cutBunny(int group = 1, int budget = 0, std::function<void(const TetCutter&,
   cutter.finish();
   cutter.advance(1e9);
   while (cutter.pending()) cutter.advance(1e9);
-  tets.follow(*cutter.incision(), cutter.stats().incisions, true);
+  tets.follow(*cutter.incision(), cutter.stats().incisions, kUnlimited);
   REQUIRE_FALSE(tets.pending());
-  run.rest = tets.view(false);
-  run.deformed = tets.view(true);
+  run.rest = tets.view(kAtRest);
+  run.deformed = tets.view(kDeformed);
   run.stats = tets.stats();
   run.snap_m = tets.snapToleranceM();
   return run;
@@ -360,10 +369,10 @@ TEST_CASE("tet_cutter: volume and conformity hold after every step of the stroke
   const double original = volume(bunnyTissue().tets);
   int checks = 0;
   cutBunny(1, 0, [&](const TetCutter& tets, const SurfaceCutter&) {
-    const TetView v = tets.view(false);
+    const TetView v = tets.view(kAtRest);
     CHECK(std::abs(volume(v.mesh) - original) <= 1e-9 * original);
     CHECK(checkConforming(v.mesh).conforming);
-    CHECK(tets.view(true).inverted_tets == 0);
+    CHECK(tets.view(kDeformed).inverted_tets == 0);
     ++checks;
   });
   CHECK(checks > 3);
@@ -376,7 +385,7 @@ TEST_CASE("tet_cutter: a second incision crossing the first cuts the already cut
   TetCutter tets(tissue.tets);
   const auto stroke = [&](const Stroke& s) {
     cutter.settle();  // the tets catch up with the previous incision before begin() replaces it
-    if (cutter.incision()) tets.follow(*cutter.incision(), cutter.stats().incisions, true);
+    if (cutter.incision()) tets.follow(*cutter.incision(), cutter.stats().incisions, kUnlimited);
     cutter.begin(s.first, s.blade_direction);
     for (const auto& sample : s.samples) {
       cutter.extend(sample);
@@ -384,16 +393,16 @@ TEST_CASE("tet_cutter: a second incision crossing the first cuts the already cut
     }
     cutter.finish();
     cutter.advance(1e9);
-    tets.follow(*cutter.incision(), cutter.stats().incisions, true);
+    tets.follow(*cutter.incision(), cutter.stats().incisions, kUnlimited);
   };
   stroke(testing::backStroke(tissue.surface, 0.03));
   const int first_cut = tets.stats().tets_cut;
-  const TetView after_first = tets.view(true);
+  const TetView after_first = tets.view(kDeformed);
   stroke(testing::backStroke(tissue.surface, 0.025, 0.0, Eigen::Vector3d(0.0, 0.0, 0.005), Eigen::Vector3d::UnitZ(), 10.0));
   REQUIRE(tets.stats().incisions == 2);
   REQUIRE(tets.stats().failure.empty());
   CHECK(tets.stats().tets_cut > first_cut + 20);
-  const TetView rest = tets.view(false), deformed = tets.view(true);
+  const TetView rest = tets.view(kAtRest), deformed = tets.view(kDeformed);
   // The second incision's rest state is the first one's settled result.
   CHECK(std::abs(volume(rest.mesh) - volume(after_first.mesh)) <= 1e-9 * volume(after_first.mesh));
   for (const TetView* v : {&rest, &deformed}) {
@@ -418,7 +427,7 @@ TEST_CASE("tet_cutter: bad tissue and options are refused at load", "[cutting]")
 }
 
 TEST_CASE("tet_split: a point on top of a node is reported as degenerate, not written as a valid split", "[cutting]") {
-  detail::SplitInput in = tetInput({-1e-300, 1.0, 1.0, 1.0}, true);
+  detail::SplitInput in = tetInput({-1e-300, 1.0, 1.0, 1.0}, Mode::Cut);
   Sink sink;
   detail::SubTet out[detail::kMaxChildren];
   CHECK(detail::splitTet(in, sink, out).degenerate);

@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace incise::cutting {
 
@@ -59,5 +60,16 @@ class AtomicFile {
 
 // Writes `contents` to `path` atomically (AtomicFile, then commit()).
 void writeFileAtomically(const std::filesystem::path& path, std::string_view contents);
+
+// Runs `write()` (which writes and commits AtomicFiles) and rethrows a FileError as an `Error` with the same
+// message, for the save functions whose contract names their own error type (MeshError for meshes).
+template <typename Error, typename Write>
+void rethrowFileErrorAs(Write&& write) {
+  try {
+    std::forward<Write>(write)();
+  } catch (const FileError& e) {
+    throw Error(e.what());
+  }
+}
 
 }  // namespace incise::cutting
