@@ -45,7 +45,7 @@ nlohmann::json summaryJson(const sim::SampleSummary& s) {
 // per-tet fields side (-1 / +1 of the cut, 0 elsewhere) and split (0 original, 1 piece of a cut tet, 2 part
 // of a crack-front tet), and the report's figures.
 nlohmann::json writeTets(const cutting::TetCutter& tets, const std::filesystem::path& out) {
-  const cutting::TetView view = tets.view(true);
+  const cutting::TetView view = tets.view(cutting::TetShape::Deformed);
   const std::map<std::string, std::vector<int>> fields = {{"side", view.side}, {"split", view.split}};
   cutting::saveVtu(view.mesh, out / "tets.vtu", fields);
   cutting::saveNodeEle(view.mesh, out / "tets", fields);
@@ -54,7 +54,7 @@ nlohmann::json writeTets(const cutting::TetCutter& tets, const std::filesystem::
   return {{"tets", view.mesh.tets.size()},
           {"nodes", view.mesh.nodes_m.size()},
           {"volume_m3", cutting::volume(view.mesh)},
-          {"rest_volume_m3", cutting::volume(tets.view(false).mesh)},
+          {"rest_volume_m3", cutting::volume(tets.view(cutting::TetShape::Rest).mesh)},
           {"min_dihedral_deg", cutting::minDihedralAngleDeg(view.mesh)},
           {"min_split_dihedral_deg", view.min_split_dihedral_deg},
           {"min_split_volume_m3", finite(view.min_split_volume_m3)},

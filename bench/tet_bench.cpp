@@ -102,10 +102,10 @@ int main() {
   while (cutter.pending() && surface_trailing_calls < 100000)
     cutter.advance(stroke.samples.back().time_s), ++surface_trailing_calls;
   start = Clock::now();
-  tets.follow(*cutter.incision(), cutter.stats().incisions, true);
+  tets.follow(*cutter.incision(), cutter.stats().incisions, TetBudget::All);
   const double final_follow_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  const TetView rest = tets.view(false);
-  const TetView deformed = tets.view(true);
+  const TetView rest = tets.view(TetShape::Rest);
+  const TetView deformed = tets.view(TetShape::Deformed);
   const TetCutStats& stats = tets.stats();
 
   // The naive alternative: TetGen again on the cut surface (what one sample would cost).

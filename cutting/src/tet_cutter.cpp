@@ -17,8 +17,6 @@ namespace incise::cutting {
 namespace {
 
 // view()'s argument: the nodes where the cut has moved them, or at rest.
-constexpr bool kDeformed = true;
-constexpr bool kAtRest = false;
 
 double medianEdgeLength(const TetMesh& mesh) {
   std::vector<double> lengths;
@@ -122,7 +120,7 @@ void TetCutter::reserveHeadroom() {
 }
 
 void TetCutter::startIncision(int incision_number) {
-  if (incision_number_ >= 0) rebuild(view(kDeformed).mesh);  // the previous wound, settled, is the new rest
+  if (incision_number_ >= 0) rebuild(view(TetShape::Deformed).mesh);  // the previous wound, settled, is the new rest
   incision_number_ = incision_number;
   const IncisionOptions& o = incision_->options();
   next_column_ = o.order - 1;
@@ -141,7 +139,7 @@ void TetCutter::startIncision(int incision_number) {
   ++stats_.incisions;
 }
 
-TetStep TetCutter::follow(const Incision& incision, int incision_number, bool unlimited) noexcept {
+TetStep TetCutter::follow(const Incision& incision, int incision_number, TetBudget budget_kind) noexcept {
   TetStep step;
   if (failed_) {
     step.failed = true;
@@ -150,7 +148,7 @@ TetStep TetCutter::follow(const Incision& incision, int incision_number, bool un
   try {
     incision_ = &incision;
     if (incision_number != incision_number_) startIncision(incision_number);
-    int budget = options_.max_inversions_per_call > 0 && !unlimited ? options_.max_inversions_per_call : INT_MAX;
+    int budget = options_.max_inversions_per_call > 0 && budget_kind == TetBudget::PerCall ? options_.max_inversions_per_call : INT_MAX;
     last_final_columns_ = incision.finalColumns();
     while (next_column_ < last_final_columns_ && budget > 0 && !failed_) {
       if (!processColumn(incision, next_column_, budget, step)) break;
@@ -478,7 +476,8 @@ void TetCutter::redeform(const Incision& in, TetStep& step) {
   dirty_.clear();
 }
 
-TetView TetCutter::view(bool deformed) const {
+TetView TetCutter::view(TetShape shape) const {
+  const bool deformed = shape == TetShape::Deformed;
   TetView v;
   std::vector<int> remap(nodes_.size(), -1);
   for (size_t t = 0; t < base_tets_.size(); ++t)
@@ -502,7 +501,7 @@ TetView TetCutter::view(bool deformed) const {
       v.split.push_back(tet_state_[t] == 0 ? 0 : tet_state_[t] == 2 ? 1 : 2);
     }
   TetMesh rest;  // quality of the split tets is judged at rest
-  if (deformed) rest = view(kAtRest).mesh;
+  if (deformed) rest = view(TetShape::Rest).mesh;
   const TetMesh& at_rest = deformed ? rest : v.mesh;
   for (size_t t = 0; t < v.mesh.tets.size(); ++t) {
     if (tetVolume(v.mesh, static_cast<int>(t)) <= 0.0) ++v.inverted_tets;

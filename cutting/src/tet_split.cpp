@@ -8,6 +8,10 @@
 namespace incise::cutting::detail {
 namespace {
 
+// Where a convex piece is coned from: FromVertex, one of its own vertices whose faces are fans from it (a
+// Steiner point only if none is); SteinerPoint, always a point inside it (when a vertex apex made a flat tet).
+enum class Apex : std::uint8_t { FromVertex, SteinerPoint };
+
 // Faces opposite node f, counter-clockwise seen from outside (as tet_mesh.cpp).
 constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 constexpr int kCutFace = 4;
@@ -141,10 +145,10 @@ double signedVolume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
 bool contains(const Tri& t, int p) { return t.v[0] == p || t.v[1] == p || t.v[2] == p; }
 
 // Cones one convex piece (its boundary triangles) into children.
-void conePiece(const Tri* tris, int n_tris, int side, bool allow_apex, Local& l, SteinerSink& steiner, SubTet* out,
+void conePiece(const Tri* tris, int n_tris, int side, Apex apex_choice, Local& l, SteinerSink& steiner, SubTet* out,
                SplitResult& result) {
   int apex = -1;
-  for (int p = 0; p < 10 && allow_apex && apex < 0; ++p) {
+  for (int p = 0; p < 10 && apex_choice == Apex::FromVertex && apex < 0; ++p) {
     bool in_piece = false, fanned = true;
     for (int t = 0; t < n_tris; ++t) {
       in_piece = in_piece || contains(tris[t], p);
@@ -192,14 +196,14 @@ bool degenerate(const SplitResult& r, const Local& l) {
   return !(r.min_volume_m3 > 1e-12 * longest * longest * longest);
 }
 
-SplitResult split(const SplitInput& in, SteinerSink& steiner, SubTet* out, bool allow_apex) {
+SplitResult split(const SplitInput& in, SteinerSink& steiner, SubTet* out, Apex apex_choice) {
   Local l = localVertices(in);
   SplitResult result;
   Tri faces[12];
   int n_faces = 0;
   for (int f = 0; f < 4; ++f) n_faces += triangulateFace(f, l, faces + n_faces);
   if (!in.cut) {
-    conePiece(faces, n_faces, 0, allow_apex, l, steiner, out, result);
+    conePiece(faces, n_faces, 0, apex_choice, l, steiner, out, result);
     return result;
   }
   Tri cut[2];
@@ -214,7 +218,7 @@ SplitResult split(const SplitInput& in, SteinerSink& steiner, SubTet* out, bool 
       if (on_side) piece[n++] = tri;
     }
     for (int t = 0; t < n_cut; ++t) piece[n++] = cut[t];
-    conePiece(piece, n, side, allow_apex, l, steiner, out, result);
+    conePiece(piece, n, side, apex_choice, l, steiner, out, result);
   }
   return result;
 }
@@ -234,9 +238,9 @@ SplitResult splitTet(const SplitInput& input, SteinerSink& steiner, SubTet* out)
     r.min_volume_m3 = signedVolume(x[0].x_m, x[1].x_m, x[2].x_m, x[3].x_m);
     return r;
   }
-  SplitResult r = split(input, steiner, out, true);
+  SplitResult r = split(input, steiner, out, Apex::FromVertex);
   if (degenerate(r, localVertices(input))) {  // a vertex apex made a flat child: cone from inside instead
-    r = split(input, steiner, out, false);
+    r = split(input, steiner, out, Apex::SteinerPoint);
     r.degenerate = degenerate(r, localVertices(input));
   }
   return r;

@@ -59,8 +59,8 @@ World& World::operator=(World&&) noexcept = default;
 
 int World::incisions() const noexcept { return cutter_->stats().incisions; }
 
-void World::followTets(bool unlimited) noexcept {
-  if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, unlimited);
+void World::followTets(cutting::TetBudget budget) noexcept {
+  if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, budget);
 }
 
 void World::contact(const devices::PoseSample& pose, HapticState& state) noexcept {
@@ -114,7 +114,7 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
       if (!cutter_->active()) {
         if (tets_) {  // the tets catch up with the previous incision before begin() replaces it
           cutter_->settle();
-          followTets(true);
+          followTets(cutting::TetBudget::All);
         }
         cutter_->begin(sample, pose.orientation * Eigen::Vector3d::UnitX());
       } else {
@@ -137,7 +137,7 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
 
 cutting::CutStep World::cut(double t_s) noexcept {
   const cutting::CutStep step = cutter_->advance(t_s);
-  followTets(false);
+  followTets(cutting::TetBudget::PerCall);
   return step;
 }
 

@@ -22,9 +22,6 @@ namespace incise::cutting {
 namespace {
 
 // follow()'s budget switch and view()'s argument, by name.
-constexpr bool kUnlimited = true;
-constexpr bool kDeformed = true;
-constexpr bool kAtRest = false;
 
 // ---------------------------------------------------------------------------------------------------------
 // One tet, split by hand-made signs and edge points.
@@ -235,10 +232,10 @@ Run cutBunny(int group = 1, int budget = 0, std::function<void(const TetCutter&,
   cutter.finish();
   cutter.advance(1e9);
   while (cutter.pending()) cutter.advance(1e9);
-  tets.follow(*cutter.incision(), cutter.stats().incisions, kUnlimited);
+  tets.follow(*cutter.incision(), cutter.stats().incisions, TetBudget::All);
   REQUIRE_FALSE(tets.pending());
-  run.rest = tets.view(kAtRest);
-  run.deformed = tets.view(kDeformed);
+  run.rest = tets.view(TetShape::Rest);
+  run.deformed = tets.view(TetShape::Deformed);
   run.stats = tets.stats();
   run.snap_m = tets.snapToleranceM();
   return run;
@@ -369,10 +366,10 @@ TEST_CASE("tet_cutter: volume and conformity hold after every step of the stroke
   const double original = volume(bunnyTissue().tets);
   int checks = 0;
   cutBunny(1, 0, [&](const TetCutter& tets, const SurfaceCutter&) {
-    const TetView v = tets.view(kAtRest);
+    const TetView v = tets.view(TetShape::Rest);
     CHECK(std::abs(volume(v.mesh) - original) <= 1e-9 * original);
     CHECK(checkConforming(v.mesh).conforming);
-    CHECK(tets.view(kDeformed).inverted_tets == 0);
+    CHECK(tets.view(TetShape::Deformed).inverted_tets == 0);
     ++checks;
   });
   CHECK(checks > 3);
@@ -385,7 +382,7 @@ TEST_CASE("tet_cutter: a second incision crossing the first cuts the already cut
   TetCutter tets(tissue.tets);
   const auto stroke = [&](const Stroke& s) {
     cutter.settle();  // the tets catch up with the previous incision before begin() replaces it
-    if (cutter.incision()) tets.follow(*cutter.incision(), cutter.stats().incisions, kUnlimited);
+    if (cutter.incision()) tets.follow(*cutter.incision(), cutter.stats().incisions, TetBudget::All);
     cutter.begin(s.first, s.blade_direction);
     for (const auto& sample : s.samples) {
       cutter.extend(sample);
@@ -393,16 +390,16 @@ TEST_CASE("tet_cutter: a second incision crossing the first cuts the already cut
     }
     cutter.finish();
     cutter.advance(1e9);
-    tets.follow(*cutter.incision(), cutter.stats().incisions, kUnlimited);
+    tets.follow(*cutter.incision(), cutter.stats().incisions, TetBudget::All);
   };
   stroke(testing::backStroke(tissue.surface, 0.03));
   const int first_cut = tets.stats().tets_cut;
-  const TetView after_first = tets.view(kDeformed);
+  const TetView after_first = tets.view(TetShape::Deformed);
   stroke(testing::backStroke(tissue.surface, 0.025, 0.0, Eigen::Vector3d(0.0, 0.0, 0.005), Eigen::Vector3d::UnitZ(), 10.0));
   REQUIRE(tets.stats().incisions == 2);
   REQUIRE(tets.stats().failure.empty());
   CHECK(tets.stats().tets_cut > first_cut + 20);
-  const TetView rest = tets.view(kAtRest), deformed = tets.view(kDeformed);
+  const TetView rest = tets.view(TetShape::Rest), deformed = tets.view(TetShape::Deformed);
   // The second incision's rest state is the first one's settled result.
   CHECK(std::abs(volume(rest.mesh) - volume(after_first.mesh)) <= 1e-9 * volume(after_first.mesh));
   for (const TetView* v : {&rest, &deformed}) {

@@ -74,7 +74,7 @@ TEST_CASE("replay: a tet tissue is cut, the same fast and in real time", "[sim]"
     sim::replay(world, devices::TraceReader::readAll(s.trace), options);
     REQUIRE_FALSE(world.tets()->pending());
     REQUIRE(world.tets()->stats().failure.empty());
-    return world.tets()->view(true);
+    return world.tets()->view(cutting::TetShape::Deformed);
   };
   const cutting::TetView fast = cut(sim::ReplayPace::Fast), realtime = cut(sim::ReplayPace::RealTime);
   REQUIRE(fast.split.end() - std::find(fast.split.begin(), fast.split.end(), 1) > 50);  // pieces of cut tets

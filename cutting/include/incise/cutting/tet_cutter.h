@@ -71,13 +71,13 @@ class TetCutter {
   // has made final since the last call, within the budget unless `unlimited`, and moves the nodes whose
   // displacement changed. `incision_number` identifies the incision (SurfaceCutter's stats().incisions):
   // a new number starts a new one from the current mesh. Never throws.
-  TetStep follow(const Incision& incision, int incision_number, bool unlimited = false) noexcept;
+  TetStep follow(const Incision& incision, int incision_number, TetBudget budget = TetBudget::PerCall) noexcept;
 
   // Final columns of the followed incision not yet cut (budget carried over).
   bool pending() const noexcept;
   // The current mesh, compacted (unused nodes dropped, nodes in creation order, tets in original-parent
   // order): deformed or at rest. Allocates, O(N + T): for output and checks, not per frame.
-  TetView view(bool deformed = true) const;
+  TetView view(TetShape shape = TetShape::Deformed) const;
   const TetCutStats& stats() const noexcept { return stats_; }
   double snapToleranceM() const noexcept { return snap_m_; }
   // Tets in the current mesh (O(1)).

@@ -2,9 +2,16 @@
 // without OpenMesh so that sim's public headers can hold them. Units: metres; counts per call.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace incise::cutting {
+
+// How much of the carried tet work a follow() call does: PerCall, at most max_inversions_per_call node
+// inversions; All, everything that is final (a new incision's catch-up).
+enum class TetBudget : std::uint8_t { PerCall, All };
+// Which node positions a TetView holds: Deformed (rest + the incision's displacement) or Rest.
+enum class TetShape : std::uint8_t { Deformed, Rest };
 
 struct TetCutterOptions {
   double snap_tolerance_m = 0.0;  // nodes closer than this to the cut are put on it; 0 = 0.2 x the median

@@ -120,7 +120,7 @@ class World {
 
  private:
   void contact(const devices::PoseSample& pose, HapticState& state) noexcept;
-  void followTets(bool unlimited) noexcept;
+  void followTets(cutting::TetBudget budget) noexcept;
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
   std::unique_ptr<cutting::SurfaceMesh> tissue_;  // stable address: the cutter keeps a reference
