@@ -3,9 +3,13 @@
 # library, the apps and the benchmarks' support code, so the size limits of the code can be checked:
 #   scripts/long_functions.sh [N] [M]
 # Uses universal-ctags (Debian's universal-ctags) for the functions' extents. Tests and benchmark
-# tables are left out. Prints nothing and exits 0 when every limit holds; exits 1 otherwise.
+# tables are left out. Prints nothing and exits 0 when every limit holds; exits 1 otherwise (77 without ctags).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if ! ctags --version 2> /dev/null | grep -q "Universal Ctags"; then
+  echo "long_functions: universal-ctags is not installed (apt-get install universal-ctags)"
+  exit 77
+fi
 max_function=${1:-80}
 max_file=${2:-600}
 files=$(git ls-files 'cutting/*.cpp' 'cutting/*.h' 'devices/*.cpp' 'devices/*.h' 'sim/*.cpp' 'sim/*.h' \
