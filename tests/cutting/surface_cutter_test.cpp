@@ -336,7 +336,7 @@ TEST_CASE("surface_cutter: bad options and meshes are refused at load", "[cuttin
   REQUIRE_THROWS_WITH(SurfaceCutter(mesh, nan_alpha), Contains("alpha_m = nan"));
 
   SurfaceMesh open = bunny(0);
-  open.mesh().delete_face(TriMesh::FaceHandle(17), false);
+  open.mesh().delete_face(TriMesh::FaceHandle(17), /*delete_isolated_vertices=*/false);
   REQUIRE_THROWS_AS(SurfaceCutter(open, CutterOptions{}), MeshError);
   REQUIRE_THROWS_WITH(SurfaceCutter(open, CutterOptions{}), Contains("not a closed two-manifold") && Contains("edge"));
 }
