@@ -174,8 +174,8 @@ TEST_CASE("surface_query: intersectSegment on a box gives the first crossing fro
   REQUIRE_FALSE(intersectSegment(mesh, grid, Vector3d(2, 2, 2), Vector3d(3, 3, -3), r));
   REQUIRE_FALSE(intersectSegment(mesh, grid, Vector3d(0.2, 0.2, 0.2), Vector3d(0.8, 0.8, 0.8), r));
   REQUIRE_FALSE(intersectSegment(mesh, grid, Vector3d(0.3, 0.4, 2.0), Vector3d(0.3, 0.4, 1.01), r));
-  REQUIRE_FALSE(
-      intersectSegment(mesh, grid, Vector3d(0.3, 0.4, std::numeric_limits<double>::infinity()), Vector3d(0.3, 0.4, 0), r));
+  const double inf = std::numeric_limits<double>::infinity();
+  REQUIRE_FALSE(intersectSegment(mesh, grid, Vector3d(0.3, 0.4, inf), Vector3d(0.3, 0.4, 0), r));
   REQUIRE_FALSE(intersectSegment(mesh, grid, Vector3d(0.3, 0.4, 2.0), Vector3d(0.3, 0.4, -1.0), -1.0));
 }
 
