@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "incise/cutting/format.h"
 #include "incise/cutting/surface_query.h"
 #include "incise/cutting/vertex_grid.h"
 
@@ -15,16 +16,21 @@ void check(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("strokeAlongPath: " + what);
 }
 
+void checkPositive(double value, const char* name) {
+  check(std::isfinite(value) && value > 0.0, std::string(name) + " = " + formatNumber(value) + " must be finite and > 0");
+}
+
 }  // namespace
 
 Stroke strokeAlongPath(const SurfaceMesh& surface, const StrokePathOptions& o) {
   check(o.start_m.allFinite(), "start_m is not finite");
   check(o.direction.allFinite() && o.direction.norm() > 0.0, "direction must be finite and non-zero");
   check(o.down.allFinite() && o.down.norm() > 0.0, "down must be finite and non-zero");
-  check(std::isfinite(o.length_m) && o.length_m > 0.0, "length_m = " + std::to_string(o.length_m) + " must be > 0");
-  check(std::isfinite(o.speed_m_per_s) && o.speed_m_per_s > 0.0, "speed_m_per_s must be > 0");
-  check(std::isfinite(o.rate_hz) && o.rate_hz > 0.0, "rate_hz must be > 0");
-  check(std::isfinite(o.bend_m) && std::isfinite(o.height_m) && o.height_m > 0.0, "bend_m / height_m");
+  checkPositive(o.length_m, "length_m");
+  checkPositive(o.speed_m_per_s, "speed_m_per_s");
+  checkPositive(o.rate_hz, "rate_hz");
+  checkPositive(o.height_m, "height_m");
+  check(std::isfinite(o.bend_m), "bend_m = " + formatNumber(o.bend_m) + " is not finite");
 
   const TriMesh& mesh = surface.mesh();
   double longest_m = 0.0, mean_m = 0.0;
@@ -39,7 +45,11 @@ Stroke strokeAlongPath(const SurfaceMesh& surface, const StrokePathOptions& o) {
   for (const auto v : mesh.vertices()) grid.insert(v.idx(), toEigen(mesh.point(v)));
 
   const Eigen::Vector3d down = o.down.normalized();
-  const Eigen::Vector3d dir = (o.direction - o.direction.dot(down) * down).normalized();
+  const Eigen::Vector3d across = o.direction - o.direction.dot(down) * down;  // the direction's part across the rays
+  check(across.norm() > 1e-9 * o.direction.norm(),
+        "direction " + formatPoint(o.direction) + " is along the rays (down " + formatPoint(o.down) +
+            "): the stroke would not move across the surface");
+  const Eigen::Vector3d dir = across.normalized();
   const Eigen::Vector3d side = dir.cross(down);
   const double dt_s = 1.0 / o.rate_hz;
   const int count = static_cast<int>(std::floor(o.length_m / (o.speed_m_per_s * dt_s)));

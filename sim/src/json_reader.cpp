@@ -79,6 +79,9 @@ int JsonReader::integer(const char* key, int fallback, int lo, int hi) const {
   if (!has(key)) return fallback;
   const json& v = object_.at(key);
   if (!v.is_number_integer()) fail("must be an integer, got " + v.dump(), key);
+  // An unsigned value beyond long long would wrap in get<long long>(): it is out of any int range anyway.
+  if (v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi))
+    fail(v.dump() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", key);
   const long long x = v.get<long long>();
   if (x < lo || x > hi)
     fail(std::to_string(x) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", key);

@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 
 #include <Eigen/Geometry>
 
+#include "incise/cutting/format.h"
 #include "incise/cutting/stroke_path.h"
 
 namespace incise::sim {
@@ -60,6 +62,9 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
   Timeline timeline(rate_hz);
   const double tip_depth_m = 0.9 * world.cutter.incision.depth_m;
   for (const StrokeSpec& spec : strokes) {
+    if (!(std::isfinite(spec.pause_s) && spec.pause_s >= 0.0))
+      throw std::invalid_argument("posesForStrokes: pause_s = " + cutting::formatNumber(spec.pause_s) +
+                                  " must be finite and >= 0");
     cutting::StrokePathOptions path;
     path.start_m = spec.start_m;
     path.direction = spec.direction;

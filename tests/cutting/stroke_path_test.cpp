@@ -157,10 +157,10 @@ TEST_CASE("stroke_path: bad options and a first ray that misses the tissue are r
   requireRefused(o, "the first ray misses the surface");
 }
 
-// Bug (stroke_path.h: "std::invalid_argument for bad options (named, with the value)"): only length_m's
+// Regression, once a bug (stroke_path.h: "std::invalid_argument for bad options (named, with the value)"): only length_m's
 // message carries the value; speed_m_per_s, rate_hz, height_m and bend_m name the option without it
 // ("strokeAlongPath: speed_m_per_s must be > 0", "strokeAlongPath: bend_m / height_m").
-TEST_CASE("stroke_path: every refused option's message gives its value", "[cutting][!mayfail]") {
+TEST_CASE("stroke_path: every refused option's message gives its value", "[cutting]") {
   StrokePathOptions o = exactOptions();
   o.speed_m_per_s = -0.5;
   CHECK_THROWS_WITH(strokeAlongPath(slab(), o), Contains("speed_m_per_s") && Contains("-0.5"));
@@ -172,10 +172,10 @@ TEST_CASE("stroke_path: every refused option's message gives its value", "[cutti
   CHECK_THROWS_WITH(strokeAlongPath(slab(), o), Contains("height_m") && Contains("-0.125"));
 }
 
-// Bug: a direction along the rays (here straight down) passes the "finite and non-zero" check, but its
+// Regression, once a bug: a direction along the rays (here straight down) passes the "finite and non-zero" check, but its
 // part across the rays is zero: normalized() leaves it zero, so the blade direction is (0, 0, 0) and every
 // sample lies on the first one. It should be refused like a zero direction.
-TEST_CASE("stroke_path: a direction along the rays is refused", "[cutting][!mayfail]") {
+TEST_CASE("stroke_path: a direction along the rays is refused", "[cutting]") {
   StrokePathOptions o = exactOptions();
   o.direction = -Vector3d::UnitY();
   CHECK_THROWS_AS(strokeAlongPath(slab(), o), std::invalid_argument);

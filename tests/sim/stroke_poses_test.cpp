@@ -197,10 +197,10 @@ TEST_CASE("stroke_poses: a bad stroke or rate is refused", "[sim]") {
   REQUIRE(sim::posesForStrokes(tissue, {}, world, 1000.0).empty());
 }
 
-// Bug: pause_s is never checked. A negative or NaN pause is taken as a one-period idle (std::max(1, ...)
+// Regression, once a bug: pause_s is never checked. A negative or NaN pause is taken as a one-period idle (std::max(1, ...)
 // in the timeline), where the header promises std::invalid_argument for a bad stroke (loadScenario
 // range-checks pause_s to [0, 100], but posesForStrokes is public).
-TEST_CASE("stroke_poses: a negative or NaN pause is refused", "[sim][!mayfail]") {
+TEST_CASE("stroke_poses: a negative or NaN pause is refused", "[sim]") {
   const cutting::SurfaceMesh tissue = slab();
   const sim::WorldOptions world;
   sim::StrokeSpec spec = straightStroke();

@@ -52,7 +52,7 @@ struct StepProfile {
   double haptic_us = 0.0, cut_us = 0.0;
   double publish_us = 0.0, frame_us = 0.0;  // of the previous frame (a snapshot cannot time its own publish)
   int poses = 0;          // poses taken this frame
-  int queue_backlog = 0;  // poses still queued after draining (0 unless the queue filled during the frame)
+  int queue_backlog = 0;  // poses still queued after draining: a frame takes at most kMaxPosesPerFrame
 };
 
 // What a reader sees of a frame: small and fixed-size, copied whole into the triple buffer.
