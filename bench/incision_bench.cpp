@@ -12,6 +12,7 @@
 
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
+#include "bunny_stroke.h"
 #include "machine_info.h"
 
 namespace {
@@ -28,11 +29,7 @@ nlohmann::json runMesh(const SurfaceMesh& base, int subdivisions, int budget) {
   const auto t0 = Clock::now();
   SurfaceMesh mesh = subdivided(base, subdivisions);
   const double subdivide_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  StrokePathOptions path;
-  path.start_m = Eigen::Vector3d(-0.012, 0.0, 0.015);
-  path.direction = Eigen::Vector3d::UnitX();
-  path.length_m = 0.05;
-  const Stroke stroke = strokeAlongPath(mesh, path);
+  const Stroke stroke = incise::bench::bunnyBackStroke(mesh);
   CutterOptions options;
   options.max_inversions_per_call = budget;
   SurfaceCutter cutter(mesh, options);

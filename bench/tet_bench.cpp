@@ -23,6 +23,7 @@
 #include "incise/cutting/tet_cutter.h"
 #include "incise/cutting/tet_mesh.h"
 #include "incise/cutting/tetrahedralize.h"
+#include "bunny_stroke.h"
 #include "machine_info.h"
 
 namespace {
@@ -72,11 +73,7 @@ int main() {
   TetCutter tets(std::move(tissue), tet_cutter_options);
   const double tet_cutter_setup_s = secondsSince(start);
 
-  StrokePathOptions path;
-  path.start_m = Eigen::Vector3d(-0.012, 0.0, 0.015);
-  path.direction = Eigen::Vector3d::UnitX();
-  path.length_m = 0.05;
-  const Stroke stroke = strokeAlongPath(mesh, path);
+  const Stroke stroke = incise::bench::bunnyBackStroke(mesh);
   CutterOptions options;
   options.max_inversions_per_call = kBudget;
   SurfaceCutter cutter(mesh, options);

@@ -12,37 +12,14 @@
 
 #include <catch2/catch.hpp>
 
+#include "support/temp_dir.h"
+
 namespace incise::cutting {
 namespace {
 
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    path_ = fs::temp_directory_path() /
-            ("incise-atomic-file-test-" + std::to_string(random()) + "-" + std::to_string(random()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using incise::test::readFile;
+using incise::test::TempDir;
 
 long entries(const fs::path& dir) {
   return static_cast<long>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));

@@ -2,6 +2,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "support/temp_dir.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -62,13 +64,9 @@ CutRun cutCheckingEverySample(SurfaceMesh& mesh, SurfaceCutter& cutter, const St
 }
 
 std::string objBytes(const SurfaceMesh& mesh, const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() / ("incise_cutter_" + name + ".obj");
-  saveObj(mesh, path);
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  std::filesystem::remove(path);
-  return bytes.str();
+  const incise::test::TempDir dir;
+  saveObj(mesh, dir.path() / (name + ".obj"));
+  return incise::test::readFile(dir.path() / (name + ".obj"));
 }
 
 // Every face whose vertices are all bound to the incision and inside the cut's parameter window must lie

@@ -13,46 +13,18 @@
 
 #include <catch2/catch.hpp>
 
+#include "support/temp_dir.h"
+
 namespace incise::cutting {
 namespace {
 
 namespace fs = std::filesystem;
+using incise::test::readFile;
+using incise::test::TempDir;
 
 const fs::path kBunny = fs::path(INCISE_SCENARIOS_DIR) / "meshes" / "bunny.obj";
 constexpr int kBunnyVertices = 1839;
 constexpr int kBunnyFaces = 3674;
-
-// A fresh directory under the system temp directory, removed with everything in it at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    path_ = fs::temp_directory_path() /
-            ("incise-surface-mesh-test-" + std::to_string(random()) + "-" + std::to_string(random()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // The MeshError message of loading `path`; fails the test if loading succeeds.
 std::string loadError(const fs::path& path) {

@@ -21,32 +21,16 @@
 #include <Eigen/LU>
 #include <catch2/catch.hpp>
 
+#include "support/temp_dir.h"
+
 namespace incise::cutting {
 namespace {
 
 namespace fs = std::filesystem;
+using incise::test::readFile;
+using incise::test::TempDir;
 
 const fs::path kBunny = fs::path(INCISE_SCENARIOS_DIR) / "meshes" / "bunny.obj";
-
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    path_ = fs::temp_directory_path() /
-            ("incise-tet-mesh-test-" + std::to_string(random()) + "-" + std::to_string(random()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 bool hasTmpFile(const fs::path& dir) {
   for (const auto& entry : fs::directory_iterator(dir))

@@ -3,6 +3,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "support/temp_dir.h"
+
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -14,34 +16,10 @@ using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 using nlohmann::json;
 namespace fs = std::filesystem;
+using incise::test::readFile;
+using incise::test::TempDir;
 
 namespace {
-
-// A fresh folder under the system's temporary directory, removed with everything in it at the end.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("incise-json-reader-test-" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path p = path_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
 
 // The message of the ScenarioError that `f` throws ("" when it throws none).
 template <typename F>

@@ -2,6 +2,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "scenario_fixture.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -10,15 +12,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// Writes `text` as a scenario next to the shipped ones' meshes (so "meshes/bunny.obj" resolves).
 std::filesystem::path scenarioFile(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "incise_scenario_test";
-  std::filesystem::create_directories(dir / "meshes");
-  const auto bunny = dir / "meshes" / "bunny.obj";
-  if (!std::filesystem::exists(bunny)) std::filesystem::copy_file(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", bunny);
-  const auto path = dir / (name + ".json");
-  std::ofstream(path) << text;
-  return path;
+  return incise::test::scenarioDir().scenario(name, text);
 }
 
 const char* kGood = R"({

@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "scenario_fixture.h"
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -13,15 +15,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// Writes `text` as a wrap scenario in a folder with the bunny under meshes/ (so "meshes/bunny.obj" resolves).
 std::filesystem::path wrapFile(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "incise_wrap_scenario_test";
-  std::filesystem::create_directories(dir / "meshes");
-  const auto bunny = dir / "meshes" / "bunny.obj";
-  if (!std::filesystem::exists(bunny)) std::filesystem::copy_file(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", bunny);
-  const auto path = dir / (name + ".json");
-  std::ofstream(path) << text;
-  return path;
+  return incise::test::scenarioDir().scenario(name, text);
 }
 
 const std::string kBar = R"({ "name": "bar", "shape": "cylinder", "base_m": [0, 0, -0.03], "axis_m": [0, 0, 0.06], "radius_m": 0.005 })";
@@ -115,7 +110,7 @@ TEST_CASE("wrap scenario: bad scenarios name the file and the key, the line or t
 }
 
 TEST_CASE("wrap scenario: a mesh that cannot be loaded names the file, and the obstacle", "[sim]") {
-  std::ofstream(std::filesystem::temp_directory_path() / "incise_wrap_scenario_test" / "meshes" / "open.obj")
+  std::ofstream(incise::test::scenarioDir().path() / "meshes" / "open.obj")
       << "v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nv 0 0 0.01\nf 1 3 2\nf 1 2 4\nf 2 3 4\n";
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("openob", scene(R"({ "name": "lid", "mesh": "meshes/open.obj" })"))),
                       Contains("openob.json: obstacle 'lid': ") && Contains("open surface"));
