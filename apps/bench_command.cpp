@@ -79,17 +79,23 @@ void addBenchCommand(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
   CLI::App* cmd = app.add_subcommand("bench", "Real-time latency benchmark over scenarios; prints JSON");
   cmd->add_option("scenarios", args->scenarios, "scenario files")->capture_default_str();
-  cmd->add_option("--spin-us", args->spin_us, "busy-wait this long before each frame's deadline")->capture_default_str()->check(CLI::Range(0, 900));
-  cmd->add_option("--seconds", args->seconds, "seconds of frames per scenario")->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+  cmd->add_option("--spin-us", args->spin_us, "busy-wait this long before each frame's deadline")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 900));
+  cmd->add_option("--seconds", args->seconds, "seconds of frames per scenario")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 3600.0));
   cmd->callback([args] {
-    nlohmann::json report = {{"benchmark", "realtime_replay_latency"},
-                             {"targets", {{"frame_us_p99", 500}, {"haptic_us_p99", 50}, {"pose_to_visible_frames_p99", 3},
-                                          {"deadline_misses", 0}}},
-                             {"seconds_per_scenario", args->seconds},
-                             {"spin_us", args->spin_us},
-                             {"machine", bench::machineInfo()},
-                             {"results", nlohmann::json::array()}};
-    for (const auto& path : args->scenarios) report["results"].push_back(benchScenario(path, args->seconds, args->spin_us));
+    nlohmann::json report = {
+        {"benchmark", "realtime_replay_latency"},
+        {"targets",
+         {{"frame_us_p99", 500}, {"haptic_us_p99", 50}, {"pose_to_visible_frames_p99", 3}, {"deadline_misses", 0}}},
+        {"seconds_per_scenario", args->seconds},
+        {"spin_us", args->spin_us},
+        {"machine", bench::machineInfo()},
+        {"results", nlohmann::json::array()}};
+    for (const auto& path : args->scenarios)
+      report["results"].push_back(benchScenario(path, args->seconds, args->spin_us));
     std::printf("%s\n", report.dump(2).c_str());
   });
 }

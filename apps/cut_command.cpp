@@ -9,10 +9,10 @@
 
 #include "commands.h"
 #include "data_dir.h"
-#include "progress.h"
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
 #include "json_output.h"
+#include "progress.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -48,11 +48,22 @@ Eigen::Vector3d vec(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
 nlohmann::json optionsJson(const CutArgs& a) {
   const IncisionOptions& i = a.cutter.incision;
-  return {{"mesh", a.mesh}, {"scale", a.scale}, {"subdivide", a.subdivide}, {"start_m", a.start},
-          {"direction", a.direction}, {"length_m", a.length_m}, {"bend_m", a.bend_m},
-          {"speed_m_per_s", a.speed_m_per_s}, {"depth_m", i.depth_m}, {"opening_m", i.opening_m},
-          {"alpha_m", i.alpha_m}, {"beta_m", i.beta_m}, {"spacing_m", i.spacing_m}, {"order", i.order},
-          {"retraction_time_s", i.retraction_time_s}, {"wall_rows", a.cutter.wall_rows}};
+  return {{"mesh", a.mesh},
+          {"scale", a.scale},
+          {"subdivide", a.subdivide},
+          {"start_m", a.start},
+          {"direction", a.direction},
+          {"length_m", a.length_m},
+          {"bend_m", a.bend_m},
+          {"speed_m_per_s", a.speed_m_per_s},
+          {"depth_m", i.depth_m},
+          {"opening_m", i.opening_m},
+          {"alpha_m", i.alpha_m},
+          {"beta_m", i.beta_m},
+          {"spacing_m", i.spacing_m},
+          {"order", i.order},
+          {"retraction_time_s", i.retraction_time_s},
+          {"wall_rows", a.cutter.wall_rows}};
 }
 
 int runCut(CutArgs& a) {
@@ -120,14 +131,14 @@ int runCut(CutArgs& a) {
   } catch (const std::exception& e) {
     failWith(e.what());
   }
-  const bool ok = summary.closed_two_manifold && summary.euler_characteristic == euler_before &&
-                  cutter->stats().failure.empty();
-  std::printf("incise cut: %zu samples, %d edges split, %d seam vertices opened; %d vertices, %d faces (%d wall); "
-              "closed two-manifold: %s, Euler characteristic %d -> %d; per sample p99 %.1f us; wrote %s\n",
-              stroke.samples.size() + 1, cutter->stats().edges_split, cutter->stats().vertices_duplicated,
-              summary.vertices, summary.faces, summary.wall_faces, summary.closed_two_manifold ? "yes" : "NO",
-              euler_before, summary.euler_characteristic, timingSummary(sample_us)["p99_us"].get<double>(),
-              a.out.c_str());
+  const bool ok =
+      summary.closed_two_manifold && summary.euler_characteristic == euler_before && cutter->stats().failure.empty();
+  std::printf(
+      "incise cut: %zu samples, %d edges split, %d seam vertices opened; %d vertices, %d faces (%d wall); "
+      "closed two-manifold: %s, Euler characteristic %d -> %d; per sample p99 %.1f us; wrote %s\n",
+      stroke.samples.size() + 1, cutter->stats().edges_split, cutter->stats().vertices_duplicated, summary.vertices,
+      summary.faces, summary.wall_faces, summary.closed_two_manifold ? "yes" : "NO", euler_before,
+      summary.euler_characteristic, timingSummary(sample_us)["p99_us"].get<double>(), a.out.c_str());
   return ok ? 0 : 1;
 }
 
@@ -135,19 +146,27 @@ int runCut(CutArgs& a) {
 
 void addCutCommand(CLI::App& app) {
   auto args = std::make_shared<CutArgs>();
-  CLI::App* cmd = app.add_subcommand("cut", "Cut one scalpel stroke across a tissue surface; write the cut mesh and a JSON summary");
+  CLI::App* cmd = app.add_subcommand(
+      "cut", "Cut one scalpel stroke across a tissue surface; write the cut mesh and a JSON summary");
   cmd->add_option("--mesh", args->mesh, "closed triangle mesh (OBJ, PLY, OFF, STL)")->capture_default_str();
   cmd->add_option("--scale", args->scale, "metres per file unit")->capture_default_str();
-  cmd->add_option("--subdivide", args->subdivide, "Loop subdivisions before cutting")->capture_default_str()->check(CLI::Range(0, 5));
-  cmd->add_option("--start", args->start, "stroke start x y z (m); rays go down -y onto the surface")->expected(3)->capture_default_str();
+  cmd->add_option("--subdivide", args->subdivide, "Loop subdivisions before cutting")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 5));
+  cmd->add_option("--start", args->start, "stroke start x y z (m); rays go down -y onto the surface")
+      ->expected(3)
+      ->capture_default_str();
   cmd->add_option("--direction", args->direction, "stroke direction x y z")->expected(3)->capture_default_str();
   cmd->add_option("--length", args->length_m, "stroke length (m)")->capture_default_str();
   cmd->add_option("--bend", args->bend_m, "sideways bulge at the middle (m)")->capture_default_str();
   cmd->add_option("--speed", args->speed_m_per_s, "blade speed (m/s), sampled at 1 kHz")->capture_default_str();
   cmd->add_option("--depth", args->cutter.incision.depth_m, "blade depth (m)")->capture_default_str();
-  cmd->add_option("--opening", args->cutter.incision.opening_m, "wound width when retracted (m)")->capture_default_str();
-  cmd->add_option("--alpha", args->cutter.incision.alpha_m, "lattice spacing across the cut (m)")->capture_default_str();
-  cmd->add_option("--beta", args->cutter.incision.beta_m, "lattice spacing along the normal (m)")->capture_default_str();
+  cmd->add_option("--opening", args->cutter.incision.opening_m, "wound width when retracted (m)")
+      ->capture_default_str();
+  cmd->add_option("--alpha", args->cutter.incision.alpha_m, "lattice spacing across the cut (m)")
+      ->capture_default_str();
+  cmd->add_option("--beta", args->cutter.incision.beta_m, "lattice spacing along the normal (m)")
+      ->capture_default_str();
   cmd->add_option("--spacing", args->cutter.incision.spacing_m, "stroke resampling step (m)")->capture_default_str();
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
   cmd->add_option_function<std::string>(

@@ -19,11 +19,12 @@ nlohmann::json timingSummary(std::vector<double> values_us) {
     const size_t r = static_cast<size_t>(std::ceil(q * static_cast<double>(values_us.size())));
     return values_us[std::min(values_us.size() - 1, r == 0 ? 0 : r - 1)];
   };
-  return {{"count", values_us.size()},
-          {"p50_us", rank(0.5)},
-          {"p99_us", rank(0.99)},
-          {"max_us", values_us.back()},
-          {"mean_us", std::accumulate(values_us.begin(), values_us.end(), 0.0) / static_cast<double>(values_us.size())}};
+  return {
+      {"count", values_us.size()},
+      {"p50_us", rank(0.5)},
+      {"p99_us", rank(0.99)},
+      {"max_us", values_us.back()},
+      {"mean_us", std::accumulate(values_us.begin(), values_us.end(), 0.0) / static_cast<double>(values_us.size())}};
 }
 
 }  // namespace incise::apps

@@ -29,9 +29,10 @@ int runRecord(const RecordArgs& a) {
   }
   try {
     devices::TraceWriterOptions options;
-    options.comments = {"generator: incise record " + std::filesystem::path(a.scenario).filename().string(),
-                        "scenario: " + scenario.name,
-                        "source: " + std::string(scenario.source == sim::Scenario::Source::Strokes ? "generated strokes" : "trace")};
+    options.comments = {
+        "generator: incise record " + std::filesystem::path(a.scenario).filename().string(),
+        "scenario: " + scenario.name,
+        "source: " + std::string(scenario.source == sim::Scenario::Source::Strokes ? "generated strokes" : "trace")};
     devices::TraceWriter writer(a.out, options);
     for (const auto& pose : poses) writer.write(pose);
     writer.close();

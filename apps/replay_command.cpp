@@ -6,15 +6,15 @@
 // nothing half-written.
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 #include "commands.h"
 #include "data_dir.h"
+#include "incise/cutting/mesh_hash.h"
 #include "incise/cutting/surface_cutter.h"
 #include "incise/cutting/tet_cutter.h"
-#include "incise/cutting/mesh_hash.h"
 #include "incise/sim/simulation.h"
 #include "json_output.h"
 #include "progress.h"
@@ -121,8 +121,10 @@ int runReplay(const ReplayArgs& a) {
           {"period_error_us", summaryJson(report.latency.period_error_us)},
           {"pose_to_visible_frames", summaryJson(report.latency.pose_to_visible_frames)},
           {"deadline_misses", report.latency.deadline_misses}}},
-        {"loop", {{"overruns", report.loop.overruns}, {"skipped_deadlines", report.loop.skipped_deadlines},
-                  {"max_period_error_us", report.loop.max_period_error_us}}},
+        {"loop",
+         {{"overruns", report.loop.overruns},
+          {"skipped_deadlines", report.loop.skipped_deadlines},
+          {"max_period_error_us", report.loop.max_period_error_us}}},
     };
     if (const cutting::TetCutter* tets = run.world->tets()) {
       json["tets"] = writeTets(*tets, out);
@@ -135,14 +137,15 @@ int runReplay(const ReplayArgs& a) {
   } catch (const std::exception& e) {
     failWith("replay", e.what());
   }
-  std::printf("incise replay %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened; "
-              "frame p99 %.1f us, haptic p99 %.1f us, pose-to-visible p99 %.0f frames, %lld deadline misses; "
-              "closed two-manifold: %s; geometry %s%s; wrote %s\n",
-              run.scenario.name.c_str(), options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast", static_cast<long long>(report.frames),
-              static_cast<long long>(report.poses), report.incisions, stats.vertices_duplicated,
-              report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
-              static_cast<long long>(report.latency.deadline_misses), mesh.closed_two_manifold ? "yes" : "NO",
-              hex(hash).c_str(), tets_note.c_str(), a.out.c_str());
+  std::printf(
+      "incise replay %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened; "
+      "frame p99 %.1f us, haptic p99 %.1f us, pose-to-visible p99 %.0f frames, %lld deadline misses; "
+      "closed two-manifold: %s; geometry %s%s; wrote %s\n",
+      run.scenario.name.c_str(), options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast",
+      static_cast<long long>(report.frames), static_cast<long long>(report.poses), report.incisions,
+      stats.vertices_duplicated, report.latency.frame_us.p99, report.latency.haptic_us.p99,
+      report.latency.pose_to_visible_frames.p99, static_cast<long long>(report.latency.deadline_misses),
+      mesh.closed_two_manifold ? "yes" : "NO", hex(hash).c_str(), tets_note.c_str(), a.out.c_str());
   return mesh.closed_two_manifold && stats.failure.empty() && tets_ok ? 0 : 1;
 }
 
@@ -150,9 +153,11 @@ int runReplay(const ReplayArgs& a) {
 
 void addReplayCommand(CLI::App& app) {
   auto args = std::make_shared<ReplayArgs>();
-  CLI::App* cmd = app.add_subcommand("replay", "Replay a scenario's scalpel poses through the 1 kHz simulation; write the cut mesh and a JSON report");
+  CLI::App* cmd = app.add_subcommand(
+      "replay", "Replay a scenario's scalpel poses through the 1 kHz simulation; write the cut mesh and a JSON report");
   cmd->add_option("scenario", args->scenario, "scenario file (JSON)")->capture_default_str();
-  auto* realtime = cmd->add_flag("--realtime", args->realtime, "pace frames at the scenario's rate on a fixed-rate thread");
+  auto* realtime =
+      cmd->add_flag("--realtime", args->realtime, "pace frames at the scenario's rate on a fixed-rate thread");
   auto* fast = cmd->add_flag("--fast", args->fast, "run the same frames as fast as possible (default)");
   realtime->excludes(fast);
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();

@@ -11,7 +11,6 @@
 
 namespace incise::apps {
 
-
 struct LoadedScenario {
   sim::Scenario scenario;
   std::unique_ptr<sim::World> world;

@@ -109,7 +109,8 @@ int runWrap(const std::string& scenario, const std::string& out_dir) {
     }
     const double penetration = frame.line["worst_penetration_m"].get<double>();
     worst = std::max(worst, penetration);
-    ok = ok && penetration <= s.tolerance_m && (s.treatment == OpeningTreatment::Open || frame.line["boundary_loops"].get<int>() == 0);
+    ok = ok && penetration <= s.tolerance_m &&
+         (s.treatment == OpeningTreatment::Open || frame.line["boundary_loops"].get<int>() == 0);
     lines += frame.line.dump() + "\n";
     progress.update(f + 1);
   }
@@ -120,8 +121,8 @@ int runWrap(const std::string& scenario, const std::string& out_dir) {
     fail(e.what());
   }
   std::printf("incise wrap %s (%s): %d frames, %zu obstacles, min det J %.3g, worst penetration %.3g m; wrote %s\n",
-              s.name.c_str(), sim::treatmentName(s.treatment), s.frames + 1, s.obstacles.size(), dffd->minJacobian(1), worst,
-              out_dir.c_str());
+              s.name.c_str(), sim::treatmentName(s.treatment), s.frames + 1, s.obstacles.size(), dffd->minJacobian(1),
+              worst, out_dir.c_str());
   return ok ? 0 : 1;
 }
 
@@ -132,7 +133,8 @@ void addWrapCommand(CLI::App& app) {
     std::string scenario, out = "out/wrap";
   };
   auto args = std::make_shared<Args>();
-  CLI::App* cmd = app.add_subcommand("wrap", "Move a model through obstacles with the global DFFD; write a mesh and a JSON line per frame");
+  CLI::App* cmd = app.add_subcommand(
+      "wrap", "Move a model through obstacles with the global DFFD; write a mesh and a JSON line per frame");
   cmd->add_option("scenario", args->scenario, "wrap scenario (JSON, see scenarios/README.md)")->required();
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
   cmd->callback([args] { std::exit(runWrap(args->scenario, args->out)); });

@@ -60,20 +60,23 @@ nlohmann::json stats(const std::vector<double>& ms, double target) {
           {"meets_target", percentile(ms, 0.99) <= target}};
 }
 
-double msSince(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
 
 struct Tilt {
   double about_x_deg = 0.0;  // leaning along the motion (the bar stays in its plane x = x_i)
   double about_y_deg = 0.0;  // leaning across it (the bar crosses planes of constant x)
   double radius_m = kBarRadius;
-  double reach_m = 0.02;     // how far the bar reaches below the feet and above the head, along z
+  double reach_m = 0.02;  // how far the bar reaches below the feet and above the head, along z
 };
 
 // Three bars through the scene, centred at (x_i, 0, h / 2), reaching 2 cm below the feet and above the
 // head (measured along z), tilted about x, then about y.
 Eigen::Vector3d barDirection(const Tilt& tilt) {
   const double ax = tilt.about_x_deg * std::numbers::pi / 180.0, ay = tilt.about_y_deg * std::numbers::pi / 180.0;
-  return Eigen::AngleAxisd(ay, Eigen::Vector3d::UnitY()) * (Eigen::AngleAxisd(ax, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ());
+  return Eigen::AngleAxisd(ay, Eigen::Vector3d::UnitY()) *
+         (Eigen::AngleAxisd(ax, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ());
 }
 
 Eigen::Vector3d barCentre(int i) { return {(i - 1) * kBarSpacing + kBarOffset, 0.0, kRobotHeight / 2}; }
@@ -121,7 +124,8 @@ std::vector<int> components(const TriMesh& mesh) {
   std::vector<int> parent(mesh.n_vertices());
   std::iota(parent.begin(), parent.end(), 0);
   const auto find = [&](int v) {
-    while (parent[static_cast<size_t>(v)] != v) v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
+    while (parent[static_cast<size_t>(v)] != v)
+      v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
     return v;
   };
   for (const auto e : mesh.edges()) {
@@ -204,7 +208,8 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
                           {dffd.box().max().x(), dffd.box().max().y(), dffd.box().max().z()}};
   nlohmann::json kernels = nlohmann::json::array();
   for (const DffdObstacle& o : dffd.obstacles())
-    kernels.push_back({{"name", o.name}, {"u_m", o.u}, {"kernel_width_used", o.kernel_width}, {"max_move_m", o.max_move_m}});
+    kernels.push_back(
+        {{"name", o.name}, {"u_m", o.u}, {"kernel_width_used", o.kernel_width}, {"max_move_m", o.max_move_m}});
   out["discontinuities"] = kernels;
 
   // The frames: split and deform (timed); then, untimed, how much opened and the penetration.
@@ -251,7 +256,7 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
   out["frames"] = kFrames;
   out["motion_y_m"] = {kStartY, kEndY};
   out["frames_with_split_vertices"] = frames_split;  // the whole section is split, also where F is the identity
-  out["frames_split_at_a_bar"] = frames_at_bars;  // the robot overlaps a bar: split vertices within 1 mm of it
+  out["frames_split_at_a_bar"] = frames_at_bars;     // the robot overlaps a bar: split vertices within 1 mm of it
   out["worst_penetration_all_frames_m"] = worst_penetration;
   out["worst_penetration_all_frames_frame"] = worst_frame;
   out["split_and_deform"] = stats(frame_ms, kTargetFrameMs);
@@ -334,7 +339,8 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
       {"deformed_boundary_loops", boundaryLoops(deformed.mesh())},
       {"parts_cut_per_plane", cut},
       {"worst_penetration_m", penetration},
-      {"worst_penetration_undeformed_m", worstPenetration(split.surface().mesh(), obstacles)},  // the measure sees the overlap
+      {"worst_penetration_undeformed_m",
+       worstPenetration(split.surface().mesh(), obstacles)},  // the measure sees the overlap
       {"worst_penetration_obstacle", which},
       {"worst_penetration_ms", pen_ms},
       {"split_ms", split_ms},
@@ -358,12 +364,13 @@ int main() {
   const std::vector<int> part = components(robot.mesh());
   nlohmann::json report = {
       {"benchmark", "global_dffd_robot_through_bars"},
-      {"robot", {{"height_m", kRobotHeight},
-                 {"detail", kRobotDetail30k},
-                 {"vertices", robot.mesh().n_vertices()},
-                 {"faces", robot.mesh().n_faces()},
-                 {"boundary_loops", boundaryLoops(robot.mesh())},
-                 {"components", *std::max_element(part.begin(), part.end()) + 1}}},
+      {"robot",
+       {{"height_m", kRobotHeight},
+        {"detail", kRobotDetail30k},
+        {"vertices", robot.mesh().n_vertices()},
+        {"faces", robot.mesh().n_faces()},
+        {"boundary_loops", boundaryLoops(robot.mesh())},
+        {"components", *std::max_element(part.begin(), part.end()) + 1}}},
       {"threads", 1},
       {"machine", incise::bench::machineInfo()},
       {"scenes", nlohmann::json::array()},
@@ -378,8 +385,11 @@ int main() {
   tilted.kernel_width = 6.5;
   tilted.margin_m = 0.015;
   tilted.clearance_m = 0.0003;
-  report["scenes"].push_back(runScene("bars rotated 2.4 deg about y", {0.0, std::atan(0.005 / 0.12) * 180.0 / std::numbers::pi, 0.002, 0.01}, tilted, robot, part));
-  report["scenes"].push_back(runScene("bars rotated 20 deg about x (leaning along the motion)", {20.0, 0.0}, latticeOptions(), robot, part));
+  report["scenes"].push_back(runScene("bars rotated 2.4 deg about y",
+                                      {0.0, std::atan(0.005 / 0.12) * 180.0 / std::numbers::pi, 0.002, 0.01}, tilted,
+                                      robot, part));
+  report["scenes"].push_back(
+      runScene("bars rotated 20 deg about x (leaning along the motion)", {20.0, 0.0}, latticeOptions(), robot, part));
   std::printf("%s\n", report.dump(2).c_str());
   return 0;
 }

@@ -4,15 +4,15 @@
 // Reports p50 / p99 / max of the time of SurfaceCutter::extend per sample, and the ratio of the larger
 // mesh's p99 to the smaller one's. Targets: p99 <= 300 us; ratio <= 2 (the cost stays local).
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "bunny_stroke.h"
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
-#include "bunny_stroke.h"
 #include "machine_info.h"
 
 namespace {

@@ -40,18 +40,16 @@ nlohmann::json machineInfo() {
   utsname name{};
   uname(&name);
   return {
-      {"cpu", cpuModel()},
-      {"logical_cores", std::thread::hardware_concurrency()},
-      {"os", std::string(name.sysname) + " " + name.release},
-      {"compiler", std::string("g++ ") + __VERSION__},
+    {"cpu", cpuModel()}, {"logical_cores", std::thread::hardware_concurrency()},
+        {"os", std::string(name.sysname) + " " + name.release}, {"compiler", std::string("g++ ") + __VERSION__},
 #if defined(__AVX2__)
-      {"simd", "avx2"},
+        {"simd", "avx2"},
 #elif defined(__SSE2__)
-      {"simd", "sse2"},
+        {"simd", "sse2"},
 #else
-      {"simd", "none"},
+        {"simd", "none"},
 #endif
-      {"utc", utcNow()},
+        {"utc", utcNow()},
   };
 }
 

@@ -10,20 +10,20 @@
 // the refusal and one TetGen run on the uncut surface as the naive cost's lower bound), and the ratio of the
 // naive time to the p99. Targets: p99 <= 300 us on >= 200k tets; ratio >= 1000.
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "bunny_stroke.h"
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
 #include "incise/cutting/tet_cutter.h"
 #include "incise/cutting/tet_mesh.h"
 #include "incise/cutting/tetrahedralize.h"
-#include "bunny_stroke.h"
 #include "machine_info.h"
 
 namespace {
@@ -149,9 +149,11 @@ int main() {
         {"p99", p99_us},
         {"max", *std::max_element(sample_us.begin(), sample_us.end())},
         {"max_at_sample", std::max_element(sample_us.begin(), sample_us.end()) - sample_us.begin()},
-        {"samples_over_target", std::count_if(sample_us.begin(), sample_us.end(), [](double v) { return v > kTargetP99Us; })},
+        {"samples_over_target",
+         std::count_if(sample_us.begin(), sample_us.end(), [](double v) { return v > kTargetP99Us; })},
         {"samples_over_1us", std::count_if(sample_us.begin(), sample_us.end(), [](double v) { return v > 1.0; })},
-        {"mean", [&] {
+        {"mean",
+         [&] {
            double sum = 0;
            for (double v : sample_us) sum += v;
            return sum / static_cast<double>(sample_us.size());

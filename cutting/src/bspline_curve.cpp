@@ -14,12 +14,9 @@
 
 namespace incise::cutting {
 
-
 namespace {
 
 [[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
-
-
 
 size_t at(int i) { return static_cast<size_t>(i); }
 
@@ -43,8 +40,7 @@ void insertOnce(int order, double t, std::vector<double>& knots, std::vector<Eig
 
 void checkFitShape(size_t point_count, int order, int control_count, const char* who) {
   if (order < 2 || order > kMaxOrder)
-    fail(std::string(who) + ": order " + std::to_string(order) + " is outside [2, " +
-         std::to_string(kMaxOrder) + "]");
+    fail(std::string(who) + ": order " + std::to_string(order) + " is outside [2, " + std::to_string(kMaxOrder) + "]");
   if (control_count < order)
     fail(std::string(who) + ": control_count " + std::to_string(control_count) + " is less than order " +
          std::to_string(order));
@@ -56,22 +52,20 @@ void checkFitShape(size_t point_count, int order, int control_count, const char*
 void checkFinite(std::span<const Eigen::Vector3d> points, const char* who) {
   for (size_t k = 0; k < points.size(); ++k)
     if (!points[k].allFinite())
-      fail(std::string(who) + ": point " + std::to_string(k) + " = " + formatPoint(points[k]) +
-           " is not finite");
+      fail(std::string(who) + ": point " + std::to_string(k) + " = " + formatPoint(points[k]) + " is not finite");
 }
 
 void checkParameters(std::span<const double> parameters, const char* who) {
   const std::string name(who);
   if (parameters.empty()) fail(name + ": no parameters");
-  if (parameters.front() != 0.0)
-    fail(name + ": parameter 0 is " + formatNumber(parameters.front()) + ", expected 0");
+  if (parameters.front() != 0.0) fail(name + ": parameter 0 is " + formatNumber(parameters.front()) + ", expected 0");
   for (size_t k = 1; k < parameters.size(); ++k)
     if (!(parameters[k] >= parameters[k - 1]))  // also catches NaN
-      fail(name + ": parameter " + std::to_string(k) + " = " + formatNumber(parameters[k]) +
-           " is not >= parameter " + std::to_string(k - 1) + " = " + formatNumber(parameters[k - 1]));
+      fail(name + ": parameter " + std::to_string(k) + " = " + formatNumber(parameters[k]) + " is not >= parameter " +
+           std::to_string(k - 1) + " = " + formatNumber(parameters[k - 1]));
   if (parameters.back() != 1.0)
-    fail(name + ": parameter " + std::to_string(parameters.size() - 1) + " is " +
-         formatNumber(parameters.back()) + ", expected 1");
+    fail(name + ": parameter " + std::to_string(parameters.size() - 1) + " is " + formatNumber(parameters.back()) +
+         ", expected 1");
 }
 
 size_t distinctCount(std::span<const double> sorted) {
@@ -89,9 +83,8 @@ struct NormalEquations {
   Eigen::MatrixX3d rhs;
 };
 
-NormalEquations assembleNormalEquations(std::span<const Eigen::Vector3d> points,
-                                        std::span<const double> parameters, std::span<const double> knots,
-                                        int order, int control_count) {
+NormalEquations assembleNormalEquations(std::span<const Eigen::Vector3d> points, std::span<const double> parameters,
+                                        std::span<const double> knots, int order, int control_count) {
   const int p = order - 1;
   const int n = control_count - 1;
   const int unknowns = n - 1;
@@ -110,8 +103,7 @@ NormalEquations assembleNormalEquations(std::span<const Eigen::Vector3d> points,
       const int row = first + a - 1;
       if (row < 0 || row >= unknowns) continue;
       equations.rhs.row(row) += basis[a] * r.transpose();
-      for (int b = a; b < order && first + b - 1 < unknowns; ++b)
-        equations.band(row, b - a) += basis[a] * basis[b];
+      for (int b = a; b < order && first + b - 1 < unknowns; ++b) equations.band(row, b - a) += basis[a] * basis[b];
     }
   }
   return equations;
@@ -132,8 +124,7 @@ bool solveBanded(const NormalEquations& equations, Eigen::MatrixX3d& solution) {
   }
   Eigen::SparseMatrix<double> normal(unknowns, unknowns);
   normal.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> ldlt(
-      normal);
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> ldlt(normal);
   if (ldlt.info() != Eigen::Success) return false;
   // A pivot this small against the largest diagonal means a condition number beyond 1e12: some basis
   // function is (nearly) unsupported by the parameters and its control point is arbitrary.
@@ -145,19 +136,17 @@ bool solveBanded(const NormalEquations& equations, Eigen::MatrixX3d& solution) {
   return solution.allFinite();
 }
 
-std::vector<Eigen::Vector3d> solveControls(std::span<const Eigen::Vector3d> points,
-                                           std::span<const double> parameters, std::span<const double> knots,
-                                           int order, int control_count) {
+std::vector<Eigen::Vector3d> solveControls(std::span<const Eigen::Vector3d> points, std::span<const double> parameters,
+                                           std::span<const double> knots, int order, int control_count) {
   std::vector<Eigen::Vector3d> controls(at(control_count));
   controls.front() = points.front();
   controls.back() = points.back();
   if (control_count == 2) return controls;  // no interior control points
   Eigen::MatrixX3d interior;
   if (!solveBanded(assembleNormalEquations(points, parameters, knots, order, control_count), interior))
-    fail("fitCurve: the parameters do not determine the control points (" +
-         std::to_string(distinctCount(parameters)) + " distinct parameters among " +
-         std::to_string(points.size()) + " points for " + std::to_string(control_count) +
-         " control points; too many repeated points?)");
+    fail("fitCurve: the parameters do not determine the control points (" + std::to_string(distinctCount(parameters)) +
+         " distinct parameters among " + std::to_string(points.size()) + " points for " +
+         std::to_string(control_count) + " control points; too many repeated points?)");
   for (Eigen::Index i = 0; i < interior.rows(); ++i) controls[static_cast<size_t>(i + 1)] = interior.row(i);
   return controls;
 }
@@ -172,8 +161,7 @@ BSplineCurve::BSplineCurve(int order, std::vector<double> knots, std::vector<Eig
   validateKnots(knots_, order_, controlCount(), "BSplineCurve knots");
   for (size_t i = 0; i < controls_.size(); ++i)
     if (!controls_[i].allFinite())
-      fail("BSplineCurve: control point " + std::to_string(i) + " = " + formatPoint(controls_[i]) +
-           " is not finite");
+      fail("BSplineCurve: control point " + std::to_string(i) + " = " + formatPoint(controls_[i]) + " is not finite");
 }
 
 std::array<double, 2> BSplineCurve::domain() const noexcept {
@@ -244,8 +232,7 @@ void BSplineCurve::insertKnot(double t, int times) {
 // Fitting (§9.4.1)
 
 std::vector<double> chordLengthParameters(std::span<const Eigen::Vector3d> points) {
-  if (points.size() < 2)
-    fail("chordLengthParameters: " + std::to_string(points.size()) + " points, need at least 2");
+  if (points.size() < 2) fail("chordLengthParameters: " + std::to_string(points.size()) + " points, need at least 2");
   checkFinite(points, "chordLengthParameters");
   std::vector<double> parameters(points.size(), 0.0);
   double total = 0.0;
@@ -257,8 +244,7 @@ std::vector<double> chordLengthParameters(std::span<const Eigen::Vector3d> point
     fail("chordLengthParameters: all " + std::to_string(points.size()) +
          " points coincide with point 0 = " + formatPoint(points.front()));
   if (!std::isfinite(total))
-    fail("chordLengthParameters: the total chord length overflows (point 0 = " + formatPoint(points.front()) +
-         ")");
+    fail("chordLengthParameters: the total chord length overflows (point 0 = " + formatPoint(points.front()) + ")");
   for (double& t : parameters) t /= total;
   parameters.back() = 1.0;
   return parameters;
@@ -295,8 +281,8 @@ CurveFit fitCurveAtParameters(std::span<const Eigen::Vector3d> points, std::span
   const int count = options.control_count;
   checkFitShape(points.size(), order, count, "fitCurve");
   if (parameters.size() != points.size())
-    fail("fitCurve: " + std::to_string(parameters.size()) + " parameters for " +
-         std::to_string(points.size()) + " points");
+    fail("fitCurve: " + std::to_string(parameters.size()) + " parameters for " + std::to_string(points.size()) +
+         " points");
   checkFinite(points, "fitCurve");
   std::vector<double> knots = averagingKnots(parameters, order, count);
   // Runs of equal parameters can stack averaged knots beyond the order.

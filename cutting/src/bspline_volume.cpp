@@ -12,12 +12,9 @@
 
 namespace incise::cutting {
 
-
 namespace {
 
 constexpr const char* kAxisName[3] = {"u", "v", "w"};
-
-
 
 void checkAxis(int axis, const char* who) {
   if (axis < 0 || axis > 2)
@@ -25,7 +22,9 @@ void checkAxis(int axis, const char* who) {
 }
 
 // The two axes other than `axis`, in increasing order.
-std::array<int, 2> otherAxes(int axis) { return axis == 0 ? std::array{1, 2} : axis == 1 ? std::array{0, 2} : std::array{0, 1}; }
+std::array<int, 2> otherAxes(int axis) {
+  return axis == 0 ? std::array{1, 2} : axis == 1 ? std::array{0, 2} : std::array{0, 1};
+}
 
 // Linear index of the control at position a along `axis` and b, c along the other two axes.
 int lineIndex(const std::array<int, 3>& counts, int axis, int a, int b, int c) {
@@ -53,17 +52,16 @@ BSplineVolume::BSplineVolume(std::array<int, 3> orders, std::array<std::vector<d
   const size_t expected = static_cast<size_t>(counts[0]) * counts[1] * counts[2];
   if (controls.size() != expected)
     throw std::invalid_argument("BSplineVolume: " + std::to_string(controls.size()) +
-                                " control points, expected n_u * n_v * n_w = " + std::to_string(counts[0]) +
-                                " * " + std::to_string(counts[1]) + " * " + std::to_string(counts[2]) + " = " +
+                                " control points, expected n_u * n_v * n_w = " + std::to_string(counts[0]) + " * " +
+                                std::to_string(counts[1]) + " * " + std::to_string(counts[2]) + " = " +
                                 std::to_string(expected));
   for (size_t index = 0; index < controls.size(); ++index) {
     if (!controls[index].allFinite()) {
       const int i = static_cast<int>(index % counts[0]);
       const int j = static_cast<int>((index / counts[0]) % counts[1]);
       const int k = static_cast<int>(index / (static_cast<size_t>(counts[0]) * counts[1]));
-      throw std::invalid_argument("BSplineVolume: control point (" + std::to_string(i) + ", " +
-                                  std::to_string(j) + ", " + std::to_string(k) + ") is " +
-                                  formatPoint(controls[index]));
+      throw std::invalid_argument("BSplineVolume: control point (" + std::to_string(i) + ", " + std::to_string(j) +
+                                  ", " + std::to_string(k) + ") is " + formatPoint(controls[index]));
     }
   }
   orders_ = orders;
@@ -76,7 +74,8 @@ BSplineVolume BSplineVolume::identity(const Eigen::AlignedBox3d& box, std::array
                                       std::array<int, 3> counts) {
   if (!box.min().allFinite() || !box.max().allFinite() || !(box.min().array() < box.max().array()).all())
     throw std::invalid_argument("BSplineVolume::identity: box " + formatPoint(Eigen::Vector3d(box.min())) + " - " +
-                                formatPoint(Eigen::Vector3d(box.max())) + " is not finite with min < max on every axis");
+                                formatPoint(Eigen::Vector3d(box.max())) +
+                                " is not finite with min < max on every axis");
   BSplineVolume volume;
   std::array<std::vector<double>, 3> greville;
   for (int a = 0; a < 3; ++a) {
@@ -132,8 +131,8 @@ Eigen::Vector3d BSplineVolume::evaluateUnchecked(double u, double v, double w) c
     basisFunctions(knots_[a], orders_[a], span, clamped, basis[a]);
     first[a] = span - (orders_[a] - 1);
   }
-  return detail::tensorSum(controls_.data()->data(), counts_[0], counts_[1],
-                           controlIndex(first[0], first[1], first[2]), orders_, basis[0], basis[1], basis[2]);
+  return detail::tensorSum(controls_.data()->data(), counts_[0], counts_[1], controlIndex(first[0], first[1], first[2]),
+                           orders_, basis[0], basis[1], basis[2]);
 }
 
 Eigen::Matrix3d BSplineVolume::jacobian(double u, double v, double w) const {
@@ -151,7 +150,8 @@ Eigen::Matrix3d BSplineVolume::jacobian(double u, double v, double w) const {
   for (int k = 0; k < ow; ++k) {
     for (int j = 0; j < ov; ++j) {
       for (int i = 0; i < ou; ++i) {
-        const Eigen::Vector3d& p = controls_[static_cast<size_t>(controlIndex(first[0] + i, first[1] + j, first[2] + k))];
+        const Eigen::Vector3d& p =
+            controls_[static_cast<size_t>(controlIndex(first[0] + i, first[1] + j, first[2] + k))];
         jac.col(0) += ders[0][ou + i] * ders[1][j] * ders[2][k] * p;
         jac.col(1) += ders[0][i] * ders[1][ov + j] * ders[2][k] * p;
         jac.col(2) += ders[0][i] * ders[1][j] * ders[2][ow + k] * p;
@@ -166,8 +166,8 @@ void BSplineVolume::insertKnot(int axis, double t, int times) {
   const std::string who = std::string("BSplineVolume::insertKnot(") + kAxisName[axis] + "): ";
   const auto d = domain(axis);
   if (!(t > d[0] && t < d[1]))
-    throw std::invalid_argument(who + "t = " + formatNumber(t) + " is not strictly inside the domain (" + formatNumber(d[0]) +
-                                ", " + formatNumber(d[1]) + ")");
+    throw std::invalid_argument(who + "t = " + formatNumber(t) + " is not strictly inside the domain (" +
+                                formatNumber(d[0]) + ", " + formatNumber(d[1]) + ")");
   const int order = orders_[axis];
   const int existing = knotMultiplicity(knots_[axis], t);
   if (times < 1 || existing + times > order)
@@ -252,8 +252,8 @@ const Eigen::Vector3d& BSplineVolume::control(int i, int j, int k) const {
 void BSplineVolume::setControl(int i, int j, int k, const Eigen::Vector3d& p) {
   checkIndex(i, j, k);
   if (!p.allFinite())
-    throw std::invalid_argument("BSplineVolume::setControl(" + std::to_string(i) + ", " + std::to_string(j) +
-                                ", " + std::to_string(k) + "): point " + formatPoint(p) + " is not finite");
+    throw std::invalid_argument("BSplineVolume::setControl(" + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                                std::to_string(k) + "): point " + formatPoint(p) + " is not finite");
   controls_[static_cast<size_t>(controlIndex(i, j, k))] = p;
 }
 

@@ -55,8 +55,7 @@ SurfaceMesh fromCgal(const CgalMesh& mesh, int axis, double value, KeepSide keep
     }
     if (corners.size() != 3 || !out.add_face(corners).is_valid()) {
       throw MeshError("clipAndCap: the clipped mesh cannot be rebuilt as an OpenMesh triangle mesh (face " +
-                      std::to_string(f.idx()) + " with " + std::to_string(corners.size()) +
-                      " vertices refused)");
+                      std::to_string(f.idx()) + " with " + std::to_string(corners.size()) + " vertices refused)");
     }
   }
   out.update_normals();
@@ -101,13 +100,11 @@ SurfaceMesh clipAndCap(const SurfaceMesh& mesh, int axis, double value, KeepSide
   // x[axis] < value, normal -e_axis keeps x[axis] > value.
   const double n = keep == KeepSide::Below ? 1.0 : -1.0;
   const Kernel::Plane_3 plane(axis == 0 ? n : 0.0, axis == 1 ? n : 0.0, axis == 2 ? n : 0.0, -n * value);
-  const std::string where = "clipAndCap: keeping " + std::string(sideName(keep)) + " x[" +
-                            std::to_string(axis) + "] = " + formatNumber(value) + ": ";
+  const std::string where = "clipAndCap: keeping " + std::string(sideName(keep)) + " x[" + std::to_string(axis) +
+                            "] = " + formatNumber(value) + ": ";
   try {
-    const bool manifold = PMP::clip(cgal, plane,
-                                    CGAL::parameters::clip_volume(true)
-                                        .use_compact_clipper(true)
-                                        .throw_on_self_intersection(true));
+    const bool manifold = PMP::clip(
+        cgal, plane, CGAL::parameters::clip_volume(true).use_compact_clipper(true).throw_on_self_intersection(true));
     if (!manifold) throw MeshError(where + "CGAL's clip reports a non-manifold result");
     cgal.collect_garbage();
     // The corefinement gives triangles; a polygon left by a later CGAL would be split here.

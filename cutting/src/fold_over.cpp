@@ -13,14 +13,11 @@
 
 namespace incise::cutting {
 
-
 namespace {
 
 constexpr const char* kAxisName[3] = {"u", "v", "w"};
 
 using Index3 = std::array<int, 3>;
-
-
 
 FoldReport failure(const Index3& ijk, std::string message) {
   return FoldReport{false, ijk[0], ijk[1], ijk[2], std::move(message)};
@@ -50,8 +47,7 @@ struct Difference {
 
 // The differences along `axis` inside the support block starting at `first` (orders[a] controls per axis).
 // Pairs with a zero knot denominator cannot occur in a non-empty cell's support; they are skipped anyway.
-void collectDifferences(const BSplineVolume& volume, int axis, const Index3& first,
-                        std::vector<Difference>& out) {
+void collectDifferences(const BSplineVolume& volume, int axis, const Index3& first, std::vector<Difference>& out) {
   out.clear();
   const auto& knots = volume.knots(axis);
   const int order = volume.orders()[static_cast<size_t>(axis)];
@@ -80,8 +76,8 @@ std::string describeDifference(int axis, const Difference& d) {
 FoldReport checkCell(const Index3& span, const std::array<std::vector<Difference>, 3>& diffs) {
   for (int a = 0; a < 3; ++a)  // cannot happen in a non-empty cell; an empty set would pass vacuously
     if (diffs[static_cast<size_t>(a)].empty())
-      return failure(span, "checkJacobianPositive: knot cell (spans) " + formatIndices(span) + " has no " + kAxisName[a] +
-                               "-differences");
+      return failure(span, "checkJacobianPositive: knot cell (spans) " + formatIndices(span) + " has no " +
+                               kAxisName[a] + "-differences");
   for (const Difference& b : diffs[1]) {
     for (const Difference& c : diffs[2]) {
       // det(a, b, c) = a . (b x c): one cross product serves every a.
@@ -135,8 +131,7 @@ double cellMinDeterminant(const BSplineVolume& volume, const Index3& span, int n
   for (int sk = 0; sk < n; ++sk) {
     for (int sj = 0; sj < n; ++sj) {
       for (int si = 0; si < n; ++si) {
-        const double t[3] = {sampleAt(range[0][0], range[0][1], si, n),
-                             sampleAt(range[1][0], range[1][1], sj, n),
+        const double t[3] = {sampleAt(range[0][0], range[0][1], si, n), sampleAt(range[1][0], range[1][1], sj, n),
                              sampleAt(range[2][0], range[2][1], sk, n)};
         result = std::min(result, cellJacobian(volume, span, t).determinant());
       }
@@ -212,8 +207,8 @@ FoldReport checkJacobianPositive(const BSplineVolume& volume) {
 
 double minJacobianDeterminant(const BSplineVolume& volume, int samples_per_cell) {
   if (samples_per_cell < 1)
-    throw std::invalid_argument("minJacobianDeterminant: samples_per_cell = " +
-                                std::to_string(samples_per_cell) + " is less than 1");
+    throw std::invalid_argument("minJacobianDeterminant: samples_per_cell = " + std::to_string(samples_per_cell) +
+                                " is less than 1");
   double result = std::numeric_limits<double>::infinity();
   forEachCell(volume, [&](const Index3& span) {
     result = std::min(result, cellMinDeterminant(volume, span, samples_per_cell));

@@ -16,8 +16,8 @@
 
 namespace incise::cutting {
 
-DffdError::DffdError(DffdErrorKind kind_, const std::string& message, std::string obstacle_, std::string other_obstacle_,
-                     int controls_needed_)
+DffdError::DffdError(DffdErrorKind kind_, const std::string& message, std::string obstacle_,
+                     std::string other_obstacle_, int controls_needed_)
     : std::runtime_error(message),
       kind(kind_),
       obstacle(std::move(obstacle_)),
@@ -68,7 +68,11 @@ bool xRangeInSlab(const std::vector<Triangle>& tris, double y0, double y1, doubl
     Eigen::Vector3d poly[9], next[9];
     int n = 3;
     poly[0] = t.a, poly[1] = t.b, poly[2] = t.c;
-    const struct { int axis; double value; double sign; } planes[4] = {{1, y0, 1}, {1, y1, -1}, {2, z0, 1}, {2, z1, -1}};
+    const struct {
+      int axis;
+      double value;
+      double sign;
+    } planes[4] = {{1, y0, 1}, {1, y1, -1}, {2, z0, 1}, {2, z1, -1}};
     for (const auto& pl : planes) {
       int m = 0;
       for (int i = 0; i < n; ++i) {
@@ -107,7 +111,9 @@ int rayCrossings(const std::vector<Triangle>& tris, double x_from, double y0, do
 }
 
 // How often the line {y = y0, z = z0} along x enters the solid (half its crossings with the surface).
-int entries(const std::vector<Triangle>& tris, double y0, double z0) { return rayCrossings(tris, -INFINITY, y0, z0) / 2; }
+int entries(const std::vector<Triangle>& tris, double y0, double z0) {
+  return rayCrossings(tris, -INFINITY, y0, z0) / 2;
+}
 
 // Whether p lies inside the closed surface: parity of a ray along +x, moved off p by a hair (h) three
 // ways so that a ray through an edge or a vertex (which counts wrong) is outvoted.
@@ -145,8 +151,9 @@ void checkMonotone(const DffdObstacle& d, const std::vector<Triangle>& tris) {
       const int n = entries(tris, y, z);
       if (n > 1)
         throw DffdError(DffdErrorKind::NotMonotone,
-                        "obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + formatNumber(y) + ", w = " +
-                            formatNumber(z) + " enters it " + std::to_string(n) + " times (the projection onto C-(v), C+(v) needs one)",
+                        "obstacle '" + d.name + "' is not monotone in v: the line along u at v = " + formatNumber(y) +
+                            ", w = " + formatNumber(z) + " enters it " + std::to_string(n) +
+                            " times (the projection onto C-(v), C+(v) needs one)",
                         d.name);
     }
 }
@@ -158,18 +165,22 @@ GlobalDffd::GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdO
       volume_(BSplineVolume::identity(Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()), {2, 2, 2},
                                       {2, 2, 2})) {
   const GlobalDffdOptions& o = options;
-  if (o.order < 2 || o.order > 8) throw std::invalid_argument("GlobalDffd: order = " + std::to_string(o.order) + " is outside [2, 8]");
+  if (o.order < 2 || o.order > 8)
+    throw std::invalid_argument("GlobalDffd: order = " + std::to_string(o.order) + " is outside [2, 8]");
   for (int a = 0; a < 3; ++a)
     if (o.controls[a] < o.order || o.controls[a] > 4096)
       throw std::invalid_argument("GlobalDffd: controls[" + std::to_string(a) + "] = " + std::to_string(o.controls[a]) +
                                   " must be in [order, 4096]");
-  if (!(o.margin_m >= 0.0) || !std::isfinite(o.margin_m)) throw std::invalid_argument("GlobalDffd: margin_m = " + formatNumber(o.margin_m) + " must be >= 0");
+  if (!(o.margin_m >= 0.0) || !std::isfinite(o.margin_m))
+    throw std::invalid_argument("GlobalDffd: margin_m = " + formatNumber(o.margin_m) + " must be >= 0");
   if (!(o.kernel_width > 0.0) || !std::isfinite(o.kernel_width))
     throw std::invalid_argument("GlobalDffd: kernel_width = " + formatNumber(o.kernel_width) + " must be > 0");
-  if (!(o.epsilon > 0.0 && o.epsilon < 1e-3)) throw std::invalid_argument("GlobalDffd: epsilon = " + formatNumber(o.epsilon) + " must be in (0, 1e-3)");
+  if (!(o.epsilon > 0.0 && o.epsilon < 1e-3))
+    throw std::invalid_argument("GlobalDffd: epsilon = " + formatNumber(o.epsilon) + " must be in (0, 1e-3)");
   if (!(o.clearance_m >= 0.0) || !std::isfinite(o.clearance_m))
     throw std::invalid_argument("GlobalDffd: clearance_m = " + formatNumber(o.clearance_m) + " must be >= 0");
-  if (obstacles.empty() && !o.box) throw DffdError(DffdErrorKind::NoExtent, "GlobalDffd: no obstacle and no box: the lattice has no extent");
+  if (obstacles.empty() && !o.box)
+    throw DffdError(DffdErrorKind::NoExtent, "GlobalDffd: no obstacle and no box: the lattice has no extent");
   place(obstacles);
   wrap(obstacles);
   markMovedCells();
@@ -181,13 +192,16 @@ void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
   for (const Obstacle& ob : obstacles) {
     const ManifoldReport report = checkManifold(ob.mesh.mesh());
     if (!report.closed_two_manifold)
-      throw DffdError(DffdErrorKind::ObstacleNotClosed, "obstacle '" + ob.name + "': not a closed two-manifold: " + report.first_problem, ob.name);
+      throw DffdError(DffdErrorKind::ObstacleNotClosed,
+                      "obstacle '" + ob.name + "': not a closed two-manifold: " + report.first_problem, ob.name);
     DffdObstacle d;
     d.name = ob.name;
     d.input_index = static_cast<int>(obstacles_.size());
     const std::vector<Triangle> tris = triangles(ob.mesh.mesh());
     for (const Triangle& t : tris) {
-      if (!t.a.allFinite() || !t.b.allFinite() || !t.c.allFinite()) throw DffdError(DffdErrorKind::ObstacleNotFinite, "obstacle '" + ob.name + "': a vertex is not finite", ob.name);
+      if (!t.a.allFinite() || !t.b.allFinite() || !t.c.allFinite())
+        throw DffdError(DffdErrorKind::ObstacleNotFinite, "obstacle '" + ob.name + "': a vertex is not finite",
+                        ob.name);
       d.box.extend(t.box);
     }
     d.u = centreOfMass(tris).x();
@@ -201,21 +215,24 @@ void GlobalDffd::place(const std::vector<Obstacle>& obstacles) {
     for (const DffdObstacle& d : obstacles_)
       if (!box_.contains(d.box))
         throw DffdError(DffdErrorKind::ObstacleOutsideBox,
-                        "obstacle '" + d.name + "' lies outside the lattice box (its box [" + formatNumber(d.box.min().x()) + ", " +
-                        formatNumber(d.box.max().x()) + "] x [" + formatNumber(d.box.min().y()) + ", " + formatNumber(d.box.max().y()) + "] x [" +
-                        formatNumber(d.box.min().z()) + ", " + formatNumber(d.box.max().z()) + "])",
+                        "obstacle '" + d.name + "' lies outside the lattice box (its box [" +
+                            formatNumber(d.box.min().x()) + ", " + formatNumber(d.box.max().x()) + "] x [" +
+                            formatNumber(d.box.min().y()) + ", " + formatNumber(d.box.max().y()) + "] x [" +
+                            formatNumber(d.box.min().z()) + ", " + formatNumber(d.box.max().z()) + "])",
                         d.name);
   } else {
     box_ = all;
     box_.min().array() -= options_.margin_m;
     box_.max().array() += options_.margin_m;
   }
-  std::sort(obstacles_.begin(), obstacles_.end(), [](const DffdObstacle& a, const DffdObstacle& b) { return a.u < b.u; });
+  std::sort(obstacles_.begin(), obstacles_.end(),
+            [](const DffdObstacle& a, const DffdObstacle& b) { return a.u < b.u; });
   for (size_t i = 1; i < obstacles_.size(); ++i)
     if (!(obstacles_[i].u > obstacles_[i - 1].u))
-      throw DffdError(DffdErrorKind::SameCentre,
-                      "obstacles '" + obstacles_[i - 1].name + "' and '" + obstacles_[i].name + "' have the same centre in u",
-                      obstacles_[i - 1].name, obstacles_[i].name);
+      throw DffdError(
+          DffdErrorKind::SameCentre,
+          "obstacles '" + obstacles_[i - 1].name + "' and '" + obstacles_[i].name + "' have the same centre in u",
+          obstacles_[i - 1].name, obstacles_[i].name);
   volume_ = BSplineVolume::identity(box_, {order, order, order}, options_.controls);
   for (const DffdObstacle& d : obstacles_) {
     const int have = multiplicity(volume_.knots(0), d.u);
@@ -280,11 +297,12 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
     if (have < needed) {
       const int controls = static_cast<int>(std::ceil(double(options_.controls[0]) * needed / std::max(have, 1)));
       throw DffdError(DffdErrorKind::TooClose,
-                      "obstacles '" + a.name + "' and '" + b.name + "' are too close for order " + std::to_string(order) +
-                          " and kernel width " + formatNumber(options_.kernel_width) + ": " + std::to_string(needed) +
-                          " control spacings are needed between their discontinuities, there are " + std::to_string(have) +
-                          " (raise controls[0] from " + std::to_string(options_.controls[0]) + " to at least " +
-                          std::to_string(controls) + ")",
+                      "obstacles '" + a.name + "' and '" + b.name + "' are too close for order " +
+                          std::to_string(order) + " and kernel width " + formatNumber(options_.kernel_width) + ": " +
+                          std::to_string(needed) +
+                          " control spacings are needed between their discontinuities, there are " +
+                          std::to_string(have) + " (raise controls[0] from " + std::to_string(options_.controls[0]) +
+                          " to at least " + std::to_string(controls) + ")",
                       a.name, b.name, controls);
     }
   }
@@ -301,8 +319,8 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
     for (int k = 0; k < counts[2]; ++k)
       for (int j = 0; j < counts[1]; ++j) {
         double x_min, x_max;
-        if (!xRangeInSlab(tris, kv[static_cast<size_t>(j)], kv[static_cast<size_t>(j + order)], kw[static_cast<size_t>(k)],
-                          kw[static_cast<size_t>(k + order)], x_min, x_max))
+        if (!xRangeInSlab(tris, kv[static_cast<size_t>(j)], kv[static_cast<size_t>(j + order)],
+                          kw[static_cast<size_t>(k)], kw[static_cast<size_t>(k + order)], x_min, x_max))
           continue;
         const double minus = std::min(0.0, x_min - options_.clearance_m - volume_.control(d.i_minus, j, k).x());
         const double plus = std::max(0.0, x_max + options_.clearance_m - volume_.control(d.i_plus, j, k).x());
@@ -319,9 +337,10 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
       for (DffdObstacle& d : obstacles_) d.kernel_width = width;
       return;
     }
-    const auto nearest = std::min_element(obstacles_.begin(), obstacles_.end(), [&](const DffdObstacle& a, const DffdObstacle& b) {
-      return std::abs(a.i_minus - fold.i) < std::abs(b.i_minus - fold.i);
-    });
+    const auto nearest =
+        std::min_element(obstacles_.begin(), obstacles_.end(), [&](const DffdObstacle& a, const DffdObstacle& b) {
+          return std::abs(a.i_minus - fold.i) < std::abs(b.i_minus - fold.i);
+        });
     if (options_.on_fold == FoldPolicy::Refuse || width + 1.0 > counts[0])
       throw DffdError(DffdErrorKind::Folds,
                       "obstacle '" + nearest->name + "': the kernel (width " + formatNumber(width) +
@@ -330,7 +349,8 @@ void GlobalDffd::wrap(const std::vector<Obstacle>& obstacles) {
                       nearest->name);
     for (int k = 0; k < counts[2]; ++k)  // back to the unmoved controls
       for (int j = 0; j < counts[1]; ++j)
-        for (int i = 0; i < counts[0]; ++i) volume_.setControl(i, j, k, rest[static_cast<size_t>(volume_.controlIndex(i, j, k))]);
+        for (int i = 0; i < counts[0]; ++i)
+          volume_.setControl(i, j, k, rest[static_cast<size_t>(volume_.controlIndex(i, j, k))]);
   }
 }
 
@@ -344,7 +364,8 @@ int GlobalDffd::cellAndSpans(const Eigen::Vector3d& x, int side, double& u, std:
   u = std::clamp(x.x() + side * options_.epsilon, domain[0], domain[1]);
   const std::array<int, 3> counts = volume_.controlCounts();
   const double t[3] = {u, x.y(), x.z()};
-  for (int a = 0; a < 3; ++a) spans[static_cast<size_t>(a)] = findSpan(volume_.knots(a), options_.order, counts[static_cast<size_t>(a)], t[a]);
+  for (int a = 0; a < 3; ++a)
+    spans[static_cast<size_t>(a)] = findSpan(volume_.knots(a), options_.order, counts[static_cast<size_t>(a)], t[a]);
   return spans[0] + counts[0] * (spans[1] + counts[1] * spans[2]);
 }
 
@@ -365,7 +386,8 @@ Eigen::Vector3d GlobalDffd::map(const Eigen::Vector3d& x, int side) const {
   }
   const std::array<int, 3> counts = volume_.controlCounts();
   return detail::tensorSum(volume_.controls().data()->data(), counts[0], counts[1],
-                           volume_.controlIndex(first[0], first[1], first[2]), volume_.orders(), basis[0], basis[1], basis[2]);
+                           volume_.controlIndex(first[0], first[1], first[2]), volume_.orders(), basis[0], basis[1],
+                           basis[2]);
 }
 
 void GlobalDffd::markMovedCells() {
@@ -377,10 +399,12 @@ void GlobalDffd::markMovedCells() {
   for (int k = 0; k < counts[2]; ++k)
     for (int j = 0; j < counts[1]; ++j)
       for (int i = 0; i < counts[0]; ++i) {
-        if (volume_.control(i, j, k) == identity_controls_[static_cast<size_t>(volume_.controlIndex(i, j, k))]) continue;
+        if (volume_.control(i, j, k) == identity_controls_[static_cast<size_t>(volume_.controlIndex(i, j, k))])
+          continue;
         for (int c = k; c < std::min(counts[2], k + o); ++c)
           for (int b = j; b < std::min(counts[1], j + o); ++b)
-            for (int a = i; a < std::min(counts[0], i + o); ++a) moved_cell_[static_cast<size_t>(a + counts[0] * (b + counts[1] * c))] = 1;
+            for (int a = i; a < std::min(counts[0], i + o); ++a)
+              moved_cell_[static_cast<size_t>(a + counts[0] * (b + counts[1] * c))] = 1;
       }
 }
 

@@ -20,8 +20,8 @@ struct Soup {
   std::vector<std::int8_t> side;
   std::vector<int> plane;
   std::vector<std::array<int, 3>> faces;
-  std::vector<int> remap;                      // compaction
-  std::vector<int> touching;                   // splitAt: faces with a vertex on its plane
+  std::vector<int> remap;     // compaction
+  std::vector<int> touching;  // splitAt: faces with a vertex on its plane
 
   int add(const Eigen::Vector3d& p, int src, std::array<int, 2> e, int on_plane) {
     x.push_back(p);

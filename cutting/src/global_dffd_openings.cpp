@@ -54,7 +54,8 @@ std::vector<std::vector<int>> openingLoops(const Soup& s, int plane, const FaceO
     const auto [a, b] = e;
     if (face_of.count({b, a})) continue;
     if (s.plane[static_cast<size_t>(a)] != plane || s.plane[static_cast<size_t>(b)] != plane) continue;
-    if (s.side[static_cast<size_t>(a)] == 0 || s.side[static_cast<size_t>(a)] != s.side[static_cast<size_t>(b)]) continue;
+    if (s.side[static_cast<size_t>(a)] == 0 || s.side[static_cast<size_t>(a)] != s.side[static_cast<size_t>(b)])
+      continue;
     next[a] = b;
   }
   std::map<int, char> used;
@@ -136,7 +137,8 @@ bool zipStrip(Soup& s, FaceOf& face_of, const Halves& h) {
   size_t ia = 0, ib = 0;
   while (ia + 1 < a.size() || ib + 1 < b.size()) {
     const bool advance_a = ib + 1 >= b.size() || (ia + 1 < a.size() && vOf(s, a[ia + 1]) <= vOf(s, b[ib + 1]));
-    const std::array<int, 3> f = advance_a ? std::array<int, 3>{a[ia + 1], a[ia], b[ib]} : std::array<int, 3>{b[ib], b[ib + 1], a[ia]};
+    const std::array<int, 3> f =
+        advance_a ? std::array<int, 3>{a[ia + 1], a[ia], b[ib]} : std::array<int, 3>{b[ib], b[ib + 1], a[ia]};
     advance_a ? ++ia : ++ib;
     if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) strip.push_back(f);
   }
@@ -172,8 +174,8 @@ enum class Along : std::uint8_t { Loop, Reversed };
 
 // The merged v-sequence: `chain` with a point on its edges (on `plane`, on the chain's side) wherever
 // `other` has a vertex, its faces split there.
-std::vector<int> matchedChain(Soup& s, FaceOf& face_of, const std::vector<int>& chain, const std::vector<int>& other, int plane,
-                              Along along) {
+std::vector<int> matchedChain(Soup& s, FaceOf& face_of, const std::vector<int>& chain, const std::vector<int>& other,
+                              int plane, Along along) {
   std::vector<int> out{chain[0]};
   size_t k = 1;
   for (size_t i = 1; i < chain.size(); ++i) {
@@ -276,7 +278,8 @@ SurfaceMesh cappedDeform(const SurfaceMesh& model, const GlobalDffd& dffd) {
       if (piece.status(f).deleted()) continue;
       std::array<TriMesh::VertexHandle, 3> t;
       int i = 0;
-      for (auto v = piece.cfv_ccwiter(f); v.is_valid() && i < 3; ++v) t[static_cast<size_t>(i++)] = handles[static_cast<size_t>(v->idx())];
+      for (auto v = piece.cfv_ccwiter(f); v.is_valid() && i < 3; ++v)
+        t[static_cast<size_t>(i++)] = handles[static_cast<size_t>(v->idx())];
       m.add_face(t[0], t[1], t[2]);
     }
   }
@@ -289,7 +292,8 @@ int boundaryLoops(const TriMesh& mesh) {
   for (const auto h : mesh.halfedges()) {
     if (mesh.status(h).deleted() || !mesh.is_boundary(h) || seen[static_cast<size_t>(h.idx())]) continue;
     ++loops;
-    for (auto g = h; !seen[static_cast<size_t>(g.idx())]; g = mesh.next_halfedge_handle(g)) seen[static_cast<size_t>(g.idx())] = 1;
+    for (auto g = h; !seen[static_cast<size_t>(g.idx())]; g = mesh.next_halfedge_handle(g))
+      seen[static_cast<size_t>(g.idx())] = 1;
   }
   return loops;
 }

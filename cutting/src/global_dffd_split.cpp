@@ -18,12 +18,14 @@ Soup soupOf(const TriMesh& mesh) {
   Soup s;
   std::vector<int> index(mesh.n_vertices(), -1);
   for (const auto v : mesh.vertices())
-    if (!mesh.status(v).deleted()) index[static_cast<size_t>(v.idx())] = s.add(toEigen(mesh.point(v)), v.idx(), {-1, -1}, -1);
+    if (!mesh.status(v).deleted())
+      index[static_cast<size_t>(v.idx())] = s.add(toEigen(mesh.point(v)), v.idx(), {-1, -1}, -1);
   for (const auto f : mesh.faces()) {
     if (mesh.status(f).deleted()) continue;
     std::array<int, 3> t{};
     int i = 0;
-    for (auto v = mesh.cfv_ccwiter(f); v.is_valid() && i < 3; ++v) t[static_cast<size_t>(i++)] = index[static_cast<size_t>(v->idx())];
+    for (auto v = mesh.cfv_ccwiter(f); v.is_valid() && i < 3; ++v)
+      t[static_cast<size_t>(i++)] = index[static_cast<size_t>(v->idx())];
     s.faces.push_back(t);
   }
   return s;
@@ -40,8 +42,8 @@ void soupOf(std::span<const Eigen::Vector3d> positions, std::span<const std::arr
   for (const auto& f : s.faces)
     for (const int v : f)
       if (v < 0 || static_cast<size_t>(v) >= positions.size())
-        throw DffdError(DffdErrorKind::BadInput, "splitAtDiscontinuities: a face refers to vertex " + std::to_string(v) + " of " +
-                        std::to_string(positions.size()));
+        throw DffdError(DffdErrorKind::BadInput, "splitAtDiscontinuities: a face refers to vertex " +
+                                                     std::to_string(v) + " of " + std::to_string(positions.size()));
 }
 
 // Splits every face crossing the plane x = u and marks the vertices on it. The whole section is split,
@@ -49,7 +51,9 @@ void soupOf(std::span<const Eigen::Vector3d> positions, std::span<const std::arr
 // each closed section curve gives exactly two lips (boundary loops) whatever the model's position.
 void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
   std::map<std::pair<int, int>, int> points;
-  const auto sgn = [&](int v) { return s.x[static_cast<size_t>(v)].x() < u ? -1 : s.x[static_cast<size_t>(v)].x() > u ? 1 : 0; };
+  const auto sgn = [&](int v) {
+    return s.x[static_cast<size_t>(v)].x() < u ? -1 : s.x[static_cast<size_t>(v)].x() > u ? 1 : 0;
+  };
   // Vertices within a hair of the plane are put on it: splitting an edge there would make a sliver.
   const double snap = 1e-9 * box.sizes().maxCoeff();
   bool snapped = false;
@@ -93,7 +97,8 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
     const int sg[3] = {sa, sb, sc};
     for (int k = 0; k < 3; ++k)
       if (sg[k] != 0 && sg[(k + 1) % 3] != sg[k] && sg[(k + 2) % 3] != sg[k]) r = k;
-    const int a = f[static_cast<size_t>(r)], b = f[static_cast<size_t>((r + 1) % 3)], c = f[static_cast<size_t>((r + 2) % 3)];
+    const int a = f[static_cast<size_t>(r)], b = f[static_cast<size_t>((r + 1) % 3)],
+              c = f[static_cast<size_t>((r + 2) % 3)];
     const int s_b = sg[(r + 1) % 3], s_c = sg[(r + 2) % 3];
     if (s_b == 0) {  // b on the plane: the crossing is on c-a
       const int p = point(c, a);
@@ -150,7 +155,8 @@ void separate(Soup& s, int plane, double u) {
     }
     if (!across && minus && plus) {  // else the split's end, or a vertex touching the plane from one side
       s.side[static_cast<size_t>(v)] = -1;
-      const int copy = s.add(s.x[static_cast<size_t>(v)], s.source[static_cast<size_t>(v)], s.edge[static_cast<size_t>(v)], plane);
+      const int copy =
+          s.add(s.x[static_cast<size_t>(v)], s.source[static_cast<size_t>(v)], s.edge[static_cast<size_t>(v)], plane);
       s.side[static_cast<size_t>(copy)] = 1;
       for (size_t i = begin; i < end; ++i)
         if (face_side[i - begin] > 0)
@@ -169,8 +175,11 @@ SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std:
   for (const auto& p : x) handles.push_back(m.add_vertex(toOpenMesh(p)));
   for (size_t f = 0; f < faces.size(); ++f) {
     const auto& t = faces[f];
-    if (!m.add_face(handles[static_cast<size_t>(t[0])], handles[static_cast<size_t>(t[1])], handles[static_cast<size_t>(t[2])]).is_valid())
-      throw DffdError(DffdErrorKind::NotTwoManifold, "splitting the model: face " + std::to_string(f) + " cannot be added (the model is not a two-manifold there)");
+    if (!m.add_face(handles[static_cast<size_t>(t[0])], handles[static_cast<size_t>(t[1])],
+                    handles[static_cast<size_t>(t[2])])
+             .is_valid())
+      throw DffdError(DffdErrorKind::NotTwoManifold, "splitting the model: face " + std::to_string(f) +
+                                                         " cannot be added (the model is not a two-manifold there)");
   }
   return mesh;
 }
@@ -190,7 +199,8 @@ void splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdSplit& sp
     std::swap(split.faces, s.faces);
     return;
   }
-  for (size_t i = 0; i < dffd.obstacles().size(); ++i) split.left_open += detail::zipOpenings(s, static_cast<int>(i), dffd.box());
+  for (size_t i = 0; i < dffd.obstacles().size(); ++i)
+    split.left_open += detail::zipOpenings(s, static_cast<int>(i), dffd.box());
   // Compact: vertices no face uses any more (welded away) are dropped. split's buffers keep their capacity.
   s.remap.assign(s.x.size(), -1);
   for (const auto& f : s.faces)
@@ -211,7 +221,8 @@ void splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdSplit& sp
   }
   split.faces.resize(s.faces.size());
   for (size_t f = 0; f < s.faces.size(); ++f)
-    for (int i = 0; i < 3; ++i) split.faces[f][static_cast<size_t>(i)] = s.remap[static_cast<size_t>(s.faces[f][static_cast<size_t>(i)])];
+    for (int i = 0; i < 3; ++i)
+      split.faces[f][static_cast<size_t>(i)] = s.remap[static_cast<size_t>(s.faces[f][static_cast<size_t>(i)])];
 }
 
 // The working buffers of the splits made on this thread, kept so that a model split frame after frame does
@@ -246,15 +257,15 @@ void splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions, std::spa
 
 SurfaceMesh DffdSplit::surface(std::span<const Eigen::Vector3d> positions) const {
   if (!positions.empty() && positions.size() != rest_m.size())
-    throw DffdError(DffdErrorKind::BadInput, "DffdSplit::surface: " + std::to_string(positions.size()) + " positions for " + std::to_string(rest_m.size()) +
-                    " vertices");
+    throw DffdError(DffdErrorKind::BadInput, "DffdSplit::surface: " + std::to_string(positions.size()) +
+                                                 " positions for " + std::to_string(rest_m.size()) + " vertices");
   return meshOf(positions.empty() ? rest_m : std::vector<Eigen::Vector3d>(positions.begin(), positions.end()), faces);
 }
 
 void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) {
   if (out.size() != split.rest_m.size())
-    throw DffdError(DffdErrorKind::BadInput, "deformSplit: " + std::to_string(out.size()) + " output positions for " + std::to_string(split.rest_m.size()) +
-                    " split vertices");
+    throw DffdError(DffdErrorKind::BadInput, "deformSplit: " + std::to_string(out.size()) + " output positions for " +
+                                                 std::to_string(split.rest_m.size()) + " split vertices");
   for (size_t v = 0; v < out.size(); ++v) out[v] = dffd.map(split.rest_m[v], split.side[v]);
 }
 
@@ -268,8 +279,8 @@ namespace {
 
 std::vector<Eigen::Vector3d> restOf(const DffdSplit& split) {
   if (split.side.size() != split.rest_m.size())
-    throw DffdError(DffdErrorKind::BadInput, "DffdBinding: the split has " + std::to_string(split.rest_m.size()) + " vertices but " +
-                    std::to_string(split.side.size()) + " sides");
+    throw DffdError(DffdErrorKind::BadInput, "DffdBinding: the split has " + std::to_string(split.rest_m.size()) +
+                                                 " vertices but " + std::to_string(split.side.size()) + " sides");
   return split.rest_m;
 }
 
@@ -288,7 +299,8 @@ std::vector<Eigen::Vector3d> boundParameters(const std::vector<Eigen::Vector3d>&
   parameters.reserve(inside.size());
   for (const int v : inside) {
     const Eigen::Vector3d& x = rest[static_cast<size_t>(v)];
-    const double u = std::clamp(x.x() + split.side[static_cast<size_t>(v)] * dffd.options().epsilon, domain[0], domain[1]);
+    const double u =
+        std::clamp(x.x() + split.side[static_cast<size_t>(v)] * dffd.options().epsilon, domain[0], domain[1]);
     parameters.emplace_back(u, x.y(), x.z());
   }
   return parameters;
@@ -297,7 +309,9 @@ std::vector<Eigen::Vector3d> boundParameters(const std::vector<Eigen::Vector3d>&
 }  // namespace
 
 DffdBinding::DffdBinding(const DffdSplit& split, const GlobalDffd& dffd)
-    : rest_(restOf(split)), inside_(insideOf(rest_, dffd.box())), binding_(dffd.volume(), boundParameters(rest_, inside_, split, dffd)) {
+    : rest_(restOf(split)),
+      inside_(insideOf(rest_, dffd.box())),
+      binding_(dffd.volume(), boundParameters(rest_, inside_, split, dffd)) {
   cells_.reserve(inside_.size());
   for (const int v : inside_) {
     double u = 0.0;
@@ -307,16 +321,20 @@ DffdBinding::DffdBinding(const DffdSplit& split, const GlobalDffd& dffd)
 
 void DffdBinding::deform(const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) const {
   if (out.size() != rest_.size())
-    throw DffdError(DffdErrorKind::BadInput, "DffdBinding::deform: " + std::to_string(out.size()) + " output positions for " + std::to_string(rest_.size()) +
-                    " split vertices");
+    throw DffdError(DffdErrorKind::BadInput, "DffdBinding::deform: " + std::to_string(out.size()) +
+                                                 " output positions for " + std::to_string(rest_.size()) +
+                                                 " split vertices");
   const size_t n = inside_.size();
   // The bound vertices' positions go to out[0, n) first, then each to its own slot, last first: inside_ is
   // increasing with inside_[b] >= b, so a move never overwrites a position still to be moved.
   if (!binding_.deformAll(dffd.volume(), out.first(n)))
-    throw DffdError(DffdErrorKind::OtherLattice, "DffdBinding::deform: the GlobalDffd's lattice (orders or knots) is not the one the split was bound to");
+    throw DffdError(
+        DffdErrorKind::OtherLattice,
+        "DffdBinding::deform: the GlobalDffd's lattice (orders or knots) is not the one the split was bound to");
   // As map(): a vertex in a cell where no control moved is its rest position exactly.
   for (size_t b = n; b-- > 0;)
-    out[static_cast<size_t>(inside_[b])] = dffd.identityCell(cells_[b]) ? rest_[static_cast<size_t>(inside_[b])] : out[b];
+    out[static_cast<size_t>(inside_[b])] =
+        dffd.identityCell(cells_[b]) ? rest_[static_cast<size_t>(inside_[b])] : out[b];
   size_t next = 0;  // the vertices outside the box keep their rest position
   for (size_t v = 0; v < rest_.size(); ++v) {
     if (next < n && static_cast<size_t>(inside_[next]) == v) {
@@ -331,10 +349,13 @@ void validateModel(const SurfaceMesh& model, ModelClosure closure) {
   const bool closed = closure == ModelClosure::Closed;
   const ManifoldReport report = checkManifold(model.mesh());
   if (report.closed_two_manifold) return;
-  const bool only_open = report.degenerate_faces == 0 && report.non_manifold_edges == 0 && report.non_manifold_vertices == 0;
+  const bool only_open =
+      report.degenerate_faces == 0 && report.non_manifold_edges == 0 && report.non_manifold_vertices == 0;
   if (only_open && !closed && model.mesh().n_faces() > 0) return;  // a two-manifold with boundary
-  throw DffdError(DffdErrorKind::BadModel, "the model is not " + std::string(closed ? "a closed two-manifold" : "a two-manifold without degenerate faces") +
-                  ": " + report.first_problem);
+  throw DffdError(DffdErrorKind::BadModel,
+                  "the model is not " +
+                      std::string(closed ? "a closed two-manifold" : "a two-manifold without degenerate faces") + ": " +
+                      report.first_problem);
 }
 
 }  // namespace incise::cutting

@@ -14,14 +14,13 @@
 
 namespace incise::cutting {
 
-
 namespace {
-
 
 [[noreturn]] void refuse(const std::string& what) { throw std::invalid_argument("Incision: " + what); }
 
 void requirePositive(double value, const char* name) {
-  if (!(std::isfinite(value) && value > 0.0)) refuse(std::string(name) + " = " + formatNumber(value) + " must be finite and > 0");
+  if (!(std::isfinite(value) && value > 0.0))
+    refuse(std::string(name) + " = " + formatNumber(value) + " must be finite and > 0");
 }
 
 void validate(const IncisionOptions& o) {
@@ -35,15 +34,18 @@ void validate(const IncisionOptions& o) {
   if (!(std::isfinite(o.epsilon) && o.epsilon > 0.0 && o.epsilon < 1e-3))
     refuse("epsilon = " + formatNumber(o.epsilon) + " must be in (0, 1e-3)");
   if (o.order < 2 || o.order > kMaxOrder) refuse("order = " + std::to_string(o.order) + " is outside [2, 16]");
-  for (const auto& [count, name] : {std::pair{o.across_controls, "across_controls"}, std::pair{o.normal_controls, "normal_controls"}})
+  for (const auto& [count, name] :
+       {std::pair{o.across_controls, "across_controls"}, std::pair{o.normal_controls, "normal_controls"}})
     if (count < o.order || count % 2 == 0)
-      refuse(std::string(name) + " = " + std::to_string(count) + " must be odd and >= order " + std::to_string(o.order));
+      refuse(std::string(name) + " = " + std::to_string(count) + " must be odd and >= order " +
+             std::to_string(o.order));
   if (o.max_columns < 2 * o.order + 2)
     refuse("max_columns = " + std::to_string(o.max_columns) + " must be >= 2 * order + 2");
   const double half_depth_m = (o.normal_controls / 2) * o.beta_m;
   if (o.depth_m > 0.8 * half_depth_m)
-    refuse("depth_m = " + formatNumber(o.depth_m) + " needs more lattice below the surface: (normal_controls / 2) * beta_m = " +
-           formatNumber(half_depth_m) + " must be >= depth_m / 0.8");
+    refuse("depth_m = " + formatNumber(o.depth_m) +
+           " needs more lattice below the surface: (normal_controls / 2) * beta_m = " + formatNumber(half_depth_m) +
+           " must be >= depth_m / 0.8");
 }
 
 bool finite(const StrokeSample& s) { return s.point_m.allFinite() && s.normal.allFinite() && std::isfinite(s.time_s); }
@@ -80,14 +82,22 @@ std::vector<double> insertedOffsets(int order, int count, const std::vector<doub
 
 const char* toString(SampleStatus status) noexcept {
   switch (status) {
-    case SampleStatus::Accepted: return "accepted";
-    case SampleStatus::SkippedStill: return "skipped: stands still";
-    case SampleStatus::SkippedBackward: return "skipped: goes back along the stroke";
-    case SampleStatus::SkippedTime: return "skipped: time not after the previous sample";
-    case SampleStatus::SkippedJump: return "skipped: too far from the previous sample (off the surface?)";
-    case SampleStatus::RefusedNaN: return "refused: non-finite value";
-    case SampleStatus::RefusedNormal: return "refused: zero normal";
-    case SampleStatus::Ended: return "ended: incision finished or lattice full";
+    case SampleStatus::Accepted:
+      return "accepted";
+    case SampleStatus::SkippedStill:
+      return "skipped: stands still";
+    case SampleStatus::SkippedBackward:
+      return "skipped: goes back along the stroke";
+    case SampleStatus::SkippedTime:
+      return "skipped: time not after the previous sample";
+    case SampleStatus::SkippedJump:
+      return "skipped: too far from the previous sample (off the surface?)";
+    case SampleStatus::RefusedNaN:
+      return "refused: non-finite value";
+    case SampleStatus::RefusedNormal:
+      return "refused: zero normal";
+    case SampleStatus::Ended:
+      return "ended: incision finished or lattice full";
   }
   return "unknown";
 }
@@ -104,7 +114,8 @@ Incision::Layout Incision::layout(const IncisionOptions& options) {
   for (int t = knotMultiplicity(u_knots, 0.5); t < o; ++t)
     layout.u_knots.insert(std::upper_bound(layout.u_knots.begin(), layout.u_knots.end(), 0.5), 0.5);
   layout.i_minus =
-      static_cast<int>(std::lower_bound(layout.u_knots.begin(), layout.u_knots.end(), 0.5) - layout.u_knots.begin()) - 1;
+      static_cast<int>(std::lower_bound(layout.u_knots.begin(), layout.u_knots.end(), 0.5) - layout.u_knots.begin()) -
+      1;
   // Kernel: 1 on the two discontinuity planes, 0 on the outermost planes; + on the - side (moves towards +S).
   const int i_minus = layout.i_minus;
   const int reach_minus = i_minus, reach_plus = planes - 2 - i_minus;
@@ -116,13 +127,14 @@ Incision::Layout Incision::layout(const IncisionOptions& options) {
   for (int i = 0; i + 1 < planes; ++i) {
     if (i == i_minus) continue;  // the two sides of the C^-1 knot never share a support
     const double gap_m =
-        (layout.across_offsets[static_cast<size_t>(i)] - layout.across_offsets[static_cast<size_t>(i + 1)]) * options.alpha_m;
+        (layout.across_offsets[static_cast<size_t>(i)] - layout.across_offsets[static_cast<size_t>(i + 1)]) *
+        options.alpha_m;
     const double closing_m =
         (layout.kernel[static_cast<size_t>(i + 1)] - layout.kernel[static_cast<size_t>(i)]) * 0.5 * options.opening_m;
     if (!(gap_m - closing_m > 0.05 * gap_m))
-      refuse("opening_m = " + formatNumber(options.opening_m) + " folds the lattice between control planes " + std::to_string(i) +
-             " and " + std::to_string(i + 1) + " (Theorem 1): raise alpha_m = " + formatNumber(options.alpha_m) +
-             " or across_controls, or lower opening_m");
+      refuse("opening_m = " + formatNumber(options.opening_m) + " folds the lattice between control planes " +
+             std::to_string(i) + " and " + std::to_string(i + 1) + " (Theorem 1): raise alpha_m = " +
+             formatNumber(options.alpha_m) + " or across_controls, or lower opening_m");
   }
   return layout;
 }
@@ -135,8 +147,7 @@ Incision::Incision(const IncisionOptions& options, const StrokeSample& first, co
                                     {2, 2, 2})),
       displacement_(rest_) {
   Layout lattice = layout(options);
-  if (!finite(first) || first.normal.norm() < 1e-12)
-    refuse("the first sample must be finite with a non-zero normal");
+  if (!finite(first) || first.normal.norm() < 1e-12) refuse("the first sample must be finite with a non-zero normal");
   if (!blade_direction.allFinite() || blade_direction.cross(first.normal).norm() < 1e-12 * blade_direction.norm())
     refuse("blade_direction must be finite, non-zero and not parallel to the surface normal");
   blade_direction_ = blade_direction.normalized();
@@ -192,8 +203,8 @@ SampleStatus Incision::extend(const StrokeSample& sample) noexcept {
   if (length_m > options_.max_step_m) return SampleStatus::SkippedJump;
   // Backward against the stroke's overall direction of travel (not the last step's, which dips and climbs
   // with the surface, e.g. across an earlier groove).
-  const Eigen::Vector3d travel = stations_.size() >= 3 ? Eigen::Vector3d(stations_.back().point - stations_.front().point)
-                                                       : blade_direction_;
+  const Eigen::Vector3d travel =
+      stations_.size() >= 3 ? Eigen::Vector3d(stations_.back().point - stations_.front().point) : blade_direction_;
   if (step.dot(travel.normalized()) < -0.5 * length_m) return SampleStatus::SkippedBackward;
   if (step.normalized().cross(sample.normal.normalized()).norm() < 1e-6) return SampleStatus::RefusedNormal;
 
@@ -206,7 +217,8 @@ SampleStatus Incision::extend(const StrokeSample& sample) noexcept {
       return SampleStatus::Ended;
     }
     const Eigen::Vector3d normal = ((1.0 - f) * last_sample_.normal.normalized() + f * sample.normal.normalized());
-    addStation({last_sample_.point_m + f * step, normal.norm() > 1e-12 ? normal.normalized() : sample.normal.normalized(),
+    addStation({last_sample_.point_m + f * step,
+                normal.norm() > 1e-12 ? normal.normalized() : sample.normal.normalized(),
                 last_sample_.time_s + f * (sample.time_s - last_sample_.time_s)});
     along_m += options_.spacing_m;
   }
@@ -259,7 +271,8 @@ void Incision::setRestColumn(int column) {
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < static_cast<int>(across_offsets_.size()); ++i)
       rest_.setControl(i, column, k,
-                       f.g + across_offsets_[static_cast<size_t>(i)] * options_.alpha_m * f.s + double(n / 2 - k) * options_.beta_m * f.n);
+                       f.g + across_offsets_[static_cast<size_t>(i)] * options_.alpha_m * f.s +
+                           double(n / 2 - k) * options_.beta_m * f.n);
 }
 
 int Incision::extrapolatedEnd() const noexcept {
@@ -293,8 +306,8 @@ void Incision::setDisplacementColumn(int column, double opening_m) {
   const Frame& f = frames_[static_cast<size_t>(column)];
   for (int k = 0; k < options_.normal_controls; ++k)
     for (int i = 0; i < static_cast<int>(kernel_.size()); ++i)
-      displacement_.setControl(i, column, k,
-                               (kernel_[static_cast<size_t>(i)] * opening_m * depth_profile_[static_cast<size_t>(k)]) * f.s);
+      displacement_.setControl(
+          i, column, k, (kernel_[static_cast<size_t>(i)] * opening_m * depth_profile_[static_cast<size_t>(k)]) * f.s);
   column_opening_[static_cast<size_t>(column)] = opening_m;
 }
 
@@ -310,7 +323,8 @@ void Incision::updateOpening(double t_s, std::vector<int>& changed_columns) {
       changed_columns.push_back(column);
     }
     // Station times do not decrease: once one has settled, every one before it has.
-    if (s == first_unsettled_ && t_s - stations_[static_cast<size_t>(s)].time_s >= options_.retraction_time_s) ++first_unsettled_;
+    if (s == first_unsettled_ && t_s - stations_[static_cast<size_t>(s)].time_s >= options_.retraction_time_s)
+      ++first_unsettled_;
   }
 }
 
@@ -347,14 +361,20 @@ int Incision::stencil(const Eigen::Vector3d& uvw, int side, int* first, double* 
   double u[2];
   int count = 1;
   switch (side) {
-    case -1: u[0] = std::min(uvw[0], 0.5 - eps); break;
-    case 1: u[0] = std::max(uvw[0], 0.5); break;
+    case -1:
+      u[0] = std::min(uvw[0], 0.5 - eps);
+      break;
+    case 1:
+      u[0] = std::max(uvw[0], 0.5);
+      break;
     case 2:
       u[0] = 0.5 - eps;
       u[1] = 0.5;
       count = 2;
       break;
-    default: u[0] = uvw[0]; break;
+    default:
+      u[0] = uvw[0];
+      break;
   }
   const BSplineVolume& d = displacement_;
   const int o = options_.order;

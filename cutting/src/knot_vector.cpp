@@ -9,21 +9,17 @@
 
 namespace incise::cutting {
 
-
 namespace {
 
 [[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
-
 
 }  // namespace
 
 std::vector<double> clampedUniformKnots(int order, int count, double lo, double hi) {
   if (order < 2 || order > kMaxOrder)
-    fail("clampedUniformKnots: order " + std::to_string(order) + " is outside [2, " +
-         std::to_string(kMaxOrder) + "]");
+    fail("clampedUniformKnots: order " + std::to_string(order) + " is outside [2, " + std::to_string(kMaxOrder) + "]");
   if (count < order)
-    fail("clampedUniformKnots: count " + std::to_string(count) + " is less than order " +
-         std::to_string(order));
+    fail("clampedUniformKnots: count " + std::to_string(count) + " is less than order " + std::to_string(order));
   if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
     fail("clampedUniformKnots: domain [" + formatNumber(lo) + ", " + formatNumber(hi) +
          "] is not a finite, non-empty interval");
@@ -43,17 +39,15 @@ void validateKnots(std::span<const double> knots, int order, int count, std::str
   if (order < 2 || order > kMaxOrder)
     fail(name + ": order " + std::to_string(order) + " is outside [2, " + std::to_string(kMaxOrder) + "]");
   if (count < order)
-    fail(name + ": " + std::to_string(count) + " control points is fewer than order " +
-         std::to_string(order));
+    fail(name + ": " + std::to_string(count) + " control points is fewer than order " + std::to_string(order));
   if (knots.size() != static_cast<size_t>(count + order))
-    fail(name + ": " + std::to_string(knots.size()) + " knots, expected count + order = " +
-         std::to_string(count + order));
+    fail(name + ": " + std::to_string(knots.size()) +
+         " knots, expected count + order = " + std::to_string(count + order));
   for (size_t i = 0; i < knots.size(); ++i) {
-    if (!std::isfinite(knots[i]))
-      fail(name + ": knot " + std::to_string(i) + " is " + formatNumber(knots[i]));
+    if (!std::isfinite(knots[i])) fail(name + ": knot " + std::to_string(i) + " is " + formatNumber(knots[i]));
     if (i > 0 && knots[i] < knots[i - 1])
-      fail(name + ": knot " + std::to_string(i) + " = " + formatNumber(knots[i]) +
-           " decreases from knot " + std::to_string(i - 1) + " = " + formatNumber(knots[i - 1]));
+      fail(name + ": knot " + std::to_string(i) + " = " + formatNumber(knots[i]) + " decreases from knot " +
+           std::to_string(i - 1) + " = " + formatNumber(knots[i - 1]));
   }
   const size_t p = static_cast<size_t>(order - 1);
   if (!(knots[p] < knots[static_cast<size_t>(count)]))

@@ -64,8 +64,7 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions) {
   Builder out(who, 6LL * n * n + 2, 12LL * n * n);
   auto coordinate = [&](int a, int i) {
     // The last grid line is the max corner exactly, not min + n * step.
-    return i == n ? box.max()[a]
-                  : box.min()[a] + (box.max()[a] - box.min()[a]) * (static_cast<double>(i) / n);
+    return i == n ? box.max()[a] : box.min()[a] + (box.max()[a] - box.min()[a]) * (static_cast<double>(i) / n);
   };
   auto vertex = [&](const std::array<int, 3>& g) {
     const long long key = (g[0] * m + g[1]) * m + g[2];
@@ -104,7 +103,8 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
   requireFinite(who, "base_centre_m", base_centre_m);
   requireFinite(who, "axis_m", axis_m);
   if (!(axis_m.norm() > 0) || !std::isfinite(axis_m.norm())) {
-    fail(who, "axis_m = " + formatPoint(axis_m) + " has length " + formatNumber(axis_m.norm()) + ": must be finite and > 0");
+    fail(who,
+         "axis_m = " + formatPoint(axis_m) + " has length " + formatNumber(axis_m.norm()) + ": must be finite and > 0");
   }
   requirePositive(who, "radius_m", radius_m);
   requireAtLeast(who, "segments", segments, 3);
@@ -136,8 +136,7 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
   auto side = [&](int r, int k) { return static_cast<int>(r * S + (k % segments)); };
   // Going along k turns from u towards v, so (along k) x (along the axis) points outward.
   for (int r = 0; r < rings; ++r) {
-    for (int k = 0; k < segments; ++k)
-      out.quad(side(r, k), side(r, k + 1), side(r + 1, k + 1), side(r + 1, k));
+    for (int k = 0; k < segments; ++k) out.quad(side(r, k), side(r, k + 1), side(r + 1, k + 1), side(r + 1, k));
   }
   // Caps: a centre vertex and cap_rings - 1 inner polygons; polygon c = cap_rings is the side's end ring.
   for (const bool top : {false, true}) {
@@ -149,8 +148,7 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
       for (int k = 0; k < segments; ++k) out.vertex(centre + r * direction[static_cast<std::size_t>(k)]);
     }
     auto at = [&](int c, int k) {
-      return c == cap_rings ? side(top ? rings : 0, k)
-                            : first_inner + static_cast<int>((c - 1) * S + (k % segments));
+      return c == cap_rings ? side(top ? rings : 0, k) : first_inner + static_cast<int>((c - 1) * S + (k % segments));
     };
     // Seen from +w, k runs counter-clockwise: the top keeps that order, the bottom reverses it.
     for (int k = 0; k < segments; ++k) {
@@ -177,13 +175,12 @@ SurfaceMesh makeSphere(const Eigen::Vector3d& centre_m, double radius_m, int sub
   requirePositive(who, "radius_m", radius_m);
   requireAtLeast(who, "subdivisions", subdivisions, 0);
   if (subdivisions > 10) {
-    fail(who, "subdivisions = " + std::to_string(subdivisions) +
-                  " is > 10 (20 * 4^subdivisions faces, at most " + std::to_string(kMaxShapeFaces) + ")");
+    fail(who, "subdivisions = " + std::to_string(subdivisions) + " is > 10 (20 * 4^subdivisions faces, at most " +
+                  std::to_string(kMaxShapeFaces) + ")");
   }
   const double t = std::numbers::phi;
-  std::vector<Eigen::Vector3d> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                       {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                       {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Eigen::Vector3d> unit = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                                       {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (auto& p : unit) p.normalize();
   std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
@@ -198,11 +195,9 @@ SurfaceMesh makeSphere(const Eigen::Vector3d& centre_m, double radius_m, int sub
     std::unordered_map<std::uint64_t, int> midpoint;
     midpoint.reserve(faces.size() * 3 / 2);
     auto split = [&](int a, int b) {
-      const auto key =
-          (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+      const auto key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
       const auto [it, added] = midpoint.try_emplace(key, static_cast<int>(unit.size()));
-      if (added)
-        unit.push_back((unit[static_cast<std::size_t>(a)] + unit[static_cast<std::size_t>(b)]).normalized());
+      if (added) unit.push_back((unit[static_cast<std::size_t>(a)] + unit[static_cast<std::size_t>(b)]).normalized());
       return it->second;
     };
     std::vector<std::array<int, 3>> finer;

@@ -22,8 +22,7 @@ namespace incise::cutting::detail {
 }
 
 inline void requireAtLeast(const char* who, const char* name, int value, int least) {
-  if (value < least)
-    fail(who, std::string(name) + " = " + std::to_string(value) + " is < " + std::to_string(least));
+  if (value < least) fail(who, std::string(name) + " = " + std::to_string(value) + " is < " + std::to_string(least));
 }
 
 inline void requirePositive(const char* who, const char* name, double value) {
@@ -38,8 +37,7 @@ inline void requireFinite(const char* who, const char* name, const Eigen::Vector
 // `faces` is computed in double so that huge arguments cannot overflow before they are refused.
 inline void requireFaceBudget(const char* who, double faces, const std::string& arguments) {
   if (faces > static_cast<double>(kMaxShapeFaces)) {
-    fail(who,
-         arguments + " would give " + formatNumber(faces) + " faces, more than " + std::to_string(kMaxShapeFaces));
+    fail(who, arguments + " would give " + formatNumber(faces) + " faces, more than " + std::to_string(kMaxShapeFaces));
   }
 }
 

@@ -54,14 +54,12 @@ void requireSimple(const char* who, const std::vector<Point2>& p) {
   const int n = static_cast<int>(p.size());
   for (int i = 0; i < n; ++i) {
     if (p[static_cast<std::size_t>(i)] == p[static_cast<std::size_t>((i + 1) % n)]) {
-      fail(who, "outline points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
-                    " coincide (edge " + std::to_string(i) + " has zero length)");
+      fail(who, "outline points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) + " coincide (edge " +
+                    std::to_string(i) + " has zero length)");
     }
   }
   std::pair<int, int> worst{n, n};
-  auto report = [&](int i, int j) {
-    worst = std::min(worst, std::pair<int, int>(std::min(i, j), std::max(i, j)));
-  };
+  auto report = [&](int i, int j) { worst = std::min(worst, std::pair<int, int>(std::min(i, j), std::max(i, j))); };
   // Consecutive edges i - 1 and i meet at point i: they overlap when they are collinear and turn back.
   for (int i = 0; i < n; ++i) {
     const Point2& a = p[static_cast<std::size_t>((i + n - 1) % n)];
@@ -78,12 +76,10 @@ void requireSimple(const char* who, const std::vector<Point2>& p) {
   std::vector<int> order(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
   auto xmin = [&](int i) {
-    return std::min(edges[static_cast<std::size_t>(i)].source().x(),
-                    edges[static_cast<std::size_t>(i)].target().x());
+    return std::min(edges[static_cast<std::size_t>(i)].source().x(), edges[static_cast<std::size_t>(i)].target().x());
   };
   auto xmax = [&](int i) {
-    return std::max(edges[static_cast<std::size_t>(i)].source().x(),
-                    edges[static_cast<std::size_t>(i)].target().x());
+    return std::max(edges[static_cast<std::size_t>(i)].source().x(), edges[static_cast<std::size_t>(i)].target().x());
   };
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return xmin(a) < xmin(b) || (xmin(a) == xmin(b) && a < b); });
@@ -94,8 +90,7 @@ void requireSimple(const char* who, const std::vector<Point2>& p) {
       const int j = order[t];
       const int gap = std::abs(i - j);
       if (gap == 1 || gap == n - 1) continue;  // consecutive: checked above
-      if (CGAL::do_intersect(edges[static_cast<std::size_t>(i)], edges[static_cast<std::size_t>(j)]))
-        report(i, j);
+      if (CGAL::do_intersect(edges[static_cast<std::size_t>(i)], edges[static_cast<std::size_t>(j)])) report(i, j);
     }
   }
   if (worst.first < n) {
@@ -147,20 +142,18 @@ std::vector<std::array<int, 3>> triangulatePolygon(const char* who, const std::v
   // requireSimple ruled out repeated points and crossings, so CGAL adds no vertex; checked anyway.
   if (cdt.number_of_vertices() != p.size()) {
     throw std::logic_error(std::string(who) + ": the cap triangulation has " +
-                           std::to_string(cdt.number_of_vertices()) + " vertices for " +
-                           std::to_string(p.size()) + " outline points");
+                           std::to_string(cdt.number_of_vertices()) + " vertices for " + std::to_string(p.size()) +
+                           " outline points");
   }
   markNestingLevels(cdt);
   std::vector<std::array<int, 3>> triangles;
   triangles.reserve(p.size() - 2);
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-    if (f->info() % 2 == 1)
-      triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+    if (f->info() % 2 == 1) triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   }
   if (triangles.size() != p.size() - 2) {
-    throw std::logic_error(std::string(who) + ": the cap triangulation has " +
-                           std::to_string(triangles.size()) + " triangles inside the outline, expected " +
-                           std::to_string(p.size() - 2));
+    throw std::logic_error(std::string(who) + ": the cap triangulation has " + std::to_string(triangles.size()) +
+                           " triangles inside the outline, expected " + std::to_string(p.size() - 2));
   }
   return triangles;
 }
@@ -200,8 +193,7 @@ constexpr std::array<std::array<double, 2>, 25> kFaceLandmarks = {{
 SurfaceMesh makePrism(const std::vector<Eigen::Vector2d>& outline_m, double z0_m, double z1_m, int rings) {
   constexpr const char* who = "makePrism";
   const int n = static_cast<int>(outline_m.size());
-  if (outline_m.size() < 3)
-    fail(who, "outline_m has " + std::to_string(outline_m.size()) + " points, needs >= 3");
+  if (outline_m.size() < 3) fail(who, "outline_m has " + std::to_string(outline_m.size()) + " points, needs >= 3");
   for (int i = 0; i < n; ++i) {
     if (!outline_m[static_cast<std::size_t>(i)].allFinite()) {
       fail(who, "outline point " + std::to_string(i) + " = " + formatPoint(outline_m[static_cast<std::size_t>(i)]) +

@@ -17,7 +17,8 @@ void check(bool ok, const std::string& what) {
 }
 
 void checkPositive(double value, const char* name) {
-  check(std::isfinite(value) && value > 0.0, std::string(name) + " = " + formatNumber(value) + " must be finite and > 0");
+  check(std::isfinite(value) && value > 0.0,
+        std::string(name) + " = " + formatNumber(value) + " must be finite and > 0");
 }
 
 }  // namespace
@@ -46,9 +47,9 @@ Stroke strokeAlongPath(const SurfaceMesh& surface, const StrokePathOptions& o) {
 
   const Eigen::Vector3d down = o.down.normalized();
   const Eigen::Vector3d across = o.direction - o.direction.dot(down) * down;  // the direction's part across the rays
-  check(across.norm() > 1e-9 * o.direction.norm(),
-        "direction " + formatPoint(o.direction) + " is along the rays (down " + formatPoint(o.down) +
-            "): the stroke would not move across the surface");
+  check(across.norm() > 1e-9 * o.direction.norm(), "direction " + formatPoint(o.direction) +
+                                                       " is along the rays (down " + formatPoint(o.down) +
+                                                       "): the stroke would not move across the surface");
   const Eigen::Vector3d dir = across.normalized();
   const Eigen::Vector3d side = dir.cross(down);
   const double dt_s = 1.0 / o.rate_hz;

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <climits>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
-#include "incise/cutting/volume_inversion.h"
 #include "face_walk.h"
+#include "incise/cutting/volume_inversion.h"
 
 namespace incise::cutting {
 
@@ -49,7 +49,8 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
     throw std::invalid_argument("SurfaceCutter: max_inversions_per_call = " +
                                 std::to_string(options.max_inversions_per_call) + " must be >= 0");
   if (options.wall_rows < 1 || options.wall_rows > 64)
-    throw std::invalid_argument("SurfaceCutter: wall_rows = " + std::to_string(options.wall_rows) + " is outside [1, 64]");
+    throw std::invalid_argument("SurfaceCutter: wall_rows = " + std::to_string(options.wall_rows) +
+                                " is outside [1, 64]");
   if (!(options.contact_tolerance_m >= 0.0))
     throw std::invalid_argument("SurfaceCutter: contact_tolerance_m must be >= 0");
   Incision::validateOptions(options.incision);
@@ -230,7 +231,8 @@ bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
   const Eigen::Vector3d guess = incision_->inversionGuess(x, column);
   // Eq. (2) read backwards is close to F0's inverse: points clearly across or beyond the lattice, or in
   // a later slab, are not worth a Newton solve now.
-  if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0 || guess[1] >= column + 1.5) return false;
+  if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0 || guess[1] >= column + 1.5)
+    return false;
   --budget;
   // Search only where F0 is final (v < column + 1), so the result cannot depend on columns that are still
   // extrapolated, i.e. on when this step runs.
@@ -400,7 +402,8 @@ bool SurfaceCutter::duplicate(VH c) {
     around.push_back({*f, side});
   }
   const auto minus = std::find_if(around.begin(), around.end(), [](const Around& a) { return a.side == -1; });
-  if (minus == around.end() || std::none_of(around.begin(), around.end(), [](const Around& a) { return a.side == 1; })) {
+  if (minus == around.end() ||
+      std::none_of(around.begin(), around.end(), [](const Around& a) { return a.side == 1; })) {
     fail("seam vertex " + std::to_string(c.idx()) + " does not separate two sides");
     return false;
   }
@@ -475,7 +478,8 @@ bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>
   TriMesh& m = mesh_.mesh();
   // The lip edge a[0]-b[0] has a surface face on one side: the wall uses its free (boundary) direction.
   const auto h = m.find_halfedge(a[0], b[0]);
-  if (!h.is_valid()) return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is missing"), false;
+  if (!h.is_valid())
+    return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is missing"), false;
   const bool forward = m.is_boundary(h);
   if (!forward && !m.is_boundary(m.opposite_halfedge_handle(h)))
     return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is not open"), false;
@@ -536,9 +540,9 @@ void SurfaceCutter::redeform(CutStep& step) {
     if (d.stamp == stamp_ || m.status(v).deleted()) return;
     d.stamp = stamp_;
     const size_t s = static_cast<size_t>(d.stencil);
-    const Eigen::Vector3d x =
-        d.rest_m + incision_->displacementFromStencil(stencil_count_[s], &stencil_first_[2 * s],
-                                                      &stencil_basis_[2 * s * static_cast<size_t>(incision_->stencilSize())]);
+    const Eigen::Vector3d x = d.rest_m + incision_->displacementFromStencil(
+                                             stencil_count_[s], &stencil_first_[2 * s],
+                                             &stencil_basis_[2 * s * static_cast<size_t>(incision_->stencilSize())]);
     m.set_point(v, toOpenMesh(x));
     ++step.vertices_moved;
   };
@@ -586,7 +590,6 @@ std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, c
         return currentWall(f);
       });
 }
-
 
 std::optional<SurfaceCutter::Binding> SurfaceCutter::binding(TriMesh::VertexHandle v) const {
   if (!v.is_valid() || v.idx() >= static_cast<int>(mesh_.mesh().n_vertices()) || !bound(v)) return std::nullopt;

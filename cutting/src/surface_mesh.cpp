@@ -54,16 +54,15 @@ SurfaceMesh::SurfaceMesh(TriMesh mesh) : mesh_(std::move(mesh)) { attachKinds();
 void SurfaceMesh::attachKinds() {
   if (!mesh_.get_property_handle(vertex_kind_, kVertexKindProperty))
     mesh_.add_property(vertex_kind_, kVertexKindProperty);
-  if (!mesh_.get_property_handle(face_kind_, kFaceKindProperty))
-    mesh_.add_property(face_kind_, kFaceKindProperty);
+  if (!mesh_.get_property_handle(face_kind_, kFaceKindProperty)) mesh_.add_property(face_kind_, kFaceKindProperty);
 }
 
 namespace {
 template <typename Handle>
 void checkHandle(Handle h, size_t count, const char* what) {
   if (!h.is_valid() || static_cast<size_t>(h.idx()) >= count)
-    throw std::out_of_range(std::string("SurfaceMesh: invalid ") + what + " handle " +
-                            std::to_string(h.idx()) + " (" + std::to_string(count) + " " + what + "s)");
+    throw std::out_of_range(std::string("SurfaceMesh: invalid ") + what + " handle " + std::to_string(h.idx()) + " (" +
+                            std::to_string(count) + " " + what + "s)");
 }
 }  // namespace
 
@@ -96,8 +95,8 @@ TriMesh::VertexHandle SurfaceMesh::addVertex(const Eigen::Vector3d& p, VertexKin
   return v;
 }
 
-TriMesh::FaceHandle SurfaceMesh::addFace(TriMesh::VertexHandle v0, TriMesh::VertexHandle v1,
-                                         TriMesh::VertexHandle v2, FaceKind kind) {
+TriMesh::FaceHandle SurfaceMesh::addFace(TriMesh::VertexHandle v0, TriMesh::VertexHandle v1, TriMesh::VertexHandle v2,
+                                         FaceKind kind) {
   for (const VertexHandle v : {v0, v1, v2}) checkHandle(v, mesh_.n_vertices(), "vertex");
   const FaceHandle f = (v0 == v1 || v0 == v2 || v1 == v2) ? FaceHandle() : mesh_.add_face(v0, v1, v2);
   if (!f.is_valid())
@@ -115,8 +114,7 @@ TriMesh subdivideLoop(const TriMesh& mesh, int iterations) {
   result.garbage_collection();
   if (iterations == 0) return result;
   size_t max_valence = 0;
-  for (const VertexHandle v : result.vertices())
-    max_valence = std::max<size_t>(max_valence, result.valence(v));
+  for (const VertexHandle v : result.vertices()) max_valence = std::max<size_t>(max_valence, result.valence(v));
   OpenMesh::Subdivider::Uniform::LoopT<TriMesh, double> loop;
   loop.init_weights(std::max<size_t>(max_valence + 1, 50));
   loop.attach(result);

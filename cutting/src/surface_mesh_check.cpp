@@ -34,9 +34,7 @@ using FaceHandle = TriMesh::FaceHandle;
 // ---------------------------------------------------------------------------------------------------------
 // Triangle-list checks (before building the OpenMesh mesh, which would silently drop non-manifold faces)
 
-std::string vertexPair(int a, int b) {
-  return "(" + std::to_string(a + 1) + ", " + std::to_string(b + 1) + ")";
-}
+std::string vertexPair(int a, int b) { return "(" + std::to_string(a + 1) + ", " + std::to_string(b + 1) + ")"; }
 
 void checkDegenerate(const RawMesh& raw) {
   for (size_t t = 0; t < raw.triangles.size(); ++t) {
@@ -60,8 +58,8 @@ void checkReferenced(const RawMesh& raw) {
   const auto unused = static_cast<size_t>(std::count(used.begin(), used.end(), 0));
   if (unused == 0) return;
   const auto first = static_cast<size_t>(std::find(used.begin(), used.end(), 0) - used.begin());
-  fail(raw.at(raw.point_lines[first]) + "unreferenced vertex " + std::to_string(first + 1) +
-       " (used by no face); " + std::to_string(unused) + " unreferenced vertices in all" + kObjVertexNote);
+  fail(raw.at(raw.point_lines[first]) + "unreferenced vertex " + std::to_string(first + 1) + " (used by no face); " +
+       std::to_string(unused) + " unreferenced vertices in all" + kObjVertexNote);
 }
 
 // One side of an undirected edge lo < hi: the face using it and whether it runs lo -> hi.
@@ -110,21 +108,20 @@ void reportEdgeProblems(const RawMesh& raw, const std::vector<EdgeUse>& uses, co
   };
   if (p.non_manifold > 0) {
     const size_t i = p.first_non_manifold, j = groupEnd(i);
-    fail(raw.faceAt(uses[i].face) + "non-manifold edge " + vertexPair(uses[i].lo, uses[i].hi) +
-         " shared by " + std::to_string(j - i) + " faces (" + faceList(raw, uses, i, j) + "); " +
-         std::to_string(p.non_manifold) + " such edges in all" + kObjVertexNote);
+    fail(raw.faceAt(uses[i].face) + "non-manifold edge " + vertexPair(uses[i].lo, uses[i].hi) + " shared by " +
+         std::to_string(j - i) + " faces (" + faceList(raw, uses, i, j) + "); " + std::to_string(p.non_manifold) +
+         " such edges in all" + kObjVertexNote);
   }
   if (p.open > 0) {
     const size_t i = p.first_open;
-    fail(raw.faceAt(uses[i].face) + "open surface: edge " + vertexPair(uses[i].lo, uses[i].hi) +
-         " has 1 face (" + faceList(raw, uses, i, i + 1) + "); " + std::to_string(p.open) +
-         " boundary edges in all" + kObjVertexNote);
+    fail(raw.faceAt(uses[i].face) + "open surface: edge " + vertexPair(uses[i].lo, uses[i].hi) + " has 1 face (" +
+         faceList(raw, uses, i, i + 1) + "); " + std::to_string(p.open) + " boundary edges in all" + kObjVertexNote);
   }
   if (p.flipped > 0) {
     const size_t i = p.first_flipped;
-    fail(raw.faceAt(uses[i].face) + "inconsistent orientation at edge " + vertexPair(uses[i].lo, uses[i].hi) +
-         ": " + faceList(raw, uses, i, i + 2) + " run the same way (a face is flipped); " +
-         std::to_string(p.flipped) + " such edges in all" + kObjVertexNote);
+    fail(raw.faceAt(uses[i].face) + "inconsistent orientation at edge " + vertexPair(uses[i].lo, uses[i].hi) + ": " +
+         faceList(raw, uses, i, i + 2) + " run the same way (a face is flipped); " + std::to_string(p.flipped) +
+         " such edges in all" + kObjVertexNote);
   }
 }
 
@@ -185,13 +182,11 @@ void checkFans(const RawMesh& raw) {
   Links links = vertexLinks(raw);
   std::vector<char> seen;
   for (size_t v = 0; v < raw.points.size(); ++v) {
-    const auto begin = links.edges.begin() + links.offsets[v],
-               end = links.edges.begin() + links.offsets[v + 1];
+    const auto begin = links.edges.begin() + links.offsets[v], end = links.edges.begin() + links.offsets[v + 1];
     const int fans = fanCount(begin, end, seen);
     if (fans != 1)
       fail(raw.at(raw.point_lines[v]) + "non-manifold vertex " + std::to_string(v + 1) + ": its " +
-           std::to_string(end - begin) + " faces form " + std::to_string(fans) + " separate fans" +
-           kObjVertexNote);
+           std::to_string(end - begin) + " faces form " + std::to_string(fans) + " separate fans" + kObjVertexNote);
   }
 }
 
@@ -249,8 +244,7 @@ void checkFace(Checker& c, FaceHandle f, std::vector<int>& face_uses) {
 
 std::string edgeName(const TriMesh& mesh, TriMesh::EdgeHandle e) {
   const auto h = mesh.halfedge_handle(e, 0);
-  return "edge " + std::to_string(e.idx()) + " (vertices " +
-         std::to_string(mesh.from_vertex_handle(h).idx()) + ", " +
+  return "edge " + std::to_string(e.idx()) + " (vertices " + std::to_string(mesh.from_vertex_handle(h).idx()) + ", " +
          std::to_string(mesh.to_vertex_handle(h).idx()) + ")";
 }
 
@@ -294,8 +288,8 @@ void checkVertex(Checker& c, VertexHandle v, int uses) {
   }
   if (reached != uses)
     c.problem(count, [&] {
-      return name() + ": its one-ring reaches " + std::to_string(reached) + " of the " +
-             std::to_string(uses) + " faces using it (more than one fan)";
+      return name() + ": its one-ring reaches " + std::to_string(reached) + " of the " + std::to_string(uses) +
+             " faces using it (more than one fan)";
     });
   else if (gaps > 1)
     c.problem(count, [&] { return name() + ": " + std::to_string(gaps) + " boundary gaps in its one-ring"; });

@@ -74,12 +74,11 @@ int parseFaceIndex(std::string_view token, int vertices_so_far, const std::strin
   if (value < 0) {
     const long long resolved = vertices_so_far + value;
     if (resolved < 0)
-      fail(where + "face index " + std::to_string(value) + " out of range (" +
-           std::to_string(vertices_so_far) + " vertices so far)");
+      fail(where + "face index " + std::to_string(value) + " out of range (" + std::to_string(vertices_so_far) +
+           " vertices so far)");
     return static_cast<int>(resolved);
   }
-  if (value > std::numeric_limits<int>::max())
-    fail(where + "face index " + std::to_string(value) + " out of range");
+  if (value > std::numeric_limits<int>::max()) fail(where + "face index " + std::to_string(value) + " out of range");
   return static_cast<int>(value - 1);
 }
 
@@ -96,8 +95,7 @@ void parseVertex(const std::vector<std::string_view>& tokens, double scale, int 
 
 void parseFace(const std::vector<std::string_view>& tokens, int line, RawMesh& raw) {
   const std::string where = raw.at(line);
-  if (tokens.size() < 4)
-    fail(where + "a face needs at least 3 vertices, got " + std::to_string(tokens.size() - 1));
+  if (tokens.size() < 4) fail(where + "a face needs at least 3 vertices, got " + std::to_string(tokens.size() - 1));
   const int so_far = static_cast<int>(raw.points.size());
   const int first = parseFaceIndex(tokens[1], so_far, where);
   int previous = parseFaceIndex(tokens[2], so_far, where);
@@ -110,8 +108,7 @@ void parseFace(const std::vector<std::string_view>& tokens, int line, RawMesh& r
 }
 
 bool ignoredStatement(std::string_view keyword) {
-  static constexpr std::array<std::string_view, 8> kIgnored = {"vn", "vt", "vp",     "g",
-                                                               "o",  "s",  "usemtl", "mtllib"};
+  static constexpr std::array<std::string_view, 8> kIgnored = {"vn", "vt", "vp", "g", "o", "s", "usemtl", "mtllib"};
   return std::find(kIgnored.begin(), kIgnored.end(), keyword) != kIgnored.end();
 }
 
@@ -219,12 +216,11 @@ SurfaceMesh readWithOpenMesh(const std::filesystem::path& path, const std::strin
   if (!std::filesystem::exists(path)) fail(path.string() + ": cannot open (no such file)");
   TriMesh mesh;
   OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::read_mesh(mesh, path.string(), options))
-    fail(path.string() + ": OpenMesh could not read it");
+  if (!OpenMesh::IO::read_mesh(mesh, path.string(), options)) fail(path.string() + ": OpenMesh could not read it");
   const auto declared = declaredFaceCount(path, ext);
   if (declared && static_cast<long long>(mesh.n_faces()) < *declared)
-    fail(path.string() + ": OpenMesh read " + std::to_string(mesh.n_faces()) + " of the " +
-         std::to_string(*declared) + " faces in the file (it drops degenerate and non-manifold faces)");
+    fail(path.string() + ": OpenMesh read " + std::to_string(mesh.n_faces()) + " of the " + std::to_string(*declared) +
+         " faces in the file (it drops degenerate and non-manifold faces)");
   for (const VertexHandle v : mesh.vertices()) {
     mesh.point(v) *= scale;
     if (!toEigen(mesh.point(v)).allFinite())
@@ -247,15 +243,13 @@ std::vector<int> compactVertices(const TriMesh& mesh, const std::filesystem::pat
   int next = 0;
   for (const VertexHandle v : mesh.vertices()) {
     if (!toEigen(mesh.point(v)).allFinite())
-      fail("cannot save " + path.string() + ": vertex " + std::to_string(v.idx()) +
-           " has a non-finite position");
+      fail("cannot save " + path.string() + ": vertex " + std::to_string(v.idx()) + " has a non-finite position");
     index[static_cast<size_t>(v.idx())] = next++;
   }
   return index;
 }
 
-void writeFaceVertices(AtomicFile& out, const TriMesh& mesh, FaceHandle f, const std::vector<int>& index,
-                       int base) {
+void writeFaceVertices(AtomicFile& out, const TriMesh& mesh, FaceHandle f, const std::vector<int>& index, int base) {
   for (const VertexHandle v : mesh.fv_range(f)) {
     out << ' ' << index[static_cast<size_t>(v.idx())] + base;
   }

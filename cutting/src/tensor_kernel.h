@@ -34,9 +34,9 @@ static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double), "control points mus
 
 // Ov, Ow: compile-time orders along v and w, or 0 to read o_v, o_w at run time.
 template <int Ou, int Ov = 0, int Ow = 0>
-[[gnu::always_inline]] inline Eigen::Vector3d tensorSumFixed(const double* xyz, int n_u, int n_v, int first, int o_v_runtime,
-                                      int o_w_runtime, const double* Nu, const double* Nv,
-                                      const double* Nw) noexcept {
+[[gnu::always_inline]] inline Eigen::Vector3d tensorSumFixed(const double* xyz, int n_u, int n_v, int first,
+                                                             int o_v_runtime, int o_w_runtime, const double* Nu,
+                                                             const double* Nv, const double* Nw) noexcept {
   const int o_v = Ov > 0 ? Ov : o_v_runtime;
   const int o_w = Ow > 0 ? Ow : o_w_runtime;
   // Weighted sum of whole rows first (3 * Ou lanes), then one reduction by Nu.
@@ -80,8 +80,8 @@ template <int Ou, int Ov = 0, int Ow = 0>
 // compiler from fusing on its own), so the result is the same bits wherever this is inlined.
 template <>
 [[gnu::always_inline]] inline Eigen::Vector3d tensorSumFixed<4, 4, 4>(const double* xyz, int n_u, int n_v, int first,
-                                                                       int, int, const double* Nu, const double* Nv,
-                                                                       const double* Nw) noexcept {
+                                                                      int, int, const double* Nu, const double* Nv,
+                                                                      const double* Nw) noexcept {
   __m256d lanes[4][3];
   for (int k = 0; k < 4; ++k) {
     const double* plane = xyz + 3 * (first + n_u * n_v * k);
@@ -106,8 +106,8 @@ template <>
 }
 #endif
 
-inline Eigen::Vector3d tensorSumAny(const double* xyz, int n_u, int n_v, int first, int o_u, int o_v,
-                                    int o_w, const double* Nu, const double* Nv, const double* Nw) noexcept {
+inline Eigen::Vector3d tensorSumAny(const double* xyz, int n_u, int n_v, int first, int o_u, int o_v, int o_w,
+                                    const double* Nu, const double* Nv, const double* Nw) noexcept {
   double acc[3 * kMaxOrder] = {};
   for (int k = 0; k < o_w; ++k) {
     for (int j = 0; j < o_v; ++j) {
@@ -146,27 +146,36 @@ template <typename Body>
 [[gnu::always_inline]] inline decltype(auto) withKernel(const std::array<int, 3>& orders, Body&& body) {
   if (orders[0] == orders[1] && orders[1] == orders[2]) {  // the common case: fully unrolled
     switch (orders[0]) {
-      case 2: return body.template operator()<2, 2>();
-      case 3: return body.template operator()<3, 3>();
-      case 4: return body.template operator()<4, 4>();
-      default: break;
+      case 2:
+        return body.template operator()<2, 2>();
+      case 3:
+        return body.template operator()<3, 3>();
+      case 4:
+        return body.template operator()<4, 4>();
+      default:
+        break;
     }
   }
   switch (orders[0]) {
-    case 2: return body.template operator()<2, 0>();
-    case 3: return body.template operator()<3, 0>();
-    case 4: return body.template operator()<4, 0>();
-    case 5: return body.template operator()<5, 0>();
-    case 6: return body.template operator()<6, 0>();
-    default: return body.template operator()<0, 0>();
+    case 2:
+      return body.template operator()<2, 0>();
+    case 3:
+      return body.template operator()<3, 0>();
+    case 4:
+      return body.template operator()<4, 0>();
+    case 5:
+      return body.template operator()<5, 0>();
+    case 6:
+      return body.template operator()<6, 0>();
+    default:
+      return body.template operator()<0, 0>();
   }
 }
 
 inline Eigen::Vector3d tensorSum(const double* xyz, int n_u, int n_v, int first, const std::array<int, 3>& orders,
                                  const double* Nu, const double* Nv, const double* Nw) noexcept {
-  return withKernel(orders, [&]<int Ou, int Ovw>() {
-    return tensorKernel<Ou, Ovw>(xyz, n_u, n_v, first, orders, Nu, Nv, Nw);
-  });
+  return withKernel(orders,
+                    [&]<int Ou, int Ovw>() { return tensorKernel<Ou, Ovw>(xyz, n_u, n_v, first, orders, Nu, Nv, Nw); });
 }
 
 }  // namespace incise::cutting::detail

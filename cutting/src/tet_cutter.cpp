@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <climits>
-#include <tuple>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <tuple>
 
 #include <Eigen/LU>
 
@@ -23,7 +23,8 @@ double medianEdgeLength(const TetMesh& mesh) {
   lengths.reserve(mesh.tets.size() * 6);
   for (const auto& t : mesh.tets)
     for (const auto& e : detail::kTetEdges)
-      lengths.push_back((mesh.nodes_m[static_cast<size_t>(t[e[0]])] - mesh.nodes_m[static_cast<size_t>(t[e[1]])]).norm());
+      lengths.push_back(
+          (mesh.nodes_m[static_cast<size_t>(t[e[0]])] - mesh.nodes_m[static_cast<size_t>(t[e[1]])]).norm());
   if (lengths.empty()) return 0.0;
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   return lengths[lengths.size() / 2];
@@ -36,8 +37,8 @@ TetCutter::TetCutter(TetMesh tissue, const TetCutterOptions& options) : options_
     throw std::invalid_argument("TetCutter: snap_tolerance_m = " + std::to_string(options.snap_tolerance_m) +
                                 " must be finite and >= 0");
   if (options.max_inversions_per_call < 0)
-    throw std::invalid_argument("TetCutter: max_inversions_per_call = " + std::to_string(options.max_inversions_per_call) +
-                                " must be >= 0");
+    throw std::invalid_argument(
+        "TetCutter: max_inversions_per_call = " + std::to_string(options.max_inversions_per_call) + " must be >= 0");
   if (tissue.tets.empty()) throw MeshError("TetCutter: the tissue has no tets");
   const TetCheck check = checkConforming(tissue);
   if (!check.conforming) throw MeshError("TetCutter: the tissue is not conforming: " + check.first_problem);
@@ -73,7 +74,8 @@ void TetCutter::rebuild(TetMesh mesh) {
   tet_edges_.assign(n_tets, {});
   for (size_t i = 0; i < refs.size(); ++i) {
     if (i == 0 || refs[i].a != refs[i - 1].a || refs[i].b != refs[i - 1].b) edges_.push_back({refs[i].a, refs[i].b});
-    tet_edges_[static_cast<size_t>(refs[i].tet)][static_cast<size_t>(refs[i].local)] = static_cast<int>(edges_.size()) - 1;
+    tet_edges_[static_cast<size_t>(refs[i].tet)][static_cast<size_t>(refs[i].local)] =
+        static_cast<int>(edges_.size()) - 1;
   }
   edge_point_.assign(edges_.size(), -1);
   // Node -> tets (ascending), compressed.
@@ -148,7 +150,9 @@ TetStep TetCutter::follow(const Incision& incision, int incision_number, TetBudg
   try {
     incision_ = &incision;
     if (incision_number != incision_number_) startIncision(incision_number);
-    int budget = options_.max_inversions_per_call > 0 && budget_kind == TetBudget::PerCall ? options_.max_inversions_per_call : INT_MAX;
+    int budget = options_.max_inversions_per_call > 0 && budget_kind == TetBudget::PerCall
+                     ? options_.max_inversions_per_call
+                     : INT_MAX;
     last_final_columns_ = incision.finalColumns();
     while (next_column_ < last_final_columns_ && budget > 0 && !failed_) {
       if (!processColumn(incision, next_column_, budget, step)) break;
@@ -319,9 +323,10 @@ bool TetCutter::decideCut(const Incision& in, int t) {
     // Every tet around the edge now has a point on it: it must be subdivided to stay conforming.
     const int lo = edges_[static_cast<size_t>(edge)][0], hi = edges_[static_cast<size_t>(edge)][1];
     const auto first = node_tets_.begin();
-    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)], first + node_tets_first_[static_cast<size_t>(lo) + 1],
-                          first + node_tets_first_[static_cast<size_t>(hi)], first + node_tets_first_[static_cast<size_t>(hi) + 1],
-                          std::back_inserter(affected_));
+    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)],
+                          first + node_tets_first_[static_cast<size_t>(lo) + 1],
+                          first + node_tets_first_[static_cast<size_t>(hi)],
+                          first + node_tets_first_[static_cast<size_t>(hi) + 1], std::back_inserter(affected_));
   }
   return true;
 }
@@ -330,7 +335,8 @@ int TetCutter::edgePoint(int edge) {
   const int a = edges_[static_cast<size_t>(edge)][0], b = edges_[static_cast<size_t>(edge)][1];
   double lambda = 0.0;
   const Eigen::Vector3d uvw = crossingUvw(a, b, lambda);
-  const Eigen::Vector3d rest = (1.0 - lambda) * rest_m_[static_cast<size_t>(a)] + lambda * rest_m_[static_cast<size_t>(b)];
+  const Eigen::Vector3d rest =
+      (1.0 - lambda) * rest_m_[static_cast<size_t>(a)] + lambda * rest_m_[static_cast<size_t>(b)];
   const int id = addNode(rest, uvw, NodeState::EdgePoint, 2);
   nodes_[static_cast<size_t>(id)].cut_point = true;
   nodes_[static_cast<size_t>(id)].support = edge;
@@ -391,7 +397,8 @@ int TetCutter::steinerNode(int t, const Eigen::Vector3d& x_m, int side) {
   int& slot = steiner_[static_cast<size_t>(t)][static_cast<size_t>(side + 1)];
   // Parameters by barycentric interpolation of the tet's nodes.
   Eigen::Matrix3d m;
-  for (int i = 0; i < 3; ++i) m.col(i) = rest_m_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])] - rest_m_[static_cast<size_t>(tet[0])];
+  for (int i = 0; i < 3; ++i)
+    m.col(i) = rest_m_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])] - rest_m_[static_cast<size_t>(tet[0])];
   const Eigen::Vector3d b = m.partialPivLu().solve(x_m - rest_m_[static_cast<size_t>(tet[0])]);
   Eigen::Vector3d uvw = (1.0 - b.sum()) * nodes_[static_cast<size_t>(tet[0])].uvw;
   for (int i = 0; i < 3; ++i) uvw += b[i] * nodes_[static_cast<size_t>(tet[static_cast<size_t>(i + 1)])].uvw;
@@ -423,11 +430,12 @@ void TetCutter::subdivide(int t, TetStep& step) {
   detail::SubTet out[detail::kMaxChildren];
   const detail::SplitResult r = detail::splitTet(input, sink, out);
   if (r.degenerate)
-    fail("TetCutter: splitting tet " + std::to_string(t) + " leaves a flat tet (volume " + std::to_string(r.min_volume_m3) +
-         " m^3); the cutter stops");
+    fail("TetCutter: splitting tet " + std::to_string(t) + " leaves a flat tet (volume " +
+         std::to_string(r.min_volume_m3) + " m^3); the cutter stops");
   int& first = child_first_[static_cast<size_t>(t)];
   const int old_count = child_count_[static_cast<size_t>(t)];
-  if (r.count > old_count) first = static_cast<int>(children_.size()), children_.resize(children_.size() + static_cast<size_t>(r.count));
+  if (r.count > old_count)
+    first = static_cast<int>(children_.size()), children_.resize(children_.size() + static_cast<size_t>(r.count));
   for (int c = 0; c < r.count; ++c) {
     children_[static_cast<size_t>(first + c)] = Child{out[c].nodes, out[c].side, out[c].cut_faces};
     for (const int n : out[c].nodes)

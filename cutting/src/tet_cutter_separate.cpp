@@ -21,9 +21,10 @@ void TetCutter::supportTets(int x, std::vector<int>& out) const {
   const auto first = node_tets_.begin();
   if (d.state == NodeState::EdgePoint) {
     const int lo = edges_[static_cast<size_t>(d.support)][0], hi = edges_[static_cast<size_t>(d.support)][1];
-    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)], first + node_tets_first_[static_cast<size_t>(lo) + 1],
-                          first + node_tets_first_[static_cast<size_t>(hi)], first + node_tets_first_[static_cast<size_t>(hi) + 1],
-                          std::back_inserter(out));
+    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)],
+                          first + node_tets_first_[static_cast<size_t>(lo) + 1],
+                          first + node_tets_first_[static_cast<size_t>(hi)],
+                          first + node_tets_first_[static_cast<size_t>(hi) + 1], std::back_inserter(out));
   } else {
     out.assign(first + node_tets_first_[static_cast<size_t>(x)], first + node_tets_first_[static_cast<size_t>(x) + 1]);
   }
@@ -35,7 +36,8 @@ void TetCutter::separate(int x) {
   std::vector<int>& elems = scratch2_;
   elems.clear();
   for (const int t : scratch_)
-    for (int c = child_first_[static_cast<size_t>(t)]; c < child_first_[static_cast<size_t>(t)] + child_count_[static_cast<size_t>(t)]; ++c)
+    for (int c = child_first_[static_cast<size_t>(t)];
+         c < child_first_[static_cast<size_t>(t)] + child_count_[static_cast<size_t>(t)]; ++c)
       for (const int n : children_[static_cast<size_t>(c)].nodes)
         if (canonical(n) == x) {
           elems.push_back(c);
@@ -48,7 +50,8 @@ void TetCutter::separate(int x) {
       if (canonical(ch.nodes[static_cast<size_t>(i)]) == x || (ch.cut_faces >> i & 1u)) continue;
       int other[2], m = 0;
       for (int j = 0; j < 4; ++j)
-        if (j != i && canonical(ch.nodes[static_cast<size_t>(j)]) != x) other[m++] = canonical(ch.nodes[static_cast<size_t>(j)]);
+        if (j != i && canonical(ch.nodes[static_cast<size_t>(j)]) != x)
+          other[m++] = canonical(ch.nodes[static_cast<size_t>(j)]);
       faces_.push_back({std::min(other[0], other[1]), std::max(other[0], other[1]), static_cast<int>(k)});
     }
   }

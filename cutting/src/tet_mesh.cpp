@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 #include <utility>
 
@@ -81,7 +81,6 @@ void forEachFace(const std::vector<FaceSide>& sides, Visit visit) {
   }
 }
 
-
 void requireValidIndices(const TetMesh& mesh) {
   const long long n = static_cast<long long>(mesh.nodes_m.size());
   for (size_t t = 0; t < mesh.tets.size(); ++t)
@@ -134,8 +133,8 @@ double tetMinDihedralAngleDeg(const TetMesh& mesh, int tet) {
   for (int i = 0; i < 4; ++i) {
     const auto f = faceOpposite(t, i);
     const Eigen::Vector3d& a = mesh.nodes_m[static_cast<size_t>(f[0])];
-    const Eigen::Vector3d n = (mesh.nodes_m[static_cast<size_t>(f[1])] - a)
-                                  .cross(mesh.nodes_m[static_cast<size_t>(f[2])] - a);
+    const Eigen::Vector3d n =
+        (mesh.nodes_m[static_cast<size_t>(f[1])] - a).cross(mesh.nodes_m[static_cast<size_t>(f[2])] - a);
     const double length = n.norm();
     if (!(length > 0)) return 0.0;  // a degenerate face: the tet is flat
     normal[static_cast<size_t>(i)] = n / length;
@@ -160,7 +159,8 @@ double volume(const TetMesh& mesh) {
 double minDihedralAngleDeg(const TetMesh& mesh) {
   requireValidIndices(mesh);
   double smallest = 180.0;
-  for (size_t t = 0; t < mesh.tets.size(); ++t) smallest = std::min(smallest, tetMinDihedralAngleDeg(mesh, static_cast<int>(t)));
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    smallest = std::min(smallest, tetMinDihedralAngleDeg(mesh, static_cast<int>(t)));
   return smallest;
 }
 
@@ -173,9 +173,8 @@ TetCheck checkConforming(const TetMesh& mesh) {
     const auto& tet = mesh.tets[t];
     if (!validTet(mesh, tet)) {
       ++check.bad_tets;
-      problem("tet " + std::to_string(t) + ": node indices out of range or repeated (" +
-              std::to_string(tet[0]) + ", " + std::to_string(tet[1]) + ", " + std::to_string(tet[2]) + ", " +
-              std::to_string(tet[3]) + ")");
+      problem("tet " + std::to_string(t) + ": node indices out of range or repeated (" + std::to_string(tet[0]) + ", " +
+              std::to_string(tet[1]) + ", " + std::to_string(tet[2]) + ", " + std::to_string(tet[3]) + ")");
       continue;
     }
     const double det = orientation(mesh, tet);
@@ -241,8 +240,7 @@ void writeVtu(const TetMesh& mesh, const std::filesystem::path& path,
   out << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "  <UnstructuredGrid>\n"
-      << "    <Piece NumberOfPoints=\"" << mesh.nodes_m.size() << "\" NumberOfCells=\"" << mesh.tets.size()
-      << "\">\n"
+      << "    <Piece NumberOfPoints=\"" << mesh.nodes_m.size() << "\" NumberOfCells=\"" << mesh.tets.size() << "\">\n"
       << "      <Points>\n"
       << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const auto& p : mesh.nodes_m) {

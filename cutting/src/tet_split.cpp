@@ -213,8 +213,9 @@ SplitResult split(const SplitInput& in, SteinerSink& steiner, SubTet* out, Apex 
     int n = 0;
     for (int t = 0; t < n_faces; ++t) {
       const Tri& tri = faces[t];
-      const bool on_side = std::all_of(tri.v.begin(), tri.v.end(), [&](int v) { return l.sign[v] == 0 || l.sign[v] == side; }) &&
-                           std::any_of(tri.v.begin(), tri.v.end(), [&](int v) { return l.sign[v] == side; });
+      const bool on_side =
+          std::all_of(tri.v.begin(), tri.v.end(), [&](int v) { return l.sign[v] == 0 || l.sign[v] == side; }) &&
+          std::any_of(tri.v.begin(), tri.v.end(), [&](int v) { return l.sign[v] == side; });
       if (on_side) piece[n++] = tri;
     }
     for (int t = 0; t < n_cut; ++t) piece[n++] = cut[t];

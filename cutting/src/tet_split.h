@@ -41,21 +41,22 @@ struct SplitInput {
 
 struct SubTet {
   std::array<int, 4> nodes;
-  std::int8_t side;          // -1 / +1: a piece of a cut tet; 0: a transition tet's part
-  std::uint8_t cut_faces;    // bit i: the face opposite nodes[i] lies on the cut
+  std::int8_t side;        // -1 / +1: a piece of a cut tet; 0: a transition tet's part
+  std::uint8_t cut_faces;  // bit i: the face opposite nodes[i] lies on the cut
 };
 
 // Creates a Steiner node at x_m for a piece on `side` and returns its id.
 struct SteinerSink {
   virtual int add(const Eigen::Vector3d& x_m, int side) = 0;
+
  protected:
   ~SteinerSink() = default;
 };
 
 struct SplitResult {
-  int count = 0;                // children written to out[0 .. count)
-  double min_volume_m3 = 0.0;   // smallest child volume (> 0 unless degenerate)
-  bool degenerate = false;      // a child with no volume remained after the Steiner fallback
+  int count = 0;               // children written to out[0 .. count)
+  double min_volume_m3 = 0.0;  // smallest child volume (> 0 unless degenerate)
+  bool degenerate = false;     // a child with no volume remained after the Steiner fallback
 };
 
 SplitResult splitTet(const SplitInput& input, SteinerSink& steiner, SubTet* out);

@@ -40,13 +40,20 @@ std::string number(double x) {
 
 const char* tetgenMeaning(int code) {
   switch (code) {
-    case 1: return "out of memory";
-    case 2: return "internal error";
-    case 3: return "a self-intersection of the input surface";
-    case 4: return "a very small input feature size";
-    case 5: return "two very close input facets";
-    case 10: return "an input error";
-    default: return "an unknown error";
+    case 1:
+      return "out of memory";
+    case 2:
+      return "internal error";
+    case 3:
+      return "a self-intersection of the input surface";
+    case 4:
+      return "a very small input feature size";
+    case 5:
+      return "two very close input facets";
+    case 10:
+      return "an input error";
+    default:
+      return "an unknown error";
   }
 }
 
@@ -112,8 +119,7 @@ TetMesh readOutput(const tetgenio& out) {
 }  // namespace
 
 TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& options) {
-  if (!std::isfinite(options.radius_edge_ratio) ||
-      (options.radius_edge_ratio != 0 && options.radius_edge_ratio < 1.0))
+  if (!std::isfinite(options.radius_edge_ratio) || (options.radius_edge_ratio != 0 && options.radius_edge_ratio < 1.0))
     throw std::invalid_argument("tetrahedralize: radius_edge_ratio " + number(options.radius_edge_ratio) +
                                 " is not 0 or a finite value >= 1");
   if (!std::isfinite(options.max_volume_m3) || options.max_volume_m3 < 0)
@@ -140,8 +146,8 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const TetrahedralizeOptions& 
   try {
     ::tetrahedralize(switches.data(), &in, &out);
   } catch (int code) {
-    throw MeshError("tetrahedralize: TetGen (switches \"" + switches + "\") failed with code " +
-                    std::to_string(code) + ": " + tetgenMeaning(code));
+    throw MeshError("tetrahedralize: TetGen (switches \"" + switches + "\") failed with code " + std::to_string(code) +
+                    ": " + tetgenMeaning(code));
   }
   if (out.numberofcorners != 4)
     throw MeshError("tetrahedralize: TetGen returned " + std::to_string(out.numberofcorners) + "-node tets");

@@ -10,12 +10,10 @@
 
 namespace incise::cutting {
 
-
 namespace {
 
 constexpr std::int64_t kMaxCell = (std::int64_t{1} << 20) - 1;  // 21 bits per axis, signed
 constexpr std::int64_t kMinCell = -(std::int64_t{1} << 20);
-
 
 }  // namespace
 
@@ -63,12 +61,12 @@ void VertexGrid::insert(int id, const Eigen::Vector3d& p) {
 
 VertexGrid::Location VertexGrid::locate(int id, const Eigen::Vector3d& p, const char* who) {
   if (const auto cell = cells_.find(key(p)); cell != cells_.end()) {
-    const auto it = std::find_if(cell->second.begin(), cell->second.end(),
-                                 [&](const Entry& e) { return e.id == id && e.p == p; });
+    const auto it =
+        std::find_if(cell->second.begin(), cell->second.end(), [&](const Entry& e) { return e.id == id && e.p == p; });
     if (it != cell->second.end()) return {cell, it};
   }
-  throw std::invalid_argument(std::string("VertexGrid::") + who + ": no entry for id " + std::to_string(id) +
-                              " at " + formatPoint(p));
+  throw std::invalid_argument(std::string("VertexGrid::") + who + ": no entry for id " + std::to_string(id) + " at " +
+                              formatPoint(p));
 }
 
 void VertexGrid::move(int id, const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
@@ -113,8 +111,7 @@ void VertexGrid::query(const Eigen::AlignedBox3d& box, std::vector<int>& out) co
     for (std::int64_t k = k0; k <= k1; ++k)
       for (std::int64_t j = j0; j <= j1; ++j)
         for (std::int64_t i = i0; i <= i1; ++i)
-          if (const auto cell = cells_.find(pack(i, j, k)); cell != cells_.end())
-            appendHits(cell->second, box, out);
+          if (const auto cell = cells_.find(pack(i, j, k)); cell != cells_.end()) appendHits(cell->second, box, out);
   }
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
 }

@@ -14,21 +14,20 @@
 
 namespace incise::cutting {
 
-
 namespace {
-
 
 // Deforms the points in slots [begin, end). Slots hold the points sorted by support cell, so consecutive
 // slots read the same control points; the kernel choice is hoisted out of the loop.
 void deformSlots(const double* xyz, const std::array<int, 3>& orders, const std::array<int, 3>& counts,
-                 const int* first_control, const double* basis, int stride, const int* slot_point, int begin,
-                 int end, Eigen::Vector3d* out) noexcept {
+                 const int* first_control, const double* basis, int stride, const int* slot_point, int begin, int end,
+                 Eigen::Vector3d* out) noexcept {
   detail::withKernel(orders, [&]<int Ou, int Ovw>() {
     for (int s = begin; s < end; ++s) {
       const double* nu = basis + static_cast<std::ptrdiff_t>(s) * stride;
       const double* nv = nu + orders[0];
       const double* nw = nv + orders[1];
-      out[slot_point[s]] = detail::tensorKernel<Ou, Ovw>(xyz, counts[0], counts[1], first_control[s], orders, nu, nv, nw);
+      out[slot_point[s]] =
+          detail::tensorKernel<Ou, Ovw>(xyz, counts[0], counts[1], first_control[s], orders, nu, nv, nw);
     }
   });
 }
@@ -47,8 +46,9 @@ VolumeBinding::VolumeBinding(const BSplineVolume& volume, std::span<const Eigen:
   for (size_t p = 0; p < n_points; ++p) {
     const Eigen::Vector3d& t = parameters[p];
     if (!volume.inDomain(t[0], t[1], t[2]))
-      throw std::invalid_argument("VolumeBinding: parameter point " + std::to_string(p) + " (" + formatNumber(t[0]) + ", " +
-                                  formatNumber(t[1]) + ", " + formatNumber(t[2]) + ") is NaN or outside the volume's domain");
+      throw std::invalid_argument("VolumeBinding: parameter point " + std::to_string(p) + " (" + formatNumber(t[0]) +
+                                  ", " + formatNumber(t[1]) + ", " + formatNumber(t[2]) +
+                                  ") is NaN or outside the volume's domain");
     int corner[3];
     double* out = basis.data() + p * static_cast<size_t>(basis_stride_);
     for (int a = 0; a < 3; ++a) {
@@ -89,8 +89,8 @@ bool VolumeBinding::matches(const BSplineVolume& volume) const noexcept {
 
 bool VolumeBinding::deformAll(const BSplineVolume& volume, std::span<Eigen::Vector3d> out) const noexcept {
   if (out.size() != size() || !matches(volume)) return false;
-  deformSlots(volume.controls().data()->data(), orders_, counts_, first_control_.data(), basis_.data(),
-                 basis_stride_, slot_point_.data(), 0, static_cast<int>(size()), out.data());
+  deformSlots(volume.controls().data()->data(), orders_, counts_, first_control_.data(), basis_.data(), basis_stride_,
+              slot_point_.data(), 0, static_cast<int>(size()), out.data());
   return true;
 }
 
@@ -130,8 +130,8 @@ int VolumeBinding::deformAffected(const BSplineVolume& volume, std::span<const i
   const double* xyz = volume.controls().data()->data();
   int written = 0;
   const bool ok = forEachAffectedCell(moved_controls, [&](int begin, int end) {
-    deformSlots(xyz, orders_, counts_, first_control_.data(), basis_.data(), basis_stride_, slot_point_.data(),
-                   begin, end, out.data());
+    deformSlots(xyz, orders_, counts_, first_control_.data(), basis_.data(), basis_stride_, slot_point_.data(), begin,
+                end, out.data());
     written += end - begin;
   });
   return ok ? written : -1;

@@ -15,10 +15,7 @@
 
 namespace incise::cutting {
 
-
 namespace {
-
-
 
 void checkFinite(const Eigen::Vector3d& x, const char* who, const char* what) {
   if (!x.allFinite())
@@ -111,8 +108,7 @@ InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& 
   return InversionResult{x, residual <= options.tolerance, iterations, residual};
 }
 
-InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& p,
-                            const InversionOptions& options) {
+InversionResult invertPoint(const BSplineVolume& volume, const Eigen::Vector3d& p, const InversionOptions& options) {
   return invertPoint(volume, p, inversionStart(volume, p), options);
 }
 

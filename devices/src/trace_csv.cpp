@@ -75,8 +75,8 @@ double quaternionNorm(const Eigen::Quaterniond& q) {
 
 std::optional<Problem> checkSample(const PoseSample& sample, const std::optional<double>& previous_time_s,
                                    std::size_t previous_line) {
-  const std::array<double, 8> values = {sample.time_s,         sample.tip_m.x(),        sample.tip_m.y(),
-                                        sample.tip_m.z(),      sample.orientation.w(), sample.orientation.x(),
+  const std::array<double, 8> values = {sample.time_s,          sample.tip_m.x(),       sample.tip_m.y(),
+                                        sample.tip_m.z(),       sample.orientation.w(), sample.orientation.x(),
                                         sample.orientation.y(), sample.orientation.z()};
   for (int i = 0; i < 8; ++i)
     if (!std::isfinite(values[static_cast<std::size_t>(i)]))
@@ -88,17 +88,15 @@ std::optional<Problem> checkSample(const PoseSample& sample, const std::optional
     const std::string where = previous_line > 0 ? " on line " + std::to_string(previous_line) : "";
     const char* what = sample.time_s == *previous_time_s ? "time stands still" : "time goes back";
     return Problem{kTimeColumn, std::string(what) + " (" + shortest(sample.time_s) + " s after " +
-                                    shortest(*previous_time_s) + " s" + where +
-                                    "); time_s must strictly increase"};
+                                    shortest(*previous_time_s) + " s" + where + "); time_s must strictly increase"};
   }
 
   const double norm = quaternionNorm(sample.orientation);
   if (!(std::abs(norm - 1.0) <= kTraceQuaternionTolerance)) {
     const Eigen::Quaterniond& q = sample.orientation;
     return Problem{kQuaternionColumn, "quaternion (" + shortest(q.w()) + ", " + shortest(q.x()) + ", " +
-                                          shortest(q.y()) + ", " + shortest(q.z()) + ") has norm " +
-                                          shortest(norm) + ", not 1 within " +
-                                          shortest(kTraceQuaternionTolerance)};
+                                          shortest(q.y()) + ", " + shortest(q.z()) + ") has norm " + shortest(norm) +
+                                          ", not 1 within " + shortest(kTraceQuaternionTolerance)};
   }
 
   if (sample.pressure && !(*sample.pressure >= 0.0 && *sample.pressure <= 1.0))
@@ -120,8 +118,7 @@ TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
   in_.open(path_, std::ios::binary);
   if (!in_) {
     const int error = errno;
-    throw TraceError(path_.string() + ": cannot open (" + std::generic_category().message(error) + ")", path_,
-                     0, 0);
+    throw TraceError(path_.string() + ": cannot open (" + std::generic_category().message(error) + ")", path_, 0, 0);
   }
   std::string header;
   if (!std::getline(in_, header)) {
@@ -184,16 +181,16 @@ void TraceReader::checkHeader(std::string_view header) const {
         break;
       }
   }
-  throw TraceError(path_.string() + ":1: bad header: " + problems + "; expected exactly '" +
-                       std::string(kTraceHeader) + "'",
-                   path_, 1, first_column);
+  throw TraceError(
+      path_.string() + ":1: bad header: " + problems + "; expected exactly '" + std::string(kTraceHeader) + "'", path_,
+      1, first_column);
 }
 
 bool TraceReader::readLine(std::string& line) {
   if (at_end_) return false;
   if (!std::getline(in_, line)) {
-    if (in_.bad()) throw TraceError(path_.string() + ": read error after line " + std::to_string(line_), path_,
-                                    line_, 0);
+    if (in_.bad())
+      throw TraceError(path_.string() + ": read error after line " + std::to_string(line_), path_, line_, 0);
     at_end_ = true;
     return false;
   }
@@ -224,8 +221,8 @@ PoseSample TraceReader::parseSample(std::string_view line) const {
   const std::vector<std::string_view> fields = splitFields(line);
   const int count = static_cast<int>(fields.size());
   if (count < kColumnCount)
-    fail(count + 1, "missing (the line has " + std::to_string(count) + " fields, expected " +
-                        std::to_string(kColumnCount) + ")");
+    fail(count + 1,
+         "missing (the line has " + std::to_string(count) + " fields, expected " + std::to_string(kColumnCount) + ")");
   if (count > kColumnCount)
     fail(kColumnCount + 1, "unexpected field " + quoteField(fields[kColumnCount]) + " (the line has " +
                                std::to_string(count) + " fields, expected " + std::to_string(kColumnCount) + ")");
@@ -235,8 +232,7 @@ PoseSample TraceReader::parseSample(std::string_view line) const {
     if (field.empty()) fail(column, "empty; expected a number");
     double value = 0.0;
     const auto result = std::from_chars(field.data(), field.data() + field.size(), value);
-    if (result.ec == std::errc::result_out_of_range)
-      fail(column, quoteField(field) + " is out of range for a double");
+    if (result.ec == std::errc::result_out_of_range) fail(column, quoteField(field) + " is out of range for a double");
     if (result.ec != std::errc() || result.ptr != field.data() + field.size())
       fail(column, quoteField(field) + " is not a number");
     if (!std::isfinite(value)) fail(column, quoteField(field) + " is not finite");
@@ -246,8 +242,8 @@ PoseSample TraceReader::parseSample(std::string_view line) const {
   PoseSample sample;
   sample.time_s = number(kTimeColumn);
   for (int i = 0; i < 3; ++i) sample.tip_m[i] = number(kTipColumn + i);
-  const double w = number(kQuaternionColumn), x = number(kQuaternionColumn + 1),
-               y = number(kQuaternionColumn + 2), z = number(kQuaternionColumn + 3);
+  const double w = number(kQuaternionColumn), x = number(kQuaternionColumn + 1), y = number(kQuaternionColumn + 2),
+               z = number(kQuaternionColumn + 3);
   sample.orientation = Eigen::Quaterniond(w, x, y, z);
 
   const std::string_view buttons = fields[kButtonsColumn - 1];
@@ -259,9 +255,9 @@ PoseSample TraceReader::parseSample(std::string_view line) const {
 
   if (const auto problem =
           checkSample(sample, previous_ ? std::optional(previous_->time_s) : std::nullopt, previous_line_)) {
-    throw TraceError(path_.string() + ":" + std::to_string(line_) + ": " + problemLabel(*problem) + ": " +
-                         problem->message,
-                     path_, line_, problem->column);
+    throw TraceError(
+        path_.string() + ":" + std::to_string(line_) + ": " + problemLabel(*problem) + ": " + problem->message, path_,
+        line_, problem->column);
   }
   return sample;
 }
@@ -341,9 +337,8 @@ TraceWriter& TraceWriter::operator=(TraceWriter&& other) noexcept {
 void TraceWriter::write(const PoseSample& sample) {
   if (fd_ < 0) throw std::logic_error("TraceWriter '" + path_.string() + "': write() after close()");
   if (const auto problem = checkSample(sample, previous_time_s_, 0))
-    throw std::invalid_argument("TraceWriter '" + path_.string() + "': sample " +
-                                std::to_string(samples_written_ + 1) + ": " + problemLabel(*problem) + ": " +
-                                problem->message);
+    throw std::invalid_argument("TraceWriter '" + path_.string() + "': sample " + std::to_string(samples_written_ + 1) +
+                                ": " + problemLabel(*problem) + ": " + problem->message);
 
   appendExact(buffer_, sample.time_s);
   for (int i = 0; i < 3; ++i) appendExact(buffer_.append(","), sample.tip_m[i]);

@@ -8,8 +8,8 @@
 
 namespace incise::sim::detail {
 
-using nlohmann::json;
 using cutting::formatNumber;
+using nlohmann::json;
 
 TextPosition positionOf(const std::string& text, std::size_t offset) {
   const std::size_t at = std::min(offset, text.size());

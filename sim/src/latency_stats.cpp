@@ -14,10 +14,18 @@ constexpr std::size_t kQuantities = 5;
 // The value of quantity q in a frame, or false when the frame has none (no new cut visible).
 bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
   switch (q) {
-    case 0: value = t.haptic_us; return true;
-    case 1: value = t.cut_us; return true;
-    case 2: value = t.frame_us; return true;
-    case 3: value = t.period_error_us; return true;
+    case 0:
+      value = t.haptic_us;
+      return true;
+    case 1:
+      value = t.cut_us;
+      return true;
+    case 2:
+      value = t.frame_us;
+      return true;
+    case 3:
+      value = t.period_error_us;
+      return true;
     default:
       value = static_cast<double>(t.pose_to_visible_frames);
       return t.pose_to_visible_frames >= 0;
@@ -38,9 +46,7 @@ void putSummary(nlohmann::ordered_json& j, const char* name, const SampleSummary
 
 }  // namespace
 
-LatencyStats::LatencyStats(std::size_t capacity_frames) : capacity_(capacity_frames) {
-  samples_.reserve(capacity_);
-}
+LatencyStats::LatencyStats(std::size_t capacity_frames) : capacity_(capacity_frames) { samples_.reserve(capacity_); }
 
 void LatencyStats::record(const FrameTiming& timing) noexcept {
   ++frames_;

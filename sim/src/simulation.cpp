@@ -22,9 +22,13 @@ double microseconds(Clock::time_point a, Clock::time_point b) {
 }  // namespace
 
 Simulation::Simulation(World& world, ForceSink* sink, std::int64_t period_us, double t0_s, LatencyStats* stats)
-    : world_(world), sink_(sink), dt_s_(static_cast<double>(period_us) * 1e-6),
-      period_us_(static_cast<double>(period_us)), t0_s_(t0_s),
-      own_stats_(stats ? 1 : LatencyStats::kDefaultCapacity), stats_(stats ? stats : &own_stats_) {
+    : world_(world),
+      sink_(sink),
+      dt_s_(static_cast<double>(period_us) * 1e-6),
+      period_us_(static_cast<double>(period_us)),
+      t0_s_(t0_s),
+      own_stats_(stats ? 1 : LatencyStats::kDefaultCapacity),
+      stats_(stats ? stats : &own_stats_) {
   if (period_us <= 0) throw std::invalid_argument("Simulation: period_us must be > 0");
 }
 
@@ -32,7 +36,8 @@ Simulation::QueuedPose Simulation::toQueued(const devices::PoseSample& pose) noe
   QueuedPose q;
   q.time_s = pose.time_s;
   for (int a = 0; a < 3; ++a) q.tip[a] = pose.tip_m[a];
-  q.q[0] = pose.orientation.w(), q.q[1] = pose.orientation.x(), q.q[2] = pose.orientation.y(), q.q[3] = pose.orientation.z();
+  q.q[0] = pose.orientation.w(), q.q[1] = pose.orientation.x(), q.q[2] = pose.orientation.y(),
+  q.q[3] = pose.orientation.z();
   q.buttons = pose.buttons;
   q.has_pressure = pose.pressure.has_value();
   q.pressure = pose.pressure.value_or(0.0);
@@ -80,10 +85,12 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   const double t_s = frameTime(info.frame);
   int count = 0;
   QueuedPose queued;
-  while (count < kMaxPosesPerFrame && queue_.tryPop(queued)) frame_poses_[static_cast<std::size_t>(count++)] = fromQueued(queued);
+  while (count < kMaxPosesPerFrame && queue_.tryPop(queued))
+    frame_poses_[static_cast<std::size_t>(count++)] = fromQueued(queued);
   taken_.fetch_add(count, std::memory_order_relaxed);
 
-  const HapticState haptic = world_.updateTool(std::span(frame_poses_.data(), static_cast<std::size_t>(count)), info.dt_s);
+  const HapticState haptic =
+      world_.updateTool(std::span(frame_poses_.data(), static_cast<std::size_t>(count)), info.dt_s);
   if (sink_) sink_->apply(haptic.force_N, t_s);
   const auto haptic_end = Clock::now();
 
@@ -228,7 +235,8 @@ void replayRealTime(ReplayRun& run) {
 ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, const ReplayOptions& options,
                     ForceSink* sink) {
   if (trace.empty()) throw std::invalid_argument("replay: the trace is empty");
-  if (options.period_us <= 0 || !(options.settle_s >= 0.0)) throw std::invalid_argument("replay: bad period or settle time");
+  if (options.period_us <= 0 || !(options.settle_s >= 0.0))
+    throw std::invalid_argument("replay: bad period or settle time");
   Simulation sim(world, sink, options.period_us, trace.front().time_s, options.stats);
   FixedRateLoopOptions loop_options;
   loop_options.period_us = options.period_us;

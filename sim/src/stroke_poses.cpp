@@ -32,7 +32,8 @@ enum class Blade : std::uint8_t { Up, Cutting };
 class Timeline {
  public:
   explicit Timeline(double rate_hz) : dt_s_(1.0 / rate_hz) {}
-  void add(std::vector<devices::PoseSample>& poses, const Eigen::Vector3d& tip, const Eigen::Quaterniond& q, Blade blade) {
+  void add(std::vector<devices::PoseSample>& poses, const Eigen::Vector3d& tip, const Eigen::Quaterniond& q,
+           Blade blade) {
     devices::PoseSample p;
     p.time_s = dt_s_ * static_cast<double>(count_++);
     p.tip_m = tip;
@@ -56,8 +57,9 @@ class Timeline {
 
 }  // namespace
 
-std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tissue, const std::vector<StrokeSpec>& strokes,
-                                                 const WorldOptions& world, double rate_hz) {
+std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tissue,
+                                                 const std::vector<StrokeSpec>& strokes, const WorldOptions& world,
+                                                 double rate_hz) {
   std::vector<devices::PoseSample> poses;
   Timeline timeline(rate_hz);
   const double tip_depth_m = 0.9 * world.cutter.incision.depth_m;
@@ -83,8 +85,9 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
     Eigen::Quaterniond q = q0;
     for (size_t k = 0; k < stroke.samples.size(); ++k) {
       const cutting::StrokeSample& s = stroke.samples[k];
-      const Eigen::Vector3d travel = k + 1 < stroke.samples.size() ? Eigen::Vector3d(stroke.samples[k + 1].point_m - s.point_m)
-                                                                   : stroke.blade_direction;
+      const Eigen::Vector3d travel = k + 1 < stroke.samples.size()
+                                         ? Eigen::Vector3d(stroke.samples[k + 1].point_m - s.point_m)
+                                         : stroke.blade_direction;
       q = bladeOrientation(s.normal, travel);
       tip = s.point_m - tip_depth_m * s.normal;
       timeline.add(poses, tip, q, Blade::Cutting);

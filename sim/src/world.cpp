@@ -16,7 +16,8 @@ namespace {
 
 void requireNonNegative(double value, const char* name) {
   if (!(std::isfinite(value) && value >= 0.0))
-    throw std::invalid_argument(std::string("World: ") + name + " = " + std::to_string(value) + " must be finite and >= 0");
+    throw std::invalid_argument(std::string("World: ") + name + " = " + std::to_string(value) +
+                                " must be finite and >= 0");
 }
 
 // The frame's cutting work in inversions (about us_per_inversion each): all of it for the surface, or half
@@ -41,7 +42,8 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
   if (!(options.tool.blade_length_m > 0.0 && std::isfinite(options.tool.blade_length_m)))
     throw std::invalid_argument("World: blade_length_m must be finite and > 0");
   if (options.tool.cut_button < -1 || options.tool.cut_button > 31)
-    throw std::invalid_argument("World: cut_button = " + std::to_string(options.tool.cut_button) + " is outside [-1, 31]");
+    throw std::invalid_argument("World: cut_button = " + std::to_string(options.tool.cut_button) +
+                                " is outside [-1, 31]");
   if (!(options.cut_budget_us > 0.0 && options.us_per_inversion > 0.0))
     throw std::invalid_argument("World: cut_budget_us and us_per_inversion must be > 0");
   tissue_ = std::make_unique<cutting::SurfaceMesh>(std::move(tissue));
@@ -118,7 +120,8 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
         }
         cutter_->begin(sample, pose.orientation * Eigen::Vector3d::UnitX());
       } else {
-        cutter_->addSample(sample, cutting::SampleOrigin::OnSurface);  // on the surface by contact; the work is done in cut()
+        cutter_->addSample(sample,
+                           cutting::SampleOrigin::OnSurface);  // on the surface by contact; the work is done in cut()
       }
     } else if (cutter_->active()) {
       cutter_->finish(cutting::FinishWork::Later);  // the blade left the tissue (or the button was released)

@@ -21,20 +21,27 @@ using cutting::SurfaceMesh;
 SurfaceMesh shapeOf(const Reader& k) {
   const std::string shape = k.text("shape", nullptr);
   if (shape == "box")
-    return cutting::makeBox(Eigen::AlignedBox3d(k.vector("min_m", Eigen::Vector3d::Constant(-0.01)), k.vector("max_m", Eigen::Vector3d::Constant(0.01))),
+    return cutting::makeBox(Eigen::AlignedBox3d(k.vector("min_m", Eigen::Vector3d::Constant(-0.01)),
+                                                k.vector("max_m", Eigen::Vector3d::Constant(0.01))),
                             k.integer("divisions", 8, 1, 1000));
   if (shape == "cylinder")
-    return cutting::makeCylinder(k.vector("base_m", Eigen::Vector3d::Zero()), k.vector("axis_m", Eigen::Vector3d(0, 0, 0.05)),
-                                 k.number("radius_m", 0.005, 1e-6, 10.0), k.integer("segments", 48, 3, 100000), k.integer("rings", 4, 1, 100000),
-                                 k.integer("cap_rings", 2, 1, 100000));
+    return cutting::makeCylinder(k.vector("base_m", Eigen::Vector3d::Zero()),
+                                 k.vector("axis_m", Eigen::Vector3d(0, 0, 0.05)),
+                                 k.number("radius_m", 0.005, 1e-6, 10.0), k.integer("segments", 48, 3, 100000),
+                                 k.integer("rings", 4, 1, 100000), k.integer("cap_rings", 2, 1, 100000));
   if (shape == "sphere")
-    return cutting::makeSphere(k.vector("centre_m", Eigen::Vector3d::Zero()), k.number("radius_m", 0.01, 1e-6, 10.0), k.integer("subdivisions", 3, 0, 8));
+    return cutting::makeSphere(k.vector("centre_m", Eigen::Vector3d::Zero()), k.number("radius_m", 0.01, 1e-6, 10.0),
+                               k.integer("subdivisions", 3, 0, 8));
   if (shape == "prism") {
-    if (k.text("outline", "face") != "face") k.fail("must be \"face\" (the silhouette of a face in profile)", "outline");
-    return cutting::makePrism(cutting::faceSilhouette(k.number("height_m", 0.03, 1e-6, 10.0), k.integer("points", 120, 25, 100000)),
-                              k.number("z0_m", -0.02, -10.0, 10.0), k.number("z1_m", 0.02, -10.0, 10.0), k.integer("rings", 4, 1, 10000));
+    if (k.text("outline", "face") != "face")
+      k.fail("must be \"face\" (the silhouette of a face in profile)", "outline");
+    return cutting::makePrism(
+        cutting::faceSilhouette(k.number("height_m", 0.03, 1e-6, 10.0), k.integer("points", 120, 25, 100000)),
+        k.number("z0_m", -0.02, -10.0, 10.0), k.number("z1_m", 0.02, -10.0, 10.0), k.integer("rings", 4, 1, 10000));
   }
-  if (shape == "robot") return cutting::makeRobot(k.number("height_m", 0.1, 1e-4, 100.0), k.integer("detail", cutting::kRobotDetail30k, 1, 200));
+  if (shape == "robot")
+    return cutting::makeRobot(k.number("height_m", 0.1, 1e-4, 100.0),
+                              k.integer("detail", cutting::kRobotDetail30k, 1, 200));
   k.fail("must be box, cylinder, sphere, prism or robot, got \"" + shape + "\"", "shape");
 }
 
@@ -44,7 +51,8 @@ SurfaceMesh meshOf(const Reader& k) {
   SurfaceMesh mesh;
   if (k.has("mesh")) {
     const std::filesystem::path p = k.file("mesh");
-    mesh = cutting::subdivided(cutting::loadSurfaceMesh(p, k.number("scale", 1.0, 1e-9, 1e9)), k.integer("subdivide", 0, 0, 4));
+    mesh = cutting::subdivided(cutting::loadSurfaceMesh(p, k.number("scale", 1.0, 1e-9, 1e9)),
+                               k.integer("subdivide", 0, 0, 4));
   } else {
     mesh = shapeOf(k);
   }
@@ -54,7 +62,8 @@ SurfaceMesh meshOf(const Reader& k) {
   const double angle = k.number("rotate_x_deg", 0.0, -360.0, 360.0) * M_PI / 180.0;
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
   cutting::TriMesh& m = mesh.mesh();
-  for (const auto v : m.vertices()) m.set_point(v, cutting::toOpenMesh(rotation * cutting::toEigen(m.point(v)).cwiseProduct(stretch) + offset));
+  for (const auto v : m.vertices())
+    m.set_point(v, cutting::toOpenMesh(rotation * cutting::toEigen(m.point(v)).cwiseProduct(stretch) + offset));
   return mesh;
 }
 
@@ -87,13 +96,16 @@ void readLattice(const Reader& l, cutting::GlobalDffdOptions& o) {
     for (int a = 0; a < 3; ++a) o.controls[static_cast<std::size_t>(a)] = static_cast<int>(c[a]);
   }
   o.margin_m = l.number("margin_m", o.margin_m, 0.0, 100.0);
-  o.kernel = l.choice("kernel", "bspline", {"bspline", "gaussian"}) == "gaussian" ? cutting::DffdKernel::Gaussian
-                                                                                 : cutting::DffdKernel::QuadraticBSpline;
+  o.kernel = l.choice("kernel", "bspline", {"bspline", "gaussian"}) == "gaussian"
+                 ? cutting::DffdKernel::Gaussian
+                 : cutting::DffdKernel::QuadraticBSpline;
   o.kernel_width = l.number("kernel_width", o.kernel_width, 1e-3, 1e4);
   o.clearance_m = l.number("clearance_m", o.clearance_m, 0.0, 1.0);
-  o.v_knots = l.boolean("v_knots", o.v_knots == cutting::VKnots::AtObstacleExtremes) ? cutting::VKnots::AtObstacleExtremes
-                                                                                      : cutting::VKnots::None;
-  o.on_fold = l.choice("on_fold", "refuse", {"refuse", "widen"}) == "widen" ? cutting::FoldPolicy::Widen : cutting::FoldPolicy::Refuse;
+  o.v_knots = l.boolean("v_knots", o.v_knots == cutting::VKnots::AtObstacleExtremes)
+                  ? cutting::VKnots::AtObstacleExtremes
+                  : cutting::VKnots::None;
+  o.on_fold = l.choice("on_fold", "refuse", {"refuse", "widen"}) == "widen" ? cutting::FoldPolicy::Widen
+                                                                            : cutting::FoldPolicy::Refuse;
 }
 
 cutting::OpeningTreatment readTreatment(const Reader& root) {
@@ -131,9 +143,12 @@ WrapScenario loadWrapScenario(const std::filesystem::path& file) {
 
 const char* treatmentName(cutting::OpeningTreatment treatment) {
   switch (treatment) {
-    case cutting::OpeningTreatment::Stitched: return "stitched";
-    case cutting::OpeningTreatment::Capped: return "capped";
-    case cutting::OpeningTreatment::Open: break;
+    case cutting::OpeningTreatment::Stitched:
+      return "stitched";
+    case cutting::OpeningTreatment::Capped:
+      return "capped";
+    case cutting::OpeningTreatment::Open:
+      break;
   }
   return "open";
 }

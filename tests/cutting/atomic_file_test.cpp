@@ -60,8 +60,7 @@ TEST_CASE("atomic_file: a committed writer leaves the whole text at the path and
   REQUIRE(entries(dir.path()) == 1);
 }
 
-TEST_CASE("atomic_file: a writer destroyed without commit leaves no file, or the previous file intact",
-          "[cutting]") {
+TEST_CASE("atomic_file: a writer destroyed without commit leaves no file, or the previous file intact", "[cutting]") {
   TempDir dir;
   const fs::path path = dir.path() / "out.txt";
   {
@@ -112,7 +111,10 @@ TEST_CASE("atomic_file: << writes the shortest round trip, number17 17 significa
   REQUIRE(written(dir, [](AtomicFile& out) { out << 0.1; }) == "0.1");
   REQUIRE(written(dir, [](AtomicFile& out) { out.number17(0.1); }) == "0.10000000000000001");
   REQUIRE(written(dir, [](AtomicFile& out) { out << 1.0 << ' ' << -2.5 << ' ' << 1e-300; }) == "1 -2.5 1e-300");
-  REQUIRE(written(dir, [](AtomicFile& out) { out.number17(1.0) << ' '; out.number17(-2.5); }) == "1 -2.5");
+  REQUIRE(written(dir, [](AtomicFile& out) {
+            out.number17(1.0) << ' ';
+            out.number17(-2.5);
+          }) == "1 -2.5");
   REQUIRE(written(dir, [](AtomicFile& out) { out.number17(1.0 / 3.0); }) == "0.33333333333333331");
   REQUIRE(written(dir, [](AtomicFile& out) { out << -12 << ' ' << 9'000'000'000LL; }) == "-12 9000000000");
 }

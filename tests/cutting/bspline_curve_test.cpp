@@ -37,8 +37,7 @@ std::vector<Vector3d> randomPoints(std::mt19937& rng, int count) {
 // de Casteljau on [0, 1]: the reference a clamped Bezier B-spline must reproduce.
 Vector3d deCasteljau(std::vector<Vector3d> controls, double s) {
   for (size_t level = 1; level < controls.size(); ++level)
-    for (size_t i = 0; i + level < controls.size(); ++i)
-      controls[i] = (1.0 - s) * controls[i] + s * controls[i + 1];
+    for (size_t i = 0; i + level < controls.size(); ++i) controls[i] = (1.0 - s) * controls[i] + s * controls[i + 1];
   return controls.front();
 }
 
@@ -78,8 +77,7 @@ double maxDistance(const BSplineCurve& a, const BSplineCurve& b, std::mt19937& r
 // ---------------------------------------------------------------------------------------------------------
 // Evaluation and derivatives
 
-TEST_CASE("bspline_curve: a clamped curve with order control points is the Bezier curve of de Casteljau",
-          "[cutting]") {
+TEST_CASE("bspline_curve: a clamped curve with order control points is the Bezier curve of de Casteljau", "[cutting]") {
   std::mt19937 rng(11);
   for (int order = 2; order <= 6; ++order) {
     const std::vector<Vector3d> controls = randomPoints(rng, order);
@@ -196,8 +194,7 @@ TEST_CASE(
 // ---------------------------------------------------------------------------------------------------------
 // Bad input
 
-TEST_CASE("bspline_curve: construction rejects bad orders, knots and control points naming the value",
-          "[cutting]") {
+TEST_CASE("bspline_curve: construction rejects bad orders, knots and control points naming the value", "[cutting]") {
   const std::vector<Vector3d> four(4, Vector3d::Zero());
   const std::vector<double> knots = {0, 0, 0, 0.5, 1, 1, 1};
   CHECK_NOTHROW(BSplineCurve(3, knots, four));
@@ -213,8 +210,7 @@ TEST_CASE("bspline_curve: construction rejects bad orders, knots and control poi
   REQUIRE_THROWS_WITH(BSplineCurve(3, knots, nan_control), Contains("control point 2"));
 }
 
-TEST_CASE("bspline_curve: evaluation rejects NaN and parameters outside the domain naming the value",
-          "[cutting]") {
+TEST_CASE("bspline_curve: evaluation rejects NaN and parameters outside the domain naming the value", "[cutting]") {
   std::mt19937 rng(15);
   const BSplineCurve curve = randomCubic(rng);  // domain [-1, 2]
   REQUIRE_THROWS_AS(curve.evaluate(kNaN), std::invalid_argument);
@@ -230,18 +226,14 @@ TEST_CASE("bspline_curve: evaluation rejects NaN and parameters outside the doma
   CHECK((curve.evaluateUnchecked(7.0) - curve.evaluate(2.0)).norm() == 0.0);
 }
 
-TEST_CASE("bspline_curve: a rejected knot insertion names the value and leaves the curve unchanged",
-          "[cutting]") {
+TEST_CASE("bspline_curve: a rejected knot insertion names the value and leaves the curve unchanged", "[cutting]") {
   std::mt19937 rng(16);
   BSplineCurve curve = randomCubic(rng);  // 0.1 is a double knot
   const BSplineCurve original = curve;
-  auto unchanged = [&] {
-    return curve.knots() == original.knots() && curve.controls() == original.controls();
-  };
+  auto unchanged = [&] { return curve.knots() == original.knots() && curve.controls() == original.controls(); };
 
   REQUIRE_THROWS_AS(curve.insertKnot(0.1, 3), std::invalid_argument);
-  REQUIRE_THROWS_WITH(curve.insertKnot(0.1, 3),
-                      Contains("t = 0.1 ") && Contains("multiplicity 2"));
+  REQUIRE_THROWS_WITH(curve.insertKnot(0.1, 3), Contains("t = 0.1 ") && Contains("multiplicity 2"));
   CHECK(unchanged());
   curve.insertKnot(0.6, 4);
   REQUIRE_THROWS_WITH(curve.insertKnot(0.6), Contains("t = 0.6 "));
@@ -256,8 +248,7 @@ TEST_CASE("bspline_curve: a rejected knot insertion names the value and leaves t
 // ---------------------------------------------------------------------------------------------------------
 // Fitting
 
-TEST_CASE("bspline_curve: fit: chord-length parameters are cumulative chord length over total length",
-          "[cutting]") {
+TEST_CASE("bspline_curve: fit: chord-length parameters are cumulative chord length over total length", "[cutting]") {
   const std::vector<Vector3d> points = {{0, 0, 0}, {3, 0, 0}, {3, 4, 0}, {3, 4, 0}, {3, 4, 7}};
   const std::vector<double> parameters = chordLengthParameters(points);
   REQUIRE(parameters.size() == 5);
@@ -273,8 +264,8 @@ TEST_CASE("bspline_curve: fit: averaging knots follow Eq. 9.68 with d = (m+1)/(n
   // j = 1 -> i = 2, alpha = 1/3; j = 2 -> i = 4, alpha = 2/3.
   const std::vector<double> parameters = {0, 0.1, 0.3, 0.4, 0.6, 0.9, 1};
   const std::vector<double> knots = averagingKnots(parameters, 3, 5);
-  const std::vector<double> expected = {
-      0, 0, 0, 2.0 / 3.0 * 0.1 + 1.0 / 3.0 * 0.3, 1.0 / 3.0 * 0.4 + 2.0 / 3.0 * 0.6, 1, 1, 1};
+  const std::vector<double> expected = {0, 0, 0, 2.0 / 3.0 * 0.1 + 1.0 / 3.0 * 0.3, 1.0 / 3.0 * 0.4 + 2.0 / 3.0 * 0.6,
+                                        1, 1, 1};
   REQUIRE(knots.size() == expected.size());
   for (size_t i = 0; i < knots.size(); ++i) CHECK(knots[i] == Approx(expected[i]).margin(1e-15));
   // Uniform parameters t_k = k/m give u_{p+j} = (j d - 1)/m: m + 1 = 10, p = 3, n + 1 = 6, d = 10/3.
@@ -286,8 +277,7 @@ TEST_CASE("bspline_curve: fit: averaging knots follow Eq. 9.68 with d = (m+1)/(n
   CHECK(cubic_knots[5] == Approx(17.0 / 27.0).margin(1e-15));
 }
 
-TEST_CASE("bspline_curve: fit: a cubic polynomial sampled at given parameters is reproduced everywhere",
-          "[cutting]") {
+TEST_CASE("bspline_curve: fit: a cubic polynomial sampled at given parameters is reproduced everywhere", "[cutting]") {
   std::mt19937 rng(17);
   const std::vector<Vector3d> bezier = randomPoints(rng, 4);
   std::vector<double> parameters = {0.0, 1.0};
@@ -311,9 +301,8 @@ TEST_CASE("bspline_curve: fit: a cubic polynomial sampled at given parameters is
   }
 }
 
-TEST_CASE(
-    "bspline_curve: fit: a spline sampled at the fit's own knots is recovered control point by control point",
-    "[cutting]") {
+TEST_CASE("bspline_curve: fit: a spline sampled at the fit's own knots is recovered control point by control point",
+          "[cutting]") {
   std::mt19937 rng(18);
   std::vector<double> parameters = {0.0, 1.0};
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -343,8 +332,7 @@ TEST_CASE("bspline_curve: fit: a noisy circle is fitted closely and its end poin
   std::vector<Vector3d> points;
   for (int k = 0; k < 300; ++k) {
     const double angle = 1.5 * std::numbers::pi * k / 299.0;
-    points.emplace_back(radius * std::cos(angle) + jitter(rng), radius * std::sin(angle) + jitter(rng),
-                        jitter(rng));
+    points.emplace_back(radius * std::cos(angle) + jitter(rng), radius * std::sin(angle) + jitter(rng), jitter(rng));
   }
   const auto fit = fitCurve(points, {4, 12});
   CHECK(fit.parameters.front() == 0.0);

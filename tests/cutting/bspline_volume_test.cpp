@@ -8,9 +8,9 @@
 #include "test_volumes.h"
 
 using namespace incise::cutting;
+using Catch::Matchers::Contains;
 using incise::cutting::testing::randomParameter;
 using incise::cutting::testing::randomVolume;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -49,11 +49,13 @@ TEST_CASE("bspline_volume: case 1 o-fold insertion gives the reference control r
   volume.insertKnot(0, 0.3, 3);
   REQUIRE(volume.knots(0) == std::vector<double>{0, 0, 0, 0.3, 0.3, 0.3, 0.5, 1, 1, 1});
   REQUIRE(volume.controlCounts() == std::array<int, 3>{7, 4, 4});
-  const Eigen::Vector3d row[7] = {
-      {0.000000000000000, 0.333333333333333, 0.606666666666667}, {0.260000000000000, 0.351333333333333, 0.630666666666667},
-      {0.442000000000000, 0.363933333333333, 0.633066666666667}, {0.442000000000000, 0.363933333333333, 0.633066666666667},
-      {0.563333333333333, 0.372333333333333, 0.634666666666667}, {0.866666666666667, 0.393333333333333, 0.606666666666667},
-      {1.050000000000000, 0.333333333333333, 0.646666666666667}};
+  const Eigen::Vector3d row[7] = {{0.000000000000000, 0.333333333333333, 0.606666666666667},
+                                  {0.260000000000000, 0.351333333333333, 0.630666666666667},
+                                  {0.442000000000000, 0.363933333333333, 0.633066666666667},
+                                  {0.442000000000000, 0.363933333333333, 0.633066666666667},
+                                  {0.563333333333333, 0.372333333333333, 0.634666666666667},
+                                  {0.866666666666667, 0.393333333333333, 0.606666666666667},
+                                  {1.050000000000000, 0.333333333333333, 0.646666666666667}};
   for (int i = 0; i < 7; ++i) requireNear(volume.control(i, 1, 2), row[i], 1e-14);
   requireNear(volume.evaluate(0.1, 0.2, 0.3), {0.234002666666667, 0.273439200000000, 0.311459200000000}, 1e-14);
   requireNear(volume.evaluate(0.5, 0.5, 0.5), {0.606250000000000, 0.533750000000000, 0.470000000000000}, 1e-14);
@@ -102,7 +104,8 @@ TEST_CASE("bspline_volume: after o insertions the + side moves only F for u >= u
   const int plus_plane = last_u0 - order + 1;
   REQUIRE(volume.control(plus_plane, 2, 3) == volume.control(plus_plane - 1, 2, 3));  // coincident planes
   for (int k = 0; k < 6; ++k)
-    for (int j = 0; j < 7; ++j) volume.setControl(plus_plane, j, k, volume.control(plus_plane, j, k) + Eigen::Vector3d(0.3, -0.2, 0.1));
+    for (int j = 0; j < 7; ++j)
+      volume.setControl(plus_plane, j, k, volume.control(plus_plane, j, k) + Eigen::Vector3d(0.3, -0.2, 0.1));
   int changed = 0;
   for (int n = 0; n < 2000; ++n) {
     Eigen::Vector3d t = randomParameter(rng, volume);
@@ -171,7 +174,8 @@ TEST_CASE("bspline_volume: bad input is refused and the volume is left as it was
 
   volume.insertKnot(1, 0.25, 2);
   const BSplineVolume inserted = volume;
-  REQUIRE_THROWS_WITH(volume.insertKnot(1, 0.25, 2), Contains("0.25") && Contains("multiplicity 2") && Contains("order = 3"));
+  REQUIRE_THROWS_WITH(volume.insertKnot(1, 0.25, 2),
+                      Contains("0.25") && Contains("multiplicity 2") && Contains("order = 3"));
   REQUIRE_THROWS_WITH(volume.insertKnot(0, 1.0), Contains("t = 1") && Contains("strictly inside"));
   REQUIRE_THROWS_WITH(volume.insertKnot(0, NAN), Contains("t = nan"));
   REQUIRE_THROWS_WITH(volume.insertKnot(0, 0.5, 0), Contains("0 times"));

@@ -22,8 +22,7 @@ namespace {
 const char* const kBunny = INCISE_SCENARIOS_DIR "/meshes/bunny.obj";
 
 // Closed, outward-oriented triangle mesh from positions and counter-clockwise (seen from outside) triangles.
-SurfaceMesh buildMesh(const std::vector<Eigen::Vector3d>& points,
-                      const std::vector<std::array<int, 3>>& faces) {
+SurfaceMesh buildMesh(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& faces) {
   SurfaceMesh mesh;
   std::vector<TriMesh::VertexHandle> v;
   for (const auto& p : points) v.push_back(mesh.addVertex(p));
@@ -35,12 +34,18 @@ SurfaceMesh buildMesh(const std::vector<Eigen::Vector3d>& points,
 SurfaceMesh cube() {
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 8; ++i) points.emplace_back(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0);
-  return buildMesh(points, {{0, 2, 3}, {0, 3, 1},    // z = -1
-                            {4, 5, 7}, {4, 7, 6},    // z = +1
-                            {0, 1, 5}, {0, 5, 4},    // y = -1
-                            {2, 6, 7}, {2, 7, 3},    // y = +1
-                            {0, 4, 6}, {0, 6, 2},    // x = -1
-                            {1, 3, 7}, {1, 7, 5}});  // x = +1
+  return buildMesh(points, {{0, 2, 3},
+                            {0, 3, 1},  // z = -1
+                            {4, 5, 7},
+                            {4, 7, 6},  // z = +1
+                            {0, 1, 5},
+                            {0, 5, 4},  // y = -1
+                            {2, 6, 7},
+                            {2, 7, 3},  // y = +1
+                            {0, 4, 6},
+                            {0, 6, 2},  // x = -1
+                            {1, 3, 7},
+                            {1, 7, 5}});  // x = +1
 }
 
 // The octahedron |x| + |y| + |z| <= 1 (volume 4/3): its equator lies in the planes x = 0, y = 0, z = 0,
@@ -286,10 +291,8 @@ TEST_CASE("clip_cap: a bad axis or plane value throws invalid_argument", "[cutti
   const SurfaceMesh box = cube();
   CHECK_THROWS_AS(clipAndCap(box, -1, 0.0, KeepSide::Below), std::invalid_argument);
   CHECK_THROWS_AS(clipAndCap(box, 3, 0.0, KeepSide::Above), std::invalid_argument);
-  CHECK_THROWS_AS(clipAndCap(box, 0, std::numeric_limits<double>::quiet_NaN(), KeepSide::Below),
-                  std::invalid_argument);
-  CHECK_THROWS_AS(clipAndCap(box, 1, std::numeric_limits<double>::infinity(), KeepSide::Above),
-                  std::invalid_argument);
+  CHECK_THROWS_AS(clipAndCap(box, 0, std::numeric_limits<double>::quiet_NaN(), KeepSide::Below), std::invalid_argument);
+  CHECK_THROWS_AS(clipAndCap(box, 1, std::numeric_limits<double>::infinity(), KeepSide::Above), std::invalid_argument);
 }
 
 }  // namespace

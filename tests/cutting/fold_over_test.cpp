@@ -137,8 +137,7 @@ TEST_CASE("fold_over: the two planes straddling a full-multiplicity knot may coi
   volume.insertKnot(0, 0.4, 4);
   const int plus = firstKnotIndex(volume, 0, 0.4);
   REQUIRE(plus == 5);
-  for (int j = 0; j < 7; ++j)
-    REQUIRE((volume.control(plus - 1, j, 3) - volume.control(plus, j, 3)).norm() < 1e-15);
+  for (int j = 0; j < 7; ++j) REQUIRE((volume.control(plus - 1, j, 3) - volume.control(plus, j, 3)).norm() < 1e-15);
 
   SECTION("coincident planes pass") {
     REQUIRE(checkAxisOrder(volume, 0).ok);
@@ -194,8 +193,7 @@ TEST_CASE("fold_over: the two planes straddling a full-multiplicity knot may coi
   }
 }
 
-TEST_CASE("fold_over: a fold along v passes the u-order check but not the v-order or Jacobian check",
-          "[cutting]") {
+TEST_CASE("fold_over: a fold along v passes the u-order check but not the v-order or Jacobian check", "[cutting]") {
   BSplineVolume volume = unitIdentity();
   const double y2 = volume.control(0, 2, 0).y();
   const double y3 = volume.control(0, 3, 0).y();

@@ -56,7 +56,7 @@ TEST_CASE("format: formatNumber round-trips random doubles exactly via std::strt
                                 std::numeric_limits<double>::lowest(),
                                 std::numeric_limits<double>::epsilon()};
   for (int i = 0; i < 20'000; ++i) {
-    values.push_back(metres(random));  // coordinates as the meshes have them
+    values.push_back(metres(random));       // coordinates as the meshes have them
     const double any = fromBits(random());  // any bit pattern: every exponent
     if (std::isfinite(any)) values.push_back(any);
   }

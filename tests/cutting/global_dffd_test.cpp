@@ -34,7 +34,8 @@ GlobalDffdOptions options() {
 // Distance from the bar's axis minus its radius (the signed distance to the bar where z is inside it).
 double barDistance(const Eigen::Vector3d& p, double x_m = 0.0) { return std::hypot(p.x() - x_m, p.y()) - 0.005; }
 
-TEST_CASE("global_dffd: the discontinuity sits at the obstacle's centre and F is the identity away from it", "[cutting]") {
+TEST_CASE("global_dffd: the discontinuity sits at the obstacle's centre and F is the identity away from it",
+          "[cutting]") {
   const GlobalDffd dffd({bar()}, options());
   REQUIRE(dffd.obstacles().size() == 1);
   const DffdObstacle& o = dffd.obstacles()[0];
@@ -43,8 +44,8 @@ TEST_CASE("global_dffd: the discontinuity sits at the obstacle's centre and F is
   CHECK(o.max_move_m > 0.005);
   // Far from the bar in u (beyond the kernel's reach) and outside the box: unchanged.
   double worst = 0;
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.024, 0.01, 0.0), Eigen::Vector3d(-0.024, -0.015, 0.01), Eigen::Vector3d(0.1, 0.0, 0.0),
-                                  Eigen::Vector3d(0.0, 0.0, 0.2)})
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.024, 0.01, 0.0), Eigen::Vector3d(-0.024, -0.015, 0.01),
+                                   Eigen::Vector3d(0.1, 0.0, 0.0), Eigen::Vector3d(0.0, 0.0, 0.2)})
     worst = std::max(worst, (dffd.map(p) - p).norm());
   CHECK(worst <= 1e-12);
   CHECK(dffd.minJacobian() > 0.0);
@@ -92,11 +93,12 @@ TEST_CASE("global_dffd: split vertices are duplicated with an index map back to 
   for (size_t v = 0; v < m.n_vertices(); ++v) {
     if (split.source_vertex[v] >= 0)  // the model's vertex (snapped onto the plane if within 1e-9 of the box)
       CHECK((toEigen(m.point(TriMesh::VertexHandle(static_cast<int>(v)))) -
-             toEigen(sphere.mesh().point(TriMesh::VertexHandle(split.source_vertex[v])))).norm() <= 1e-9 * dffd.box().sizes().maxCoeff());
+             toEigen(sphere.mesh().point(TriMesh::VertexHandle(split.source_vertex[v]))))
+                .norm() <= 1e-9 * dffd.box().sizes().maxCoeff());
     else
       CHECK(split.source_edge[v][0] >= 0);
     if (split.side[v] != 0) CHECK(m.point(TriMesh::VertexHandle(static_cast<int>(v)))[0] == dffd.obstacles()[0].u);
-    minus += split.side[v] < 0, plus += split.side[v] > 0;
+    minus += split.side[v]<0, plus += split.side[v]> 0;
   }
   CHECK(minus == plus);
   CHECK(minus > 10);
@@ -163,7 +165,8 @@ TEST_CASE("global_dffd: splitting from arrays into a reused split gives the same
   std::vector<Eigen::Vector3d> deformed(reused.rest_m.size());
   deformSplit(reused, dffd, deformed);
   const SurfaceMesh as_mesh = deformSplit(reference, dffd);
-  for (const auto v : as_mesh.mesh().vertices()) CHECK(toEigen(as_mesh.mesh().point(v)) == deformed[static_cast<size_t>(v.idx())]);
+  for (const auto v : as_mesh.mesh().vertices())
+    CHECK(toEigen(as_mesh.mesh().point(v)) == deformed[static_cast<size_t>(v.idx())]);
   CHECK_THROWS_AS(deformSplit(reused, dffd, std::span(deformed).first(3)), DffdError);
 }
 
@@ -193,10 +196,12 @@ TEST_CASE("global_dffd: knots at the obstacle's v-extremes close the lips behind
     deformSplit(split, dffd, out);
     std::map<std::pair<double, double>, std::array<int, 2>> lips;  // (y, z) at rest -> - and + copies
     for (size_t v = 0; v < out.size(); ++v)
-      if (split.side[v] != 0) lips[{split.rest_m[v].y(), split.rest_m[v].z()}][split.side[v] < 0 ? 0 : 1] = static_cast<int>(v);
+      if (split.side[v] != 0)
+        lips[{split.rest_m[v].y(), split.rest_m[v].z()}][split.side[v] < 0 ? 0 : 1] = static_cast<int>(v);
     double widest = 0;
     for (const auto& [yz, pair] : lips)
-      if (yz.first > 0.0065) widest = std::max(widest, (out[static_cast<size_t>(pair[0])] - out[static_cast<size_t>(pair[1])]).norm());
+      if (yz.first > 0.0065)
+        widest = std::max(widest, (out[static_cast<size_t>(pair[0])] - out[static_cast<size_t>(pair[1])]).norm());
     return widest;
   };
   const double with = gapBehind(VKnots::AtObstacleExtremes), without = gapBehind(VKnots::None);

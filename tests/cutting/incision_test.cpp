@@ -47,7 +47,9 @@ TEST_CASE("incision: the lattice follows Eq. (2) and F0(1/2, v, 1/2) follows the
   const Eigen::Vector3d g(0.010, 0.0, 0.0);
   const int n = options.normal_controls;
   REQUIRE((rest.control(0, column, n / 2) - (g + 2.0 * options.alpha_m * Eigen::Vector3d::UnitZ())).norm() < 1e-15);
-  REQUIRE((rest.control(0, column, 0) - rest.control(0, column, n / 2) - (n / 2) * options.beta_m * Eigen::Vector3d::UnitY()).norm() < 1e-15);
+  REQUIRE((rest.control(0, column, 0) - rest.control(0, column, n / 2) -
+           (n / 2) * options.beta_m * Eigen::Vector3d::UnitY())
+              .norm() < 1e-15);
   // Along the middle of the lattice, F0 reproduces the straight stroke (uniform B-splines have linear precision).
   for (double v = incision.startV() + 1.0; v < incision.finalEndV() - 1.0; v += 0.37) {
     const Eigen::Vector3d p = rest.evaluate(0.5, v, 0.5);
@@ -56,7 +58,8 @@ TEST_CASE("incision: the lattice follows Eq. (2) and F0(1/2, v, 1/2) follows the
     REQUIRE(p.x() == Approx((v - incision.startV()) * options.spacing_m).margin(1e-12));
   }
   // The blade's depth in w: F0(1/2, v, bottomW) lies depth_m below the surface.
-  REQUIRE(rest.evaluate(0.5, incision.startV() + 5.0, incision.bottomW()).y() == Approx(-options.depth_m).margin(1e-12));
+  REQUIRE(rest.evaluate(0.5, incision.startV() + 5.0, incision.bottomW()).y() ==
+          Approx(-options.depth_m).margin(1e-12));
   // The undeformed lattice's planes are in order along u (-S = -z here), the two cut planes coincide.
   for (int j = 0; j < incision.finalColumns(); ++j)
     for (int i = 0; i + 1 < rest.controlCounts()[0]; ++i)
@@ -78,8 +81,10 @@ TEST_CASE("incision: the opening grows with the time response and settles at the
   }
   // Settled: about the full opening at the surface (the depth profile rounds it a little), symmetric.
   REQUIRE(previous_m == Approx(options.opening_m).epsilon(0.15));
-  INFO("minus " << incision.displacementAt(uvw, -1).transpose() << " plus " << incision.displacementAt(uvw, 1).transpose());
-  REQUIRE((incision.displacementAt(uvw, -1) + incision.displacementAt(uvw, 1)).norm() <= 1e-10);  // up to the lips' epsilon
+  INFO("minus " << incision.displacementAt(uvw, -1).transpose() << " plus "
+                << incision.displacementAt(uvw, 1).transpose());
+  REQUIRE((incision.displacementAt(uvw, -1) + incision.displacementAt(uvw, 1)).norm() <=
+          1e-10);                                            // up to the lips' epsilon
   REQUIRE(incision.displacementAt(uvw, 2).norm() <= 1e-10);  // the bottom of the cut stays where it was
   // Settled columns do not change again.
   changed.clear();

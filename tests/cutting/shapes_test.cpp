@@ -276,10 +276,7 @@ TEST_CASE("shapes: makePrism refuses a self-intersecting outline naming the two 
              }),
              Contains("outline edges 1 (points 1 - 2) and 3 (points 3 - 4)"));
   // Folding back along itself at point 2.
-  CHECK_THAT(refusal([] {
-               makePrism({{0, 0}, {2, 0}, {3, 0}, {1, 0}, {1, 1}}, 0, 1);
-             }),
-             Contains("outline edges"));
+  CHECK_THAT(refusal([] { makePrism({{0, 0}, {2, 0}, {3, 0}, {1, 0}, {1, 1}}, 0, 1); }), Contains("outline edges"));
   // A collinear triangle: edge 2 runs back over edge 0.
   CHECK_THAT(refusal([] {
                makePrism({{0, 0}, {1, 0}, {2, 0}}, 0, 1);
@@ -371,8 +368,7 @@ TEST_CASE("shapes: merge is the disjoint union of closed parts", "[cutting]") {
   CHECK(merge({}).mesh().n_vertices() == 0);
 }
 
-TEST_CASE("shapes: makeRobot has 7 disjoint closed parts and >= 30000 vertices at kRobotDetail30k",
-          "[cutting]") {
+TEST_CASE("shapes: makeRobot has 7 disjoint closed parts and >= 30000 vertices at kRobotDetail30k", "[cutting]") {
   const double height = 1.8;
   for (const int detail : {1, 2, kRobotDetail30k}) {
     INFO("detail " << detail);
@@ -409,8 +405,8 @@ TEST_CASE("shapes: makeRobot has 7 disjoint closed parts and >= 30000 vertices a
       for (size_t b = a + 1; b < boxes.size(); ++b) {
         double gap = 0;
         for (int axis = 0; axis < 3; ++axis) {
-          gap = std::max({gap, boxes[b].min()[axis] - boxes[a].max()[axis],
-                          boxes[a].min()[axis] - boxes[b].max()[axis]});
+          gap =
+              std::max({gap, boxes[b].min()[axis] - boxes[a].max()[axis], boxes[a].min()[axis] - boxes[b].max()[axis]});
         }
         INFO("parts " << a << " and " << b);
         CHECK(gap >= 0.01 * height * (1 - 1e-9));
@@ -463,10 +459,7 @@ TEST_CASE("shapes: bad arguments are refused with their value", "[cutting]") {
   CHECK_THAT(refusal([&] { makePrism(square, 1, 1); }), Contains("z1_m = 1 is not > z0_m = 1"));
   CHECK_THAT(refusal([&] { makePrism(square, 0, nan); }), Contains("z1_m = nan"));
   CHECK_THAT(refusal([&] { makePrism(square, 0, 1, 0); }), Contains("rings = 0"));
-  CHECK_THAT(refusal([&] {
-               makePrism({{0, 0}, {1, 0}, {1, nan}}, 0, 1);
-             }),
-             Contains("outline point 2 = (1, nan)"));
+  CHECK_THAT(refusal([&] { makePrism({{0, 0}, {1, 0}, {1, nan}}, 0, 1); }), Contains("outline point 2 = (1, nan)"));
 
   CHECK_THAT(refusal([&] { faceSilhouette(-1, 40); }), Contains("height_m = -1"));
   CHECK_THAT(refusal([&] { faceSilhouette(1, 24); }), Contains("points = 24"));

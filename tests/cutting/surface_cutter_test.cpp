@@ -14,9 +14,9 @@
 #include "stroke_fixture.h"
 
 using namespace incise::cutting;
+using Catch::Matchers::Contains;
 using incise::cutting::testing::backStroke;
 using incise::cutting::testing::bunny;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -162,8 +162,8 @@ static void checkFarVerticesUnchanged(int subdivisions) {
   cutter.advance(10.0);
   const IncisionOptions& o = options.incision;
   // Half the lattice's width or height plus `order` columns.
-  const double reach_m = std::max((o.across_controls / 2) * o.alpha_m, (o.normal_controls / 2) * o.beta_m) +
-                         o.order * o.spacing_m + 0.001;
+  const double reach_m =
+      std::max((o.across_controls / 2) * o.alpha_m, (o.normal_controls / 2) * o.beta_m) + o.order * o.spacing_m + 0.001;
   int far = 0, moved_near = 0;
   for (const auto v : original.mesh().vertices()) {
     const Eigen::Vector3d p = toEigen(original.mesh().point(v));
@@ -181,9 +181,7 @@ static void checkFarVerticesUnchanged(int subdivisions) {
   REQUIRE(moved_near > 50);
 }
 
-TEST_CASE("surface_cutter: the groove is as deep as the blade, within 5%", "[cutting]") {
-  checkGrooveDepth(2);
-}
+TEST_CASE("surface_cutter: the groove is as deep as the blade, within 5%", "[cutting]") { checkGrooveDepth(2); }
 
 TEST_CASE("surface_cutter: vertices beyond the lattice's support are unchanged bit for bit", "[cutting]") {
   checkFarVerticesUnchanged(2);
@@ -244,7 +242,8 @@ TEST_CASE("surface_cutter: growing sample by sample equals one cut from all samp
   }
   double worst = 0.0;
   for (const auto v : grown.mesh().vertices())
-    worst = std::max(worst, (toEigen(grown.mesh().point(v)) - toEigen(whole.mesh().point(TriMesh::VertexHandle(v.idx())))).norm());
+    worst = std::max(
+        worst, (toEigen(grown.mesh().point(v)) - toEigen(whole.mesh().point(TriMesh::VertexHandle(v.idx())))).norm());
   REQUIRE(worst <= 1e-9);
   REQUIRE(grow.stats().vertices_duplicated == once.stats().vertices_duplicated);
   REQUIRE(grow.stats().vertices_duplicated > 10);

@@ -71,8 +71,7 @@ TEST_CASE("surface_mesh: the bunny loads as a closed two-manifold of genus 0", "
   for (const auto f : bunny.mesh().faces()) REQUIRE(bunny.kind(f) == FaceKind::Original);
 }
 
-TEST_CASE("surface_mesh: the scale argument multiplies positions and must be finite and positive",
-          "[cutting]") {
+TEST_CASE("surface_mesh: the scale argument multiplies positions and must be finite and positive", "[cutting]") {
   const SurfaceMesh metres = loadSurfaceMesh(kBunny);
   const SurfaceMesh millimetres = loadSurfaceMesh(kBunny, 0.001);
   const auto v = TriMesh::VertexHandle(7);
@@ -81,8 +80,7 @@ TEST_CASE("surface_mesh: the scale argument multiplies positions and must be fin
   REQUIRE_THROWS_AS(loadSurfaceMesh(kBunny, std::nan("")), std::invalid_argument);
 }
 
-TEST_CASE("surface_mesh: two Loop subdivisions of the bunny give 58,784 triangles, closed with chi = 2",
-          "[cutting]") {
+TEST_CASE("surface_mesh: two Loop subdivisions of the bunny give 58,784 triangles, closed with chi = 2", "[cutting]") {
   const TriMesh mesh = subdivideLoop(loadSurfaceMesh(kBunny).mesh(), 2);
   REQUIRE(mesh.n_faces() == 58784);
   const ManifoldReport report = checkManifold(mesh);
@@ -112,8 +110,7 @@ TEST_CASE("surface_mesh: four Loop subdivisions of the bunny give 940,544 triang
   REQUIRE(report.euler_characteristic == 2);
 }
 
-TEST_CASE("surface_mesh: subdivided() keeps a closed mesh closed and makes every kind Original",
-          "[cutting]") {
+TEST_CASE("surface_mesh: subdivided() keeps a closed mesh closed and makes every kind Original", "[cutting]") {
   SurfaceMesh tet = tetrahedron();
   tet.setKind(TriMesh::VertexHandle(0), VertexKind::Seam);
   tet.setKind(TriMesh::FaceHandle(1), FaceKind::Wall);
@@ -153,53 +150,46 @@ TEST_CASE("surface_mesh: OBJ slash forms, negative indices, polygons, comments a
   REQUIRE(first == std::vector<int>{0, 3, 2});
 }
 
-TEST_CASE("surface_mesh: an open surface is rejected, naming a boundary edge and the face's file:line",
-          "[cutting]") {
+TEST_CASE("surface_mesh: an open surface is rejected, naming a boundary edge and the face's file:line", "[cutting]") {
   TempDir dir;
   const fs::path p = dir.write("open.obj", kTetVertices + kTetFaces[0] + kTetFaces[1] + kTetFaces[2]);
   const std::string message = loadError(p);
   INFO(message);
   // Edges (2, 3), (2, 4), (3, 4) have one face each; (2, 3) comes first, from face 0 on line 5.
-  REQUIRE_THAT(message,
-               Catch::Contains(p.string() + ":5: open surface: edge (2, 3) has 1 face (face 0 at line 5)"));
+  REQUIRE_THAT(message, Catch::Contains(p.string() + ":5: open surface: edge (2, 3) has 1 face (face 0 at line 5)"));
   REQUIRE_THAT(message, Catch::Contains("3 boundary edges in all"));
   REQUIRE_THAT(message, Catch::Contains("1-based"));
 }
 
 TEST_CASE("surface_mesh: three triangles on one edge are rejected as a non-manifold edge", "[cutting]") {
   TempDir dir;
-  const fs::path p =
-      dir.write("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+  const fs::path p = dir.write("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
   const std::string message = loadError(p);
   INFO(message);
   REQUIRE_THAT(message, Catch::Contains(p.string() + ":6: non-manifold edge (1, 2) shared by 3 faces"));
   REQUIRE_THAT(message, Catch::Contains("face 0 at line 6, face 1 at line 7, face 2 at line 8"));
 }
 
-TEST_CASE("surface_mesh: two tetrahedra sharing only a vertex are rejected as a non-manifold vertex",
-          "[cutting]") {
+TEST_CASE("surface_mesh: two tetrahedra sharing only a vertex are rejected as a non-manifold vertex", "[cutting]") {
   TempDir dir;
   // The second tetrahedron is the first moved up by 1 in z: its vertex 1 is the first one's vertex 4.
   const std::string second = "v 1 0 1\nv 0 1 1\nv 0 0 2\nf 4 6 5\nf 4 5 7\nf 4 7 6\nf 5 6 7\n";
   const fs::path p = dir.write("pinched.obj", kTet + second);
   const std::string message = loadError(p);
   INFO(message);
-  REQUIRE_THAT(message,
-               Catch::Contains(p.string() + ":4: non-manifold vertex 4: its 6 faces form 2 separate fans"));
+  REQUIRE_THAT(message, Catch::Contains(p.string() + ":4: non-manifold vertex 4: its 6 faces form 2 separate fans"));
 }
 
 TEST_CASE("surface_mesh: a flipped face is rejected as inconsistent orientation", "[cutting]") {
   TempDir dir;
-  const fs::path p =
-      dir.write("flipped.obj", kTetVertices + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + "f 2 4 3\n");
+  const fs::path p = dir.write("flipped.obj", kTetVertices + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + "f 2 4 3\n");
   const std::string message = loadError(p);
   INFO(message);
   REQUIRE_THAT(message, Catch::Contains("inconsistent orientation at edge (2, 3)"));
   REQUIRE_THAT(message, Catch::Contains("face 0 at line 5, face 3 at line 8"));
 }
 
-TEST_CASE("surface_mesh: degenerate faces (repeated vertex, zero area) are rejected with file:line",
-          "[cutting]") {
+TEST_CASE("surface_mesh: degenerate faces (repeated vertex, zero area) are rejected with file:line", "[cutting]") {
   TempDir dir;
   const fs::path repeated = dir.write("repeated.obj", kTetVertices + "f 1 2 2\n" + kTetFaces[1]);
   std::string message = loadError(repeated);
@@ -210,8 +200,7 @@ TEST_CASE("surface_mesh: degenerate faces (repeated vertex, zero area) are rejec
   REQUIRE_THAT(message, Catch::Contains(flat.string() + ":4: degenerate face 0: zero area"));
 }
 
-TEST_CASE("surface_mesh: a face index out of range is reported with file:line and the vertex count",
-          "[cutting]") {
+TEST_CASE("surface_mesh: a face index out of range is reported with file:line and the vertex count", "[cutting]") {
   TempDir dir;
   const fs::path p = dir.write("range.obj", kTet + "f 1 2 9\n");
   const std::string message = loadError(p);
@@ -224,8 +213,7 @@ TEST_CASE("surface_mesh: a face index out of range is reported with file:line an
   REQUIRE_THAT(loadError(word), Catch::Contains(word.string() + ":5: face index 'x' is not an integer"));
 }
 
-TEST_CASE("surface_mesh: bad coordinates (NaN, not a number, too few) are reported with file:line",
-          "[cutting]") {
+TEST_CASE("surface_mesh: bad coordinates (NaN, not a number, too few) are reported with file:line", "[cutting]") {
   TempDir dir;
   const fs::path nan = dir.write("nan.obj", "v 0 0 0\nv nan 0 0\n");
   REQUIRE_THAT(loadError(nan), Catch::Equals(nan.string() + ":2: coordinate 'nan' is not finite"));
@@ -238,8 +226,7 @@ TEST_CASE("surface_mesh: bad coordinates (NaN, not a number, too few) are report
   const fs::path short_line = dir.write("short.obj", "v 1 2\n");
   REQUIRE_THAT(loadError(short_line), Catch::Contains(short_line.string() + ":1: expected 3 coordinates"));
   const fs::path statement = dir.write("line.obj", kTet + "l 1 2\n");
-  REQUIRE_THAT(loadError(statement),
-               Catch::Contains(statement.string() + ":9: unsupported OBJ statement 'l'"));
+  REQUIRE_THAT(loadError(statement), Catch::Contains(statement.string() + ":9: unsupported OBJ statement 'l'"));
 }
 
 TEST_CASE("surface_mesh: a missing file, an unknown format and an empty file are MeshErrors", "[cutting]") {
@@ -253,11 +240,10 @@ TEST_CASE("surface_mesh: a missing file, an unknown format and an empty file are
 
 TEST_CASE("surface_mesh: an unreferenced vertex is rejected, naming it", "[cutting]") {
   TempDir dir;
-  const fs::path p = dir.write(
-      "extra.obj", kTetVertices + "v 5 5 5\n" + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + kTetFaces[3]);
+  const fs::path p =
+      dir.write("extra.obj", kTetVertices + "v 5 5 5\n" + kTetFaces[0] + kTetFaces[1] + kTetFaces[2] + kTetFaces[3]);
   const std::string message = loadError(p);
-  REQUIRE_THAT(message,
-               Catch::Contains(p.string() + ":5: unreferenced vertex 5 (used by no face); 1 unreferenced"));
+  REQUIRE_THAT(message, Catch::Contains(p.string() + ":5: unreferenced vertex 5 (used by no face); 1 unreferenced"));
 }
 
 TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-manifold check", "[cutting]") {
@@ -267,13 +253,12 @@ TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-man
       loadSurfaceMesh(dir.write("tet.off", "OFF\n4 4 6\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
   REQUIRE(tet.mesh().n_faces() == 4);
   REQUIRE(checkManifold(tet.mesh()).closed_two_manifold);
-  const std::string open =
-      loadError(dir.write("open.off", "OFF\n4 3 0\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n"));
+  const std::string open = loadError(dir.write("open.off", "OFF\n4 3 0\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n"));
   REQUIRE_THAT(open, Catch::Contains("open.off: boundary edge"));
   // OpenMesh's importer re-adds the third face on edge (0, 1) with copies of its vertices: the copies
   // leave boundary edges, so the file is still refused.
-  const std::string fin = loadError(
-      dir.write("fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n"));
+  const std::string fin =
+      loadError(dir.write("fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n"));
   REQUIRE_THAT(fin, Catch::Contains("fin.off: boundary edge"));
   REQUIRE_THAT(fin, Catch::Contains("0-based"));
 }
@@ -313,8 +298,7 @@ TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addV
   REQUIRE(std::string(toString(VertexKind::Original)) == "original");
 }
 
-TEST_CASE("surface_mesh: addFace refuses a face OpenMesh cannot add and leaves the mesh unchanged",
-          "[cutting]") {
+TEST_CASE("surface_mesh: addFace refuses a face OpenMesh cannot add and leaves the mesh unchanged", "[cutting]") {
   SurfaceMesh s = tetrahedron();
   // A second fan at the closed tetrahedron's vertex 3 would make it non-manifold.
   const auto p = s.addVertex({1, 0, 1}), q = s.addVertex({0, 1, 1});
@@ -359,8 +343,7 @@ TEST_CASE("surface_mesh: checkManifold counts boundary, pinched vertices, degene
   SECTION("two separate tetrahedra: two components, chi = 4") {
     SurfaceMesh s = tetrahedron();
     const SurfaceMesh t = tetrahedron();
-    for (const auto v : t.mesh().vertices())
-      s.addVertex(toEigen(t.mesh().point(v)) + Eigen::Vector3d(3, 0, 0));
+    for (const auto v : t.mesh().vertices()) s.addVertex(toEigen(t.mesh().point(v)) + Eigen::Vector3d(3, 0, 0));
     for (const auto f : t.mesh().faces()) {
       std::vector<TriMesh::VertexHandle> w;
       for (const auto v : t.mesh().fv_range(f)) w.emplace_back(v.idx() + 4);
@@ -415,8 +398,7 @@ TEST_CASE("surface_mesh: saveObj puts Wall faces into a 'g wall' group", "[cutti
   REQUIRE(checkManifold(back.mesh()).closed_two_manifold);
 }
 
-TEST_CASE("surface_mesh: savePly writes per-vertex and per-face kind properties and loads back",
-          "[cutting]") {
+TEST_CASE("surface_mesh: savePly writes per-vertex and per-face kind properties and loads back", "[cutting]") {
   TempDir dir;
   SurfaceMesh bunny = loadSurfaceMesh(kBunny);
   bunny.setKind(TriMesh::FaceHandle(0), FaceKind::Wall);

@@ -14,9 +14,9 @@
 #include "incise/cutting/surface_cutter.h"
 #include "incise/cutting/surface_query.h"
 #include "incise/cutting/tetrahedralize.h"
+#include "incise/cutting/vertex_grid.h"
 #include "stroke_fixture.h"
 #include "tet_split.h"
-#include "incise/cutting/vertex_grid.h"
 
 namespace incise::cutting {
 namespace {
@@ -273,7 +273,8 @@ void checkSeparated(const Run& run, const Tissue& tissue) {
         const int n = v->mesh.neighbours[t][i];
         if (n < 0 || v->side[t] * v->side[static_cast<size_t>(n)] >= 0) continue;
         const auto f = faceOpposite(v->mesh.tets[t], i);
-        const bool front = std::all_of(f.begin(), f.end(), [&](int x) { return v->node_cut[static_cast<size_t>(x)] == 3; });
+        const bool front =
+            std::all_of(f.begin(), f.end(), [&](int x) { return v->node_cut[static_cast<size_t>(x)] == 3; });
         front ? ++at_front : ++across;
       }
     CHECK(across == 0);
@@ -320,8 +321,9 @@ void checkBoundary(const Run& run) {
       worst_node = n, worst_moved = moved_m;
     }
   }
-  INFO("worst distance " << worst_m << " at node " << worst_node << " (cut " << run.deformed.node_cut[worst_node] << ", at "
-       << run.rest.mesh.nodes_m[worst_node].transpose() << ", moved " << worst_moved << ")");
+  INFO("worst distance " << worst_m << " at node " << worst_node << " (cut " << run.deformed.node_cut[worst_node]
+                         << ", at " << run.rest.mesh.nodes_m[worst_node].transpose() << ", moved " << worst_moved
+                         << ")");
   CHECK(open_nodes > 20);
   CHECK(worst_m < run.snap_m + 0.25 * IncisionOptions{}.opening_m);
 }
@@ -395,7 +397,8 @@ TEST_CASE("tet_cutter: a second incision crossing the first cuts the already cut
   stroke(testing::backStroke(tissue.surface, 0.03));
   const int first_cut = tets.stats().tets_cut;
   const TetView after_first = tets.view(TetShape::Deformed);
-  stroke(testing::backStroke(tissue.surface, 0.025, 0.0, Eigen::Vector3d(0.0, 0.0, 0.005), Eigen::Vector3d::UnitZ(), 10.0));
+  stroke(testing::backStroke(tissue.surface, 0.025, 0.0, Eigen::Vector3d(0.0, 0.0, 0.005), Eigen::Vector3d::UnitZ(),
+                             10.0));
   REQUIRE(tets.stats().incisions == 2);
   REQUIRE(tets.stats().failure.empty());
   CHECK(tets.stats().tets_cut > first_cut + 20);

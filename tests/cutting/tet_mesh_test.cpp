@@ -2,8 +2,8 @@
 // conformity check, VTU and .node/.ele output, and TetGen on a cube and the bunny, with bad surfaces refused
 // before TetGen sees them.
 #include "incise/cutting/tet_mesh.h"
-#include "incise/cutting/tetrahedralize.h"
 #include "incise/cutting/shapes.h"
+#include "incise/cutting/tetrahedralize.h"
 
 #include <algorithm>
 #include <cmath>
@@ -41,8 +41,7 @@ bool hasTmpFile(const fs::path& dir) {
 // The 12 outward triangles of the cube [lo, lo + size]^3; vertex i is at lo + size * (i & 1, i & 2, i & 4).
 void addCube(SurfaceMesh& s, const Eigen::Vector3d& lo, double size, bool skip_top = false) {
   std::vector<TriMesh::VertexHandle> v;
-  for (int i = 0; i < 8; ++i)
-    v.push_back(s.addVertex(lo + size * Eigen::Vector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
+  for (int i = 0; i < 8; ++i) v.push_back(s.addVertex(lo + size * Eigen::Vector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
   const int faces[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
                             {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
   for (int f = 0; f < 12; ++f) {
@@ -73,8 +72,8 @@ bool allPositive(const TetMesh& mesh) {
   for (const auto& t : mesh.tets) {
     Eigen::Matrix3d m;
     for (int k = 0; k < 3; ++k)
-      m.col(k) = mesh.nodes_m[static_cast<size_t>(t[static_cast<size_t>(k + 1)])] -
-                 mesh.nodes_m[static_cast<size_t>(t[0])];
+      m.col(k) =
+          mesh.nodes_m[static_cast<size_t>(t[static_cast<size_t>(k + 1)])] - mesh.nodes_m[static_cast<size_t>(t[0])];
     if (!(m.determinant() > 0)) return false;
   }
   return true;
@@ -133,8 +132,7 @@ TEST_CASE("tet_mesh: adjacency, boundary, volume and dihedral angles of two tets
   CHECK(smallest <= std::atan(std::sqrt(2.0)) * 180.0 / std::numbers::pi + 1e-9);
 }
 
-TEST_CASE("tet_mesh: checkConforming names an inverted tet, a face of three tets and stale neighbours",
-          "[cutting]") {
+TEST_CASE("tet_mesh: checkConforming names an inverted tet, a face of three tets and stale neighbours", "[cutting]") {
   TetMesh inverted = twoTets();
   std::swap(inverted.tets[1][2], inverted.tets[1][3]);
   TetCheck check = checkConforming(inverted);
@@ -399,7 +397,8 @@ TEST_CASE("tet_mesh: saveVtu and saveNodeEle write files that parse back, with n
   CHECK_FALSE(hasTmpFile(dir.path()));
 }
 
-TEST_CASE("tetrahedralize: flat neighbours are not a self-intersection, so TetGen gets cylinders and robots", "[cutting]") {
+TEST_CASE("tetrahedralize: flat neighbours are not a self-intersection, so TetGen gets cylinders and robots",
+          "[cutting]") {
   // Coplanar faces sharing a vertex on a tilted plane (a cylinder's cap, its side strips) defeat plain
   // double orientation tests; CGAL's exact predicates do not report them.
   const SurfaceMesh cylinder = makeCylinder(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, -0.4, 1.0), 0.2, 24, 3, 2);

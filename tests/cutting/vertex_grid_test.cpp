@@ -36,9 +36,8 @@ std::vector<int> query(const VertexGrid& grid, const Eigen::AlignedBox3d& box) {
   return out;
 }
 
-TEST_CASE(
-    "vertex_grid: query returns exactly the brute-force set for 1000 random points and 100 random boxes",
-    "[cutting]") {
+TEST_CASE("vertex_grid: query returns exactly the brute-force set for 1000 random points and 100 random boxes",
+          "[cutting]") {
   std::mt19937 rng(12345);
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 1000; ++i) points.push_back(randomPoint(rng, -1.0, 1.0));
@@ -61,8 +60,8 @@ TEST_CASE("vertex_grid: a box on a point's exact coordinates and a huge box both
   VertexGrid grid(0.1);
   grid.insert(3, {0.2, 0.3, -0.4});
   grid.insert(1, {1e9, -1e9, 0.0});  // beyond the clamped cell range
-  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d(0.2, 0.3, -0.4),
-                                          Eigen::Vector3d(0.2, 0.3, -0.4))) == std::vector<int>{3});
+  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d(0.2, 0.3, -0.4), Eigen::Vector3d(0.2, 0.3, -0.4))) ==
+          std::vector<int>{3});
   const double big = 1e12;
   REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-big), Eigen::Vector3d::Constant(big))) ==
           std::vector<int>{1, 3});
@@ -70,8 +69,7 @@ TEST_CASE("vertex_grid: a box on a point's exact coordinates and a huge box both
           std::vector<int>{1});
   REQUIRE(query(grid, Eigen::AlignedBox3d()).empty());  // empty box
   const double nan = std::nan("");
-  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(big)))
-              .empty());
+  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(big))).empty());
 }
 
 TEST_CASE("vertex_grid: move() updates membership", "[cutting]") {
@@ -84,8 +82,8 @@ TEST_CASE("vertex_grid: move() updates membership", "[cutting]") {
   }
   for (int round = 0; round < 5; ++round) {
     for (int i = 0; i < 300; i += 2) {  // half the points: a small step (often the same cell) or a jump
-      const Eigen::Vector3d to = (i % 4 == 0) ? points[static_cast<size_t>(i)] + randomPoint(rng, -0.01, 0.01)
-                                              : randomPoint(rng, -1.0, 1.0);
+      const Eigen::Vector3d to =
+          (i % 4 == 0) ? points[static_cast<size_t>(i)] + randomPoint(rng, -0.01, 0.01) : randomPoint(rng, -1.0, 1.0);
       grid.move(i, points[static_cast<size_t>(i)], to);
       points[static_cast<size_t>(i)] = to;
     }
@@ -116,14 +114,12 @@ TEST_CASE("vertex_grid: bad arguments throw and leave the grid unchanged", "[cut
   REQUIRE_THROWS_AS(grid.move(4, {0.5, 0.5, 0.5}, {2, INFINITY, 2}), std::invalid_argument);
   REQUIRE_THROWS_AS(grid.remove(4, {7, 7, 7}), std::invalid_argument);
   REQUIRE(grid.size() == 1);
-  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones())) ==
-          std::vector<int>{4});
+  REQUIRE(query(grid, Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones())) == std::vector<int>{4});
   grid.clear();
   REQUIRE(grid.size() == 0);
 }
 
-TEST_CASE("vertex_grid: query appends after existing content without reallocating a reserved vector",
-          "[cutting]") {
+TEST_CASE("vertex_grid: query appends after existing content without reallocating a reserved vector", "[cutting]") {
   VertexGrid grid(0.25);
   for (int i = 0; i < 50; ++i) grid.insert(49 - i, Eigen::Vector3d(0.01 * i, 0.0, 0.0));
   std::vector<int> out{-7};
@@ -144,8 +140,7 @@ TEST_CASE("vertex_grid: suggestedCellSize is twice the mean edge length", "[cutt
   REQUIRE_THROWS_AS(suggestedCellSize(mesh), std::invalid_argument);  // no edges yet
   mesh.add_face(a, b, c);
   REQUIRE(suggestedCellSize(mesh) == Approx(2.0 * (3.0 + 4.0 + 5.0) / 3.0));
-  const SurfaceMesh bunny =
-      loadSurfaceMesh(std::filesystem::path(INCISE_SCENARIOS_DIR) / "meshes" / "bunny.obj");
+  const SurfaceMesh bunny = loadSurfaceMesh(std::filesystem::path(INCISE_SCENARIOS_DIR) / "meshes" / "bunny.obj");
   const double cell = suggestedCellSize(bunny.mesh());
   VertexGrid grid(cell);
   for (const auto v : bunny.mesh().vertices()) grid.insert(v.idx(), toEigen(bunny.mesh().point(v)));

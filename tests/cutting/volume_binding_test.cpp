@@ -9,9 +9,9 @@
 #include "test_volumes.h"
 
 using namespace incise::cutting;
+using Catch::Matchers::Contains;
 using incise::cutting::testing::randomParameter;
 using incise::cutting::testing::randomVolume;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -25,7 +25,8 @@ std::vector<Eigen::Vector3d> randomParameters(std::mt19937_64& rng, const BSplin
 
 TEST_CASE("volume_binding: re-deforming bound points is bit-identical to evaluating them", "[cutting]") {
   std::mt19937_64 rng(11);
-  for (const std::array<int, 3> orders : {std::array{4, 4, 4}, std::array{2, 3, 4}, std::array{3, 3, 3}, std::array{7, 2, 5}}) {
+  for (const std::array<int, 3> orders :
+       {std::array{4, 4, 4}, std::array{2, 3, 4}, std::array{3, 3, 3}, std::array{7, 2, 5}}) {
     BSplineVolume volume = randomVolume(rng, orders, {9, 8, 7});
     auto params = randomParameters(rng, volume, 2000);
     params[0] = Eigen::Vector3d(1.0, 1.0, 1.0);  // the domain's upper corner
@@ -35,7 +36,8 @@ TEST_CASE("volume_binding: re-deforming bound points is bit-identical to evaluat
     // Move every control point: the binding must follow the current controls, not the ones at binding time.
     for (int k = 0; k < 7; ++k)
       for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 9; ++i) volume.setControl(i, j, k, volume.control(i, j, k) * 1.5 + Eigen::Vector3d(0.1, 0, 0));
+        for (int i = 0; i < 9; ++i)
+          volume.setControl(i, j, k, volume.control(i, j, k) * 1.5 + Eigen::Vector3d(0.1, 0, 0));
     std::vector<Eigen::Vector3d> out(params.size());
     REQUIRE(binding.deformAll(volume, out));
     for (size_t p = 0; p < params.size(); ++p) REQUIRE(out[p] == volume.evaluate(params[p]));
@@ -52,7 +54,8 @@ TEST_CASE("volume_binding: only points whose support holds a moved control are r
   REQUIRE(binding.deformAll(volume, out));
   const std::vector<Eigen::Vector3d> before = out;
 
-  const std::vector<int> moved{volume.controlIndex(4, 5, 6), volume.controlIndex(5, 5, 6), volume.controlIndex(0, 9, 0)};
+  const std::vector<int> moved{volume.controlIndex(4, 5, 6), volume.controlIndex(5, 5, 6),
+                               volume.controlIndex(0, 9, 0)};
   for (int c : moved) {
     const int i = c % 10, j = (c / 10) % 10, k = c / 100;
     volume.setControl(i, j, k, volume.control(i, j, k) + Eigen::Vector3d(0.01, -0.02, 0.03));

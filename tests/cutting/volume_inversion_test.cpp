@@ -79,8 +79,7 @@ TEST_CASE("volume_inversion: round trip on a deformed lattice", "[cutting]") {
     const Eigen::Vector3d uvw = randomIn(rng, Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
     const Eigen::Vector3d p = volume.evaluate(uvw);
     const InversionResult result = invertPoint(volume, p);
-    INFO("uvw = " << uvw.transpose() << ", found " << result.uvw.transpose()
-                  << ", residual " << result.residual);
+    INFO("uvw = " << uvw.transpose() << ", found " << result.uvw.transpose() << ", residual " << result.residual);
     REQUIRE(result.converged);
     REQUIRE((result.uvw - uvw).norm() < 1e-8);
     REQUIRE((volume.evaluate(result.uvw) - p).norm() == Approx(result.residual).margin(1e-15));
@@ -89,8 +88,7 @@ TEST_CASE("volume_inversion: round trip on a deformed lattice", "[cutting]") {
   CHECK(worst_iterations <= 10);  // Newton from the nearest control's Greville point converges fast
 }
 
-TEST_CASE("volume_inversion: a point outside the lattice's range does not converge and does not throw",
-          "[cutting]") {
+TEST_CASE("volume_inversion: a point outside the lattice's range does not converge and does not throw", "[cutting]") {
   const BSplineVolume volume = unitIdentity();
   const Eigen::Vector3d p(1.5, 0.5, -0.25);
   InversionResult result{};
@@ -120,8 +118,7 @@ TEST_CASE("volume_inversion: across an opened C^-1 cut each side inverts to its 
   }
   SECTION("points of the + side invert to u >= u0") {
     for (int n = 0; n < 200; ++n) {
-      Eigen::Vector3d p =
-          randomIn(rng, Eigen::Vector3d(u0 + delta, 0.0, 0.0), Eigen::Vector3d(1.0 + delta, 1.0, 1.0));
+      Eigen::Vector3d p = randomIn(rng, Eigen::Vector3d(u0 + delta, 0.0, 0.0), Eigen::Vector3d(1.0 + delta, 1.0, 1.0));
       if (n == 0) p.x() = u0 + delta;  // exactly on the + plane
       const InversionResult result = invertPoint(volume, p);
       INFO("p = " << p.transpose() << ", found " << result.uvw.transpose());
@@ -137,9 +134,8 @@ TEST_CASE("volume_inversion: across an opened C^-1 cut each side inverts to its 
   }
 }
 
-TEST_CASE(
-    "volume_inversion: the start is the Greville point of the nearest control, on its own side of a C^-1 knot",
-    "[cutting]") {
+TEST_CASE("volume_inversion: the start is the Greville point of the nearest control, on its own side of a C^-1 knot",
+          "[cutting]") {
   SECTION("identity: the nearest control's Greville point is the control itself") {
     const BSplineVolume volume = unitIdentity();
     const Eigen::Vector3d control = volume.control(2, 3, 5);
@@ -172,8 +168,7 @@ TEST_CASE("volume_inversion: iterations are bounded by max_iterations", "[cuttin
   REQUIRE(invertPoint(volume, p, Eigen::Vector3d::Zero()).converged);
 }
 
-TEST_CASE("volume_inversion: a non-finite point or start throws std::invalid_argument naming the value",
-          "[cutting]") {
+TEST_CASE("volume_inversion: a non-finite point or start throws std::invalid_argument naming the value", "[cutting]") {
   const BSplineVolume volume = unitIdentity();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();

@@ -4,10 +4,10 @@
 
 #include "trace_fixture.h"
 
+using Catch::Matchers::Contains;
 using incise::devices::PoseSample;
 using incise::devices::PoseSource;
 using incise::devices::VectorPoseSource;
-using Catch::Matchers::Contains;
 
 TEST_CASE("pose_source: a VectorPoseSource returns its samples in order, then nullopt for good", "[devices]") {
   const std::vector<PoseSample> samples =

@@ -101,8 +101,7 @@ ReadBack readBack(const TempPath& file) {
 
 }  // namespace
 
-TEST_CASE("trace_csv: a writer killed by SIGKILL leaves every flushed sample, bit-exact, and no more",
-          "[devices]") {
+TEST_CASE("trace_csv: a writer killed by SIGKILL leaves every flushed sample, bit-exact, and no more", "[devices]") {
   const std::vector<PoseSample> samples = randomSamples(11, 137, Pressure::Sometimes);
   TempPath file("killed");
   Pipe pipe;

@@ -11,6 +11,8 @@
 
 #include "trace_fixture.h"
 
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
 using incise::devices::kTraceHeader;
 using incise::devices::PoseSample;
 using incise::devices::TraceError;
@@ -23,8 +25,6 @@ using incise::devices::testing::randomSamples;
 using incise::devices::testing::readText;
 using incise::devices::testing::TempPath;
 using incise::devices::testing::writeText;
-using Catch::Matchers::Contains;
-using Catch::Matchers::StartsWith;
 
 namespace {
 
@@ -182,8 +182,7 @@ TEST_CASE("trace_csv: the example in TRACE_FORMAT.md reads", "[devices]") {
 
 TEST_CASE("trace_csv: comments after the first sample are skipped and lines still count", "[devices]") {
   TempPath file("comments");
-  writeText(file.path(), kHeaderLine + "# a\n" + goodLine(0.1) + "# device reconnected\n" + goodLine(0.2) +
-                             "abc\n");
+  writeText(file.path(), kHeaderLine + "# a\n" + goodLine(0.1) + "# device reconnected\n" + goodLine(0.2) + "abc\n");
   TraceReader reader(file.path());
   CHECK(reader.comments() == std::vector<std::string>{"a"});
   CHECK(reader.next());
@@ -193,8 +192,8 @@ TEST_CASE("trace_csv: comments after the first sample are skipped and lines stil
 
 TEST_CASE("trace_csv: CRLF line ends and a byte-order mark read like plain LF", "[devices]") {
   TempPath file("crlf");
-  writeText(file.path(), std::string("\xEF\xBB\xBF") + std::string(kTraceHeader) + std::string("\r\n# c\r\n0.1,1,2,3,1,0,0,0,2,\r\n") +
-                             "0.2,1,2,3,1,0,0,0,2,0.5\r\n");
+  writeText(file.path(), std::string("\xEF\xBB\xBF") + std::string(kTraceHeader) +
+                             std::string("\r\n# c\r\n0.1,1,2,3,1,0,0,0,2,\r\n") + "0.2,1,2,3,1,0,0,0,2,0.5\r\n");
   TraceReader reader(file.path());
   CHECK(reader.comments() == std::vector<std::string>{"c"});
   const auto a = reader.next();
@@ -234,8 +233,8 @@ TEST_CASE("trace_csv: a NaN value is an error at its line and column", "[devices
 }
 
 TEST_CASE("trace_csv: an infinite value is an error at its line and column", "[devices]") {
-  requireError(kHeaderLine + "0.5,0.1,0.2,0.3,1,0,0,0,0,-inf\n", ":2: column 10 (pressure): '-inf' is not finite",
-               2, 10);
+  requireError(kHeaderLine + "0.5,0.1,0.2,0.3,1,0,0,0,0,-inf\n", ":2: column 10 (pressure): '-inf' is not finite", 2,
+               10);
 }
 
 TEST_CASE("trace_csv: a non-numeric value is an error at its line and column", "[devices]") {
@@ -246,11 +245,9 @@ TEST_CASE("trace_csv: a non-numeric value is an error at its line and column", "
 }
 
 TEST_CASE("trace_csv: trailing garbage, spaces and a '+' make a value not a number", "[devices]") {
-  requireError(kHeaderLine + "0.5,0.1,0.2,0.3x,1,0,0,0,0,\n", ":2: column 4 (tip_z_m): '0.3x' is not a number", 2,
-               4);
+  requireError(kHeaderLine + "0.5,0.1,0.2,0.3x,1,0,0,0,0,\n", ":2: column 4 (tip_z_m): '0.3x' is not a number", 2, 4);
   requireError(kHeaderLine + "0.5,0.1,0.2,0.3,1, 0,0,0,0,\n", ":2: column 6 (q_x): ' 0' is not a number", 2, 6);
-  requireError(kHeaderLine + "+0.5,0.1,0.2,0.3,1,0,0,0,0,\n", ":2: column 1 (time_s): '+0.5' is not a number", 2,
-               1);
+  requireError(kHeaderLine + "+0.5,0.1,0.2,0.3,1,0,0,0,0,\n", ":2: column 1 (time_s): '+0.5' is not a number", 2, 1);
   requireError(kHeaderLine + "0.5,0.1,0.2,0.3,1,0,0,0,0,0,5\n",
                ":2: column 11: unexpected field '5' (the line has 11 fields, expected 10)", 2, 11);
 }
@@ -274,19 +271,19 @@ TEST_CASE("trace_csv: a header missing a column is an error naming it", "[device
 
 TEST_CASE("trace_csv: a header with an unknown, renamed or repeated column is an error naming it", "[devices]") {
   const std::string expected = "; expected exactly '" + std::string(kTraceHeader) + "'";
-  requireError(std::string(kTraceHeader) + ",force_N\n", ":1: bad header: column 11 'force_N' is unknown" + expected,
-               1, 11);
+  requireError(std::string(kTraceHeader) + ",force_N\n", ":1: bad header: column 11 'force_N' is unknown" + expected, 1,
+               11);
   requireError("time_s,tip_x,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure\n",
                ":1: bad header: column 2 'tip_x' is unknown; missing column(s) tip_x_m" + expected, 1, 2);
-  requireError(std::string(kTraceHeader) + ",q_w\n", ":1: bad header: column 11 'q_w' repeats column 5" + expected,
-               1, 11);
+  requireError(std::string(kTraceHeader) + ",q_w\n", ":1: bad header: column 11 'q_w' repeats column 5" + expected, 1,
+               11);
 }
 
 TEST_CASE("trace_csv: a header with the columns out of order is an error naming the first", "[devices]") {
-  requireError("time_s,tip_y_m,tip_x_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure\n",
-               ":1: bad header: column 2 is 'tip_y_m', expected 'tip_x_m'; expected exactly '" +
-                   std::string(kTraceHeader) + "'",
-               1, 2);
+  requireError(
+      "time_s,tip_y_m,tip_x_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure\n",
+      ":1: bad header: column 2 is 'tip_y_m', expected 'tip_x_m'; expected exactly '" + std::string(kTraceHeader) + "'",
+      1, 2);
 }
 
 TEST_CASE("trace_csv: an empty file, a header without end of line and a missing file are errors", "[devices]") {
@@ -297,20 +294,19 @@ TEST_CASE("trace_csv: an empty file, a header without end of line and a missing 
                        Catch::Matchers::Message(missing.string() + ": cannot open (No such file or directory)"));
 }
 
-TEST_CASE("trace_csv: a line with too few or too many fields is an error at the first wrong column",
-          "[devices]") {
+TEST_CASE("trace_csv: a line with too few or too many fields is an error at the first wrong column", "[devices]") {
   requireError(kHeaderLine + goodLine(0.1) + "0.5,0.1,0.2,0.3,1,0,0,0,0\n",
                ":3: column 10 (pressure): missing (the line has 9 fields, expected 10)", 3, 10);
-  requireError(kHeaderLine + "0.5,0.1,0.2\n", ":2: column 4 (tip_z_m): missing (the line has 3 fields, expected 10)",
-               2, 4);
+  requireError(kHeaderLine + "0.5,0.1,0.2\n", ":2: column 4 (tip_z_m): missing (the line has 3 fields, expected 10)", 2,
+               4);
   requireError(kHeaderLine + goodLine(0.1) + "\n" + goodLine(0.2),
                ":3: empty line; expected a sample of 10 fields or a '#' comment", 3, 0);
 }
 
 TEST_CASE("trace_csv: time going back is an error naming both times", "[devices]") {
   requireError(kHeaderLine + goodLine(0.75) + goodLine(0.5),
-               ":3: column 1 (time_s): time goes back (0.5 s after 0.75 s on line 2); time_s must strictly increase",
-               3, 1);
+               ":3: column 1 (time_s): time goes back (0.5 s after 0.75 s on line 2); time_s must strictly increase", 3,
+               1);
 }
 
 TEST_CASE("trace_csv: time standing still is an error naming both times", "[devices]") {
@@ -340,8 +336,8 @@ TEST_CASE("trace_csv: buttons that are not a 32-bit non-negative integer are an 
 TEST_CASE("trace_csv: pressure outside [0, 1] is an error", "[devices]") {
   requireError(kHeaderLine + "0.5,0.1,0.2,0.3,1,0,0,0,0,1.5\n", ":2: column 10 (pressure): 1.5 is outside [0, 1]", 2,
                10);
-  requireError(kHeaderLine + "0.5,0.1,0.2,0.3,1,0,0,0,0,-0.25\n",
-               ":2: column 10 (pressure): -0.25 is outside [0, 1]", 2, 10);
+  requireError(kHeaderLine + "0.5,0.1,0.2,0.3,1,0,0,0,0,-0.25\n", ":2: column 10 (pressure): -0.25 is outside [0, 1]",
+               2, 10);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -408,8 +404,8 @@ TEST_CASE("trace_csv: the writer rejects a sample the reader would reject and wr
   const std::string before = readText(file.path());
 
   auto rejected = [&](PoseSample s, const std::string& what) {
-    CHECK_THROWS_MATCHES(writer.write(s), std::invalid_argument, Catch::Matchers::Message(
-                                                                     "TraceWriter '" + file.string() + "': sample 2: " + what));
+    CHECK_THROWS_MATCHES(writer.write(s), std::invalid_argument,
+                         Catch::Matchers::Message("TraceWriter '" + file.string() + "': sample 2: " + what));
   };
   PoseSample s = good;
   s.time_s = 2.0;

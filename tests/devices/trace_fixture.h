@@ -91,10 +91,17 @@ inline std::vector<PoseSample> randomSamples(std::uint32_t seed, int count, Pres
     s.time_s = time_s;
     for (int i = 0; i < 3; ++i) {
       switch (n % 7) {
-        case 0: s.tip_m[i] = std::ldexp(unit(rng), exponent(rng)); break;
-        case 1: s.tip_m[i] = -0.0; break;
-        case 2: s.tip_m[i] = 4.9406564584124654e-324 * (1 + i); break;  // subnormals
-        default: s.tip_m[i] = 0.2 * unit(rng);
+        case 0:
+          s.tip_m[i] = std::ldexp(unit(rng), exponent(rng));
+          break;
+        case 1:
+          s.tip_m[i] = -0.0;
+          break;
+        case 2:
+          s.tip_m[i] = 4.9406564584124654e-324 * (1 + i);
+          break;  // subnormals
+        default:
+          s.tip_m[i] = 0.2 * unit(rng);
       }
     }
     s.orientation = Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng)).normalized();
@@ -114,9 +121,9 @@ struct StringMaker<incise::devices::PoseSample> {
   static std::string convert(const incise::devices::PoseSample& s) {
     std::ostringstream out;
     out.precision(17);
-    out << "{t " << s.time_s << " s, tip (" << s.tip_m.x() << ", " << s.tip_m.y() << ", " << s.tip_m.z()
-        << ") m, q (" << s.orientation.w() << ", " << s.orientation.x() << ", " << s.orientation.y() << ", "
-        << s.orientation.z() << "), buttons " << s.buttons << ", pressure ";
+    out << "{t " << s.time_s << " s, tip (" << s.tip_m.x() << ", " << s.tip_m.y() << ", " << s.tip_m.z() << ") m, q ("
+        << s.orientation.w() << ", " << s.orientation.x() << ", " << s.orientation.y() << ", " << s.orientation.z()
+        << "), buttons " << s.buttons << ", pressure ";
     if (s.pressure)
       out << *s.pressure;
     else

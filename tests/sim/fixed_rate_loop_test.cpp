@@ -109,8 +109,7 @@ TEST_CASE("fixed_rate_loop: every frame gets dt = the period exactly and t = fra
   }
 }
 
-TEST_CASE("fixed_rate_loop: a slow frame is an overrun and its missed deadlines are skipped, not stretched",
-          "[sim]") {
+TEST_CASE("fixed_rate_loop: a slow frame is an overrun and its missed deadlines are skipped, not stretched", "[sim]") {
   constexpr std::int64_t kFrames = 200;
   FixedRateLoop loop({.period_us = 1000});  // max_catch_up_frames = 0: skip
   Trace trace(kFrames);

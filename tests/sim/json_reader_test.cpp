@@ -127,7 +127,9 @@ TEST_CASE("json_reader: booleans, texts and choices", "[sim]") {
   CHECK(r.choice("absent", "strokes", kinds) == "strokes");
   CHECK_THAT(messageOf([&] { r.choice("word", nullptr, kinds); }),
              Equals("dir/scene.json: src.word: must be \"trace\", \"strokes\" or \"device\", got \"yes\""));
-  CHECK_THAT(messageOf([&] { r.choice("word", nullptr, {"a", "b"}); }),
+  CHECK_THAT(messageOf([&] {
+               r.choice("word", nullptr, {"a", "b"});
+             }),
              Equals("dir/scene.json: src.word: must be \"a\" or \"b\", got \"yes\""));
   CHECK_THAT(messageOf([&] { r.choice("absent", nullptr, kinds); }), Equals("dir/scene.json: src.absent: is missing"));
 }
@@ -149,7 +151,8 @@ TEST_CASE("json_reader: vectors of exactly 3 numbers", "[sim]") {
 
 TEST_CASE("json_reader: objects() gives each entry its key path list[i]", "[sim]") {
   const JsonReader r = reader(R"({"list": [{"n": 1}, {"n": "x"}], "empty": [], "notarray": {"n": 1},
-                                  "mixed": [{"n": 1}, 2]})", "pose_source");
+                                  "mixed": [{"n": 1}, 2]})",
+                              "pose_source");
   const std::vector<JsonReader> list = r.objects("list");
   REQUIRE(list.size() == 2);
   CHECK(list[0].number("n", 0.0, 0.0, 5.0) == 1.0);

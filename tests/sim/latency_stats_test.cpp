@@ -44,8 +44,8 @@ TEST_CASE("latency_stats: percentiles of a few samples take the nearest rank, ne
   LatencyStats stats(16);
   for (double v : {10.0, 20.0, 30.0}) stats.record(uniform(v));
   const SampleSummary s = stats.summary().frame_us;
-  CHECK(s.p50 == 20.0);   // ceil(1.5) = 2nd
-  CHECK(s.p99 == 30.0);   // ceil(2.97) = 3rd
+  CHECK(s.p50 == 20.0);  // ceil(1.5) = 2nd
+  CHECK(s.p99 == 30.0);  // ceil(2.97) = 3rd
   CHECK(s.p999 == 30.0);
   CHECK(s.mean == Approx(20.0));
 }
@@ -55,7 +55,7 @@ TEST_CASE("latency_stats: deadline misses are counted and frames without a new c
   LatencyStats stats(100);
   for (int i = 0; i < 10; ++i) {
     FrameTiming t = uniform(100.0, /*missed=*/i % 4 == 0);  // frames 0, 4, 8 miss
-    t.pose_to_visible_frames = (i < 3) ? i + 1 : -1;         // a new cut in frames 0..2 only
+    t.pose_to_visible_frames = (i < 3) ? i + 1 : -1;        // a new cut in frames 0..2 only
     stats.record(t);
   }
   const LatencySummary s = stats.summary();

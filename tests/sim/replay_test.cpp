@@ -1,6 +1,6 @@
-#include "incise/sim/simulation.h"
 #include "incise/cutting/surface_cutter.h"
 #include "incise/cutting/tet_cutter.h"
+#include "incise/sim/simulation.h"
 
 #include <catch2/catch.hpp>
 
@@ -86,7 +86,8 @@ TEST_CASE("replay: a tet tissue is cut, the same fast and in real time", "[sim]"
 }
 
 TEST_CASE("replay: the crossing scenario gives the same geometry fast and in real time", "[sim][slow]") {
-  REQUIRE(replayScenario("bunny-crossing", sim::ReplayPace::Fast).hash == replayScenario("bunny-crossing", sim::ReplayPace::RealTime).hash);
+  REQUIRE(replayScenario("bunny-crossing", sim::ReplayPace::Fast).hash ==
+          replayScenario("bunny-crossing", sim::ReplayPace::RealTime).hash);
 }
 
 TEST_CASE("replay: snapshots are read from another thread while the loop runs", "[sim][threads]") {

@@ -54,37 +54,56 @@ TEST_CASE("scenario: defaults fill what a scenario leaves out", "[sim]") {
 TEST_CASE("scenario: bad scenarios name the file and the key or line", "[sim]") {
   REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile("syntax", "{\n  \"name\": \"x\",\n  \"tissue\": { ]\n}")),
                       Contains("syntax.json:3:") && Contains("JSON syntax error"));
-  REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile("nomesh", R"({"tissue": {}, "pose_source": {"kind": "trace", "path": "x.csv"}})")),
-                      Contains("nomesh.json: tissue.mesh: is missing"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("missing", R"({"tissue": {"mesh": "meshes/nope.obj"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      sim::loadScenario(scenarioFile("nomesh", R"({"tissue": {}, "pose_source": {"kind": "trace", "path": "x.csv"}})")),
+      Contains("nomesh.json: tissue.mesh: is missing"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(scenarioFile(
+          "missing",
+          R"({"tissue": {"mesh": "meshes/nope.obj"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("tissue.mesh: file") && Contains("nope.obj does not exist"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("notrace", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "trace", "path": "traces/gone.csv"}})")),
+      sim::loadScenario(scenarioFile(
+          "notrace",
+          R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "trace", "path": "traces/gone.csv"}})")),
       Contains("pose_source.path: file") && Contains("gone.csv does not exist"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("range", R"({"tissue": {"mesh": "meshes/bunny.obj", "subdivide": 9}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      sim::loadScenario(scenarioFile(
+          "range",
+          R"({"tissue": {"mesh": "meshes/bunny.obj", "subdivide": 9}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("tissue.subdivide: 9 is outside [0, 5]"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("type", R"({"tissue": {"mesh": "meshes/bunny.obj", "scale": "big"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      sim::loadScenario(scenarioFile(
+          "type",
+          R"({"tissue": {"mesh": "meshes/bunny.obj", "scale": "big"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("tissue.scale: must be a number"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("fold", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "incision": {"opening_m": 0.02}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      sim::loadScenario(scenarioFile(
+          "fold",
+          R"({"tissue": {"mesh": "meshes/bunny.obj"}, "incision": {"opening_m": 0.02}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("incision: ") && Contains("Theorem 1"));
+  REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile(
+                          "kind", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "hid"}})")),
+                      Contains("pose_source.kind: must be \"trace\" or \"strokes\""));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("kind", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "hid"}})")),
-      Contains("pose_source.kind: must be \"trace\" or \"strokes\""));
-  REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("stroke", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "strokes", "strokes": [{"start_m": [0, 1]}]}})")),
+      sim::loadScenario(scenarioFile(
+          "stroke",
+          R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "strokes", "strokes": [{"start_m": [0, 1]}]}})")),
       Contains("pose_source.strokes[0].start_m: must be an array of 3 numbers"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("tets", R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"max_volume_m3": -1}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      sim::loadScenario(scenarioFile(
+          "tets",
+          R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"max_volume_m3": -1}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("tissue.tets.max_volume_m3: ") && Contains("is outside"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("ratio", R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"radius_edge_ratio": 0.5}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      sim::loadScenario(scenarioFile(
+          "ratio",
+          R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"radius_edge_ratio": 0.5}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("tissue.tets.radius_edge_ratio: must be 0 (no quality refinement) or >= 1"));
   REQUIRE_THROWS_WITH(
-      sim::loadScenario(scenarioFile("keep", R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"keep_surface": 1}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+      sim::loadScenario(scenarioFile(
+          "keep",
+          R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"keep_surface": 1}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("tissue.tets.keep_surface: must be true or false"));
   REQUIRE_THROWS_WITH(sim::loadScenario("/nonexistent/scenario.json"), Contains("scenario.json: cannot open"));
 }

@@ -67,8 +67,7 @@ TEST_CASE("spsc_queue: drainLatest empties the queue and keeps only the newest e
   CHECK(latest == 17);
 }
 
-TEST_CASE("spsc_queue: a producer thread's 10^6 sequence numbers all reach a consumer thread, in order",
-          "[sim]") {
+TEST_CASE("spsc_queue: a producer thread's 10^6 sequence numbers all reach a consumer thread, in order", "[sim]") {
   constexpr std::uint64_t kCount = 1'000'000;
   SpscQueue<std::uint64_t, 1024> queue;
   std::uint64_t full_retries = 0;

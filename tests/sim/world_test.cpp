@@ -61,8 +61,9 @@ TEST_CASE("world: no contact above the surface, a penalty force along the normal
   REQUIRE(h.force_N.dot(h.normal) > 0.0);  // pushes the tool out
   // Damping: the tool moved 3 mm into the tissue in 1 ms; the damper resists that, adding to the spring.
   const double inward_speed = -h.normal.dot(Eigen::Vector3d(0, -3.0, 0));
-  REQUIRE(h.force_N.norm() == Approx(options.tissue.stiffness_N_per_m * h.penetration_m +
-                                     options.tissue.damping_N_s_per_m * inward_speed).epsilon(1e-9));
+  REQUIRE(h.force_N.norm() ==
+          Approx(options.tissue.stiffness_N_per_m * h.penetration_m + options.tissue.damping_N_s_per_m * inward_speed)
+              .epsilon(1e-9));
   // Holding still: the spring alone.
   in.time_s = 0.002;
   h = world.updateTool(std::span(&in, 1), 0.001);

@@ -19,7 +19,8 @@ std::filesystem::path wrapFile(const std::string& name, const std::string& text)
   return incise::test::scenarioDir().scenario(name, text);
 }
 
-const std::string kBar = R"({ "name": "bar", "shape": "cylinder", "base_m": [0, 0, -0.03], "axis_m": [0, 0, 0.06], "radius_m": 0.005 })";
+const std::string kBar =
+    R"({ "name": "bar", "shape": "cylinder", "base_m": [0, 0, -0.03], "axis_m": [0, 0, 0.06], "radius_m": 0.005 })";
 
 // A scenario with a sphere for the model, `obstacles` and `more` keys.
 std::string scene(const std::string& obstacles, const std::string& more = "") {
@@ -60,7 +61,8 @@ TEST_CASE("wrap scenario: the shipped scenarios load with their values", "[sim]"
   const sim::WrapScenario stitched = sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/bunny-tool-stitched.json");
   CHECK(stitched.treatment == cutting::OpeningTreatment::Stitched);
   CHECK(stitched.obstacles.at(0).name == "tool");
-  CHECK(sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/sphere-cylinder-no-v-knots.json").options.v_knots == cutting::VKnots::None);
+  CHECK(sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/sphere-cylinder-no-v-knots.json").options.v_knots ==
+        cutting::VKnots::None);
 }
 
 TEST_CASE("wrap scenario: defaults fill what a scenario leaves out", "[sim]") {
@@ -81,14 +83,17 @@ TEST_CASE("wrap scenario: defaults fill what a scenario leaves out", "[sim]") {
 }
 
 TEST_CASE("wrap scenario: bad scenarios name the file and the key, the line or the obstacle", "[sim]") {
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("syntax", "{\n  \"model\": { \"shape\": \"sphere\" },\n  \"obstacles\": [ ]]\n}")),
-                      Contains("syntax.json:3:") && Contains("JSON syntax error"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("syntax", "{\n  \"model\": { \"shape\": \"sphere\" },\n  \"obstacles\": [ ]]\n}")),
+      Contains("syntax.json:3:") && Contains("JSON syntax error"));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("range", scene(kBar, R"(, "motion": { "frames": 0 })"))),
                       Contains("range.json: motion.frames: 0 is outside [1, 100000]"));
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("type", scene(kBar, R"(, "lattice": { "kernel_width": "wide" })"))),
-                      Contains("type.json: lattice.kernel_width: must be a number"));
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("shape", R"({ "model": { "shape": "cube" }, "obstacles": [ )" + kBar + " ] }")),
-                      Contains("shape.json: model.shape: must be box, cylinder, sphere, prism or robot, got \"cube\""));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("type", scene(kBar, R"(, "lattice": { "kernel_width": "wide" })"))),
+      Contains("type.json: lattice.kernel_width: must be a number"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("shape", R"({ "model": { "shape": "cube" }, "obstacles": [ )" + kBar + " ] }")),
+      Contains("shape.json: model.shape: must be box, cylinder, sphere, prism or robot, got \"cube\""));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("obshape", scene(R"({ "name": "rod", "shape": "cone" })"))),
                       Contains("obshape.json: obstacles[0].shape: must be box"));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("treat", scene(kBar, R"(, "treatment": "glued")"))),
@@ -97,25 +102,32 @@ TEST_CASE("wrap scenario: bad scenarios name the file and the key, the line or t
                       Contains("kernel.json: lattice.kernel: must be \"bspline\" or \"gaussian\""));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("noname", scene(R"({ "name": 7, "shape": "sphere" })"))),
                       Contains("noname.json: obstacles[0].name: must be a string"));
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("nomesh", R"({ "model": { "mesh": "meshes/gone.obj" }, "obstacles": [ )" + kBar + " ] }")),
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile(
+                          "nomesh", R"({ "model": { "mesh": "meshes/gone.obj" }, "obstacles": [ )" + kBar + " ] }")),
                       Contains("nomesh.json: model.mesh: file") && Contains("gone.obj does not exist"));
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("obmesh", scene(R"({ "name": "lid", "mesh": "meshes/lid.obj" })"))),
-                      Contains("obmesh.json: obstacles[0].mesh: file") && Contains("lid.obj does not exist"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("obmesh", scene(R"({ "name": "lid", "mesh": "meshes/lid.obj" })"))),
+      Contains("obmesh.json: obstacles[0].mesh: file") && Contains("lid.obj does not exist"));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("nomodel", R"({ "obstacles": [ )" + kBar + " ] }")),
                       Contains("nomodel.json: model: must be an object"));
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("noobstacles", R"({ "model": { "shape": "sphere" }, "obstacles": [] })")),
-                      Contains("noobstacles.json: obstacles: must be a non-empty array"));
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("notobject", "[1, 2]")), Contains("notobject.json: the document must be a JSON object"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("noobstacles", R"({ "model": { "shape": "sphere" }, "obstacles": [] })")),
+      Contains("noobstacles.json: obstacles: must be a non-empty array"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("notobject", "[1, 2]")),
+                      Contains("notobject.json: the document must be a JSON object"));
   REQUIRE_THROWS_AS(sim::loadWrapScenario("/nonexistent/wrap.json"), sim::ScenarioError);
 }
 
 TEST_CASE("wrap scenario: a mesh that cannot be loaded names the file, and the obstacle", "[sim]") {
   std::ofstream(incise::test::scenarioDir().path() / "meshes" / "open.obj")
       << "v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nv 0 0 0.01\nf 1 3 2\nf 1 2 4\nf 2 3 4\n";
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("openob", scene(R"({ "name": "lid", "mesh": "meshes/open.obj" })"))),
-                      Contains("openob.json: obstacle 'lid': ") && Contains("open surface"));
-  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("openmodel", R"({ "model": { "mesh": "meshes/open.obj" }, "obstacles": [ )" + kBar + " ] }")),
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("openob", scene(R"({ "name": "lid", "mesh": "meshes/open.obj" })"))),
+      Contains("openob.json: obstacle 'lid': ") && Contains("open surface"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile(
+                          "openmodel", R"({ "model": { "mesh": "meshes/open.obj" }, "obstacles": [ )" + kBar + " ] }")),
                       Contains("openmodel.json: ") && Contains("open surface"));
   CHECK_NOTHROW(sim::loadWrapScenario(
-      wrapFile("bunny", R"({ "model": { "mesh": "meshes/bunny.obj", "scale": 0.01 }, "obstacles": [ )" + kBar + R"( ], "treatment": "capped" })")));
+      wrapFile("bunny", R"({ "model": { "mesh": "meshes/bunny.obj", "scale": 0.01 }, "obstacles": [ )" + kBar +
+                            R"( ], "treatment": "capped" })")));
 }

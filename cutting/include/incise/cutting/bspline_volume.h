@@ -32,8 +32,7 @@ class BSplineVolume {
   // Clamped uniform knots over the box (the parameter domain is the box itself), control points at the
   // Greville abscissae: F is the identity on the box. Throws for an empty or non-finite box, orders
   // outside [2, kMaxOrder] or counts < order.
-  static BSplineVolume identity(const Eigen::AlignedBox3d& box, std::array<int, 3> orders,
-                                std::array<int, 3> counts);
+  static BSplineVolume identity(const Eigen::AlignedBox3d& box, std::array<int, 3> orders, std::array<int, 3> counts);
 
   // F(u, v, w). At a knot of full multiplicity (C^-1) the right-hand (+) side is taken, as IRIT and
   // verb do. Throws std::invalid_argument for NaN or parameters outside the domain. Cost O(o^3).

@@ -86,15 +86,15 @@ enum class Openings : std::uint8_t { Leave, Close };
 enum class ModelClosure : std::uint8_t { MayBeOpen, Closed };
 
 struct GlobalDffdOptions {
-  int order = 4;                            // o, in u, v and w
-  std::array<int, 3> controls{16, 12, 8};   // l, m, n before any knot insertion (>= order)
-  double margin_m = 0.01;                   // the lattice box is the obstacles' box grown by this
-  std::optional<Eigen::AlignedBox3d> box;   // or this box, which must hold every obstacle
+  int order = 4;                           // o, in u, v and w
+  std::array<int, 3> controls{16, 12, 8};  // l, m, n before any knot insertion (>= order)
+  double margin_m = 0.01;                  // the lattice box is the obstacles' box grown by this
+  std::optional<Eigen::AlignedBox3d> box;  // or this box, which must hold every obstacle
   DffdKernel kernel = DffdKernel::QuadraticBSpline;
-  double kernel_width = 3.0;                // kappa falls from 1 to 0 over this many control spacings of
-                                            // the uniform lattice (distance in u from the discontinuity)
-  double epsilon = 1e-9;                    // split vertices are mapped at u_i -/+ epsilon
-  double clearance_m = 0.0;                 // extra gap left between the wrapped model and the obstacle
+  double kernel_width = 3.0;                    // kappa falls from 1 to 0 over this many control spacings of
+                                                // the uniform lattice (distance in u from the discontinuity)
+  double epsilon = 1e-9;                        // split vertices are mapped at u_i -/+ epsilon
+  double clearance_m = 0.0;                     // extra gap left between the wrapped model and the obstacle
   VKnots v_knots = VKnots::AtObstacleExtremes;  // order - 1 knots in v at each obstacle's v-extremes
   FoldPolicy on_fold = FoldPolicy::Refuse;
 };
@@ -106,12 +106,12 @@ struct Obstacle {
 
 struct DffdObstacle {
   std::string name;
-  int input_index = 0;         // its index in the constructor's list (obstacles() is sorted by u)
-  double u = 0.0;              // centre of mass along u: the discontinuity
-  int i_minus = 0, i_plus = 0; // control planes of F- and F+
-  Eigen::AlignedBox3d box;     // the obstacle's bounding box
-  double kernel_width = 0.0;   // the width used, in spacings (wider than asked under FoldPolicy::Widen)
-  double max_move_m = 0.0;     // the largest move of a discontinuity control
+  int input_index = 0;          // its index in the constructor's list (obstacles() is sorted by u)
+  double u = 0.0;               // centre of mass along u: the discontinuity
+  int i_minus = 0, i_plus = 0;  // control planes of F- and F+
+  Eigen::AlignedBox3d box;      // the obstacle's bounding box
+  double kernel_width = 0.0;    // the width used, in spacings (wider than asked under FoldPolicy::Widen)
+  double max_move_m = 0.0;      // the largest move of a discontinuity control
 };
 
 class GlobalDffd {
@@ -151,8 +151,8 @@ class GlobalDffd {
   Eigen::AlignedBox3d box_;
   BSplineVolume volume_;
   std::vector<DffdObstacle> obstacles_;
-  double spacing_u_ = 1.0;      // the uniform control spacing in u before any insertion
-  std::vector<double> rest_u_;  // u of every control plane before the moves (Greville abscissae)
+  double spacing_u_ = 1.0;                          // the uniform control spacing in u before any insertion
+  std::vector<double> rest_u_;                      // u of every control plane before the moves (Greville abscissae)
   std::vector<Eigen::Vector3d> identity_controls_;  // the controls place() set (the identity lattice's)
   std::vector<std::uint8_t> moved_cell_;  // per knot cell (span indices, i-fastest): a control of its support moved
 };
@@ -168,16 +168,16 @@ void validateModel(const SurfaceMesh& model, ModelClosure closure);
 // 1e-9 of the box's size from the plane are put on it, and each vertex on the plane between faces of both
 // sides is duplicated: the - faces keep it (mapped at u_i - epsilon), the + faces get the copy (+ epsilon).
 struct DffdSplit {
-  std::vector<Eigen::Vector3d> rest_m;       // the split model's vertices, at rest
-  std::vector<std::array<int, 3>> faces;     // its triangles (outward, counter-clockwise), vertex indices
+  std::vector<Eigen::Vector3d> rest_m;    // the split model's vertices, at rest
+  std::vector<std::array<int, 3>> faces;  // its triangles (outward, counter-clockwise), vertex indices
   // The split model as a mesh: at rest, or with the given positions (one per vertex, e.g. deformSplit's).
   // Builds an OpenMesh mesh: O(V + F), for output and checks (about half a frame's time on the robot).
   SurfaceMesh surface(std::span<const Eigen::Vector3d> positions_m = {}) const;
-  std::vector<int> source_vertex;            // per vertex: the model's vertex, or -1 for a split point
+  std::vector<int> source_vertex;               // per vertex: the model's vertex, or -1 for a split point
   std::vector<std::array<int, 2>> source_edge;  // per split point: the model edge's ends; {-1, -1} otherwise
-  std::vector<std::int8_t> side;             // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
-  std::vector<int> plane;                    // per vertex: index of the obstacle whose plane it lies on, or -1
-  int left_open = 0;                         // openings Openings::Close could not close (see below)
+  std::vector<std::int8_t> side;                // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
+  std::vector<int> plane;                       // per vertex: index of the obstacle whose plane it lies on, or -1
+  int left_open = 0;                            // openings Openings::Close could not close (see below)
 };
 // With Openings::Close, every opening the split leaves (a loop of duplicated vertices on one side of one
 // plane) is closed: its two halves, from its lowest-v vertex to its highest, get the same v-values (edges
@@ -190,8 +190,9 @@ struct DffdSplit {
 // rebuilt as a two-manifold.
 DffdSplit splitAtDiscontinuities(const SurfaceMesh& model, const GlobalDffd& dffd, Openings openings = Openings::Leave);
 // The same from the model's vertex positions and triangles (a moving model: its triangles never change).
-DffdSplit splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,
-                                 const GlobalDffd& dffd, Openings openings = Openings::Leave);
+DffdSplit splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m,
+                                 std::span<const std::array<int, 3>> faces, const GlobalDffd& dffd,
+                                 Openings openings = Openings::Leave);
 // The same into `out`, reusing its buffers (and per-thread working buffers): frame after frame, almost no
 // allocation once warmed up. Threads: one call at a time per thread.
 void splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,

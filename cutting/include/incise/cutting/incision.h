@@ -47,18 +47,18 @@
 namespace incise::cutting {
 
 struct IncisionOptions {
-  double depth_m = 0.004;            // blade depth below the surface (d)
-  double opening_m = 0.002;          // full distance between the lips once the wound has retracted
-  double alpha_m = 0.0015;           // paper's alpha: spacing of control planes across the cut (along S)
-  double beta_m = 0.002;             // paper's beta: spacing of control rows along the normal
-  double spacing_m = 0.0005;         // stroke resampling step: one lattice column per spacing
-  double retraction_time_s = 0.05;   // time for the opening to reach its full width
-  double max_step_m = 0.005;         // a sample farther than this from the previous one is skipped
-  int order = 4;                     // B-spline order o in u, v and w
-  int across_controls = 5;           // l: control planes across the cut before insertion (odd, >= order)
-  int normal_controls = 7;           // n: control rows along the normal (odd, >= order)
-  int max_columns = 512;             // lattice capacity: the longest stroke is about max_columns * spacing
-  double epsilon = 1e-9;             // parameter offset u = 1/2 -/+ epsilon for the lips (paper §3.2)
+  double depth_m = 0.004;           // blade depth below the surface (d)
+  double opening_m = 0.002;         // full distance between the lips once the wound has retracted
+  double alpha_m = 0.0015;          // paper's alpha: spacing of control planes across the cut (along S)
+  double beta_m = 0.002;            // paper's beta: spacing of control rows along the normal
+  double spacing_m = 0.0005;        // stroke resampling step: one lattice column per spacing
+  double retraction_time_s = 0.05;  // time for the opening to reach its full width
+  double max_step_m = 0.005;        // a sample farther than this from the previous one is skipped
+  int order = 4;                    // B-spline order o in u, v and w
+  int across_controls = 5;          // l: control planes across the cut before insertion (odd, >= order)
+  int normal_controls = 7;          // n: control rows along the normal (odd, >= order)
+  int max_columns = 512;            // lattice capacity: the longest stroke is about max_columns * spacing
+  double epsilon = 1e-9;            // parameter offset u = 1/2 -/+ epsilon for the lips (paper §3.2)
 };
 
 // One sample of the stroke: where the blade touches the surface, the outward surface normal there, and when.
@@ -109,7 +109,9 @@ class Incision {
   // opening_j of column j as last written into displacement() (0 before it opens; 0 for j out of range):
   // a follower that did not call updateOpening compares it with its own copy to find what moved. O(1).
   double columnOpening(int column) const noexcept {
-    return column >= 0 && column < static_cast<int>(column_opening_.size()) ? column_opening_[static_cast<size_t>(column)] : 0.0;
+    return column >= 0 && column < static_cast<int>(column_opening_.size())
+               ? column_opening_[static_cast<size_t>(column)]
+               : 0.0;
   }
 
   int stationCount() const noexcept { return static_cast<int>(stations_.size()); }

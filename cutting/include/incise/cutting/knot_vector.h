@@ -41,8 +41,7 @@ void basisFunctions(std::span<const double> knots, int order, int span, double t
 // Basis functions and their derivatives up to `n_derivs` (A2.3): out is (n_derivs + 1) x order,
 // row-major, row d holding the d-th derivatives of N_{s-p..s}. Derivatives above the degree are 0.
 // Cost O(order^2 + n_derivs * order^2).
-void basisDerivatives(std::span<const double> knots, int order, int span, double t, int n_derivs,
-                      double* out) noexcept;
+void basisDerivatives(std::span<const double> knots, int order, int span, double t, int n_derivs, double* out) noexcept;
 
 // The Greville abscissa of control point i: the mean of knots[i+1 .. i+order-1]. Control points placed
 // at the Greville abscissae reproduce the identity map (linear precision).

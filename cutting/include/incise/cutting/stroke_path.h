@@ -31,8 +31,8 @@ struct StrokePathOptions {
 };
 
 struct Stroke {
-  StrokeSample first;               // where the blade first touches
-  Eigen::Vector3d blade_direction;  // the direction of travel at the start
+  StrokeSample first;                 // where the blade first touches
+  Eigen::Vector3d blade_direction;    // the direction of travel at the start
   std::vector<StrokeSample> samples;  // the following samples, one per 1/rate_hz
 };
 

@@ -144,7 +144,7 @@ class SurfaceCutter {
   Eigen::Vector3d restPosition(TriMesh::VertexHandle v) const;
   bool currentWall(TriMesh::FaceHandle f) const;
   static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
-  size_t reserved_vertices_ = 0;                         // what reserveHeadroom last reserved room for
+  size_t reserved_vertices_ = 0;                       // what reserveHeadroom last reserved room for
   bool onSurface(const Eigen::Vector3d& p) const;
 
   SurfaceMesh& mesh_;
@@ -165,7 +165,7 @@ class SurfaceCutter {
   std::vector<TriMesh::VertexHandle> all_bound_;           // every vertex bound to this incision
   std::vector<TriMesh::VertexHandle> seam_created_;        // seam vertices in order of creation
   std::deque<TriMesh::VertexHandle> chain_;
-  std::map<int, WallColumn> columns_;                      // by the seam vertex's index
+  std::map<int, WallColumn> columns_;  // by the seam vertex's index
   std::map<std::pair<int, int>, std::vector<TriMesh::FaceHandle>> strips_;
   std::vector<TriMesh::VertexHandle> dirty_;
   // Per bound vertex: 1 or 2 evaluations (count), their corner controls (2 slots) and basis values
@@ -174,7 +174,7 @@ class SurfaceCutter {
   std::vector<int> stencil_first_;
   std::vector<double> stencil_basis_;
   std::vector<int> changed_columns_, candidates_;
-  mutable std::vector<int> query_;  // scratch for intersect() and onSurface()
+  mutable std::vector<int> query_;                 // scratch for intersect() and onSurface()
   mutable std::vector<std::uint32_t> face_stamp_;  // intersect(): the query that last tested each face
   mutable std::uint32_t face_query_ = 0;
   CutStats stats_;

@@ -36,14 +36,14 @@ struct CutStep {
   int vertices_bound = 0;     // vertices parameterised
   int edges_split = 0;
   int vertices_duplicated = 0;
-  int wall_faces = 0;         // wall faces (re)built
-  int vertices_moved = 0;     // re-deformed
+  int wall_faces = 0;      // wall faces (re)built
+  int vertices_moved = 0;  // re-deformed
 };
 
 struct CutStats {
   int incisions = 0;
-  int seam_vertices = 0;      // of the current incision's chain
-  int edges_split = 0;        // totals over all incisions
+  int seam_vertices = 0;  // of the current incision's chain
+  int edges_split = 0;    // totals over all incisions
   int vertices_duplicated = 0;
   int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
   std::string failure;        // first internal failure, empty if none

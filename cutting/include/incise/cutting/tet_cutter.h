@@ -52,14 +52,14 @@ namespace incise::cutting {
 // A materialised mesh with its per-tet fields (in the mesh's tet order).
 struct TetView {
   TetMesh mesh;
-  std::vector<int> side;   // -1 / +1: a piece of a cut tet on that side of the cut; 0: not cut
-  std::vector<int> split;  // 0: an original tet; 1: a piece of a cut tet; 2: part of a conformingly
-                           // subdivided (crack-front) tet
-  std::vector<int> node_cut;  // per node: 0 off the cut; 1 on the cut, u < 1/2 side of a duplicated node;
-                              // 2 its copy (u >= 1/2 side); 3 on the cut's front (single, not separated)
+  std::vector<int> side;                  // -1 / +1: a piece of a cut tet on that side of the cut; 0: not cut
+  std::vector<int> split;                 // 0: an original tet; 1: a piece of a cut tet; 2: part of a conformingly
+                                          // subdivided (crack-front) tet
+  std::vector<int> node_cut;              // per node: 0 off the cut; 1 on the cut, u < 1/2 side of a duplicated node;
+                                          // 2 its copy (u >= 1/2 side); 3 on the cut's front (single, not separated)
   double min_split_dihedral_deg = 180.0;  // over tets with split != 0, at rest
   double min_split_volume_m3 = std::numeric_limits<double>::infinity();  // same
-  int inverted_tets = 0;  // tets with non-positive volume in this mesh
+  int inverted_tets = 0;                                                 // tets with non-positive volume in this mesh
 };
 
 class TetCutter {
@@ -88,13 +88,13 @@ class TetCutter {
   struct Node {
     Eigen::Vector3d uvw = Eigen::Vector3d::Zero();
     NodeState state = NodeState::Unknown;
-    std::int8_t sign = 0;       // of phi; 0 on the cut (edge points, snapped nodes)
-    std::int8_t side = 0;       // for the displacement: -1, +1, 2 (mean), 0 (does not move)
-    bool cut_point = false;     // a vertex of some cut polygon: duplicated by groups
-    int retry = 0;              // Waiting: the column at which to try again
-    int copy = -1;              // the + side's copy of a cut point
-    int origin = -1;            // for a copy: the node it copies; else itself
-    int support = -1;           // for an edge point: its base edge
+    std::int8_t sign = 0;    // of phi; 0 on the cut (edge points, snapped nodes)
+    std::int8_t side = 0;    // for the displacement: -1, +1, 2 (mean), 0 (does not move)
+    bool cut_point = false;  // a vertex of some cut polygon: duplicated by groups
+    int retry = 0;           // Waiting: the column at which to try again
+    int copy = -1;           // the + side's copy of a cut point
+    int origin = -1;         // for a copy: the node it copies; else itself
+    int support = -1;        // for an edge point: its base edge
     int stencil = -1;
     std::uint32_t stamp = 0;
   };
@@ -134,7 +134,7 @@ class TetCutter {
   std::vector<int> candidates_, affected_, cut_points_, scratch_, scratch2_, parent_;
   std::vector<std::array<int, 3>> faces_;  // separate(): (node, node, element) per face through the node
   std::vector<std::uint8_t> group_seen_;
-  std::vector<double> opening_seen_;    // per column: the opening copied into lagged_
+  std::vector<double> opening_seen_;     // per column: the opening copied into lagged_
   std::optional<BSplineVolume> lagged_;  // the incision's displacement, columns near the tets' front at 0
   int lag_columns_ = 0;
   double median_edge_m_ = 0.0;
@@ -154,8 +154,8 @@ class TetCutter {
   std::vector<Node> nodes_;
   struct Child {
     std::array<int, 4> nodes;
-    std::int8_t side;         // as TetView::side
-    std::uint8_t cut_faces;   // bit i: the face opposite nodes[i] lies on the cut
+    std::int8_t side;        // as TetView::side
+    std::uint8_t cut_faces;  // bit i: the face opposite nodes[i] lies on the cut
   };
   std::vector<Child> children_;  // a base tet's children: [child_first_[t], + child_count_[t])
   std::vector<int> child_first_;

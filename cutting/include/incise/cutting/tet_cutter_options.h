@@ -14,17 +14,17 @@ enum class TetBudget : std::uint8_t { PerCall, All };
 enum class TetShape : std::uint8_t { Deformed, Rest };
 
 struct TetCutterOptions {
-  double snap_tolerance_m = 0.0;  // nodes closer than this to the cut are put on it; 0 = 0.2 x the median
-                                  // edge length; < 0 is refused
+  double snap_tolerance_m = 0.0;    // nodes closer than this to the cut are put on it; 0 = 0.2 x the median
+                                    // edge length; < 0 is refused
   int max_inversions_per_call = 0;  // per-call budget in node inversions (the dominant cost); 0 = none.
                                     // Carried work resumes in the next call; the mesh does not depend on it.
 };
 
 // What one follow() call did.
 struct TetStep {
-  int columns = 0;        // lattice columns finished
-  int nodes_bound = 0;    // nodes parameterised
-  int tets_cut = 0;       // tets split along the cut
+  int columns = 0;          // lattice columns finished
+  int nodes_bound = 0;      // nodes parameterised
+  int tets_cut = 0;         // tets split along the cut
   int tets_subdivided = 0;  // tets (re)subdivided, cut or conforming
   int nodes_moved = 0;
   bool failed = false;

@@ -56,13 +56,13 @@ class VolumeBinding {
   std::array<int, 3> orders_{};
   std::array<int, 3> counts_{};
   std::array<std::vector<double>, 3> knots_;
-  int basis_stride_ = 0;                // o_u + o_v + o_w
+  int basis_stride_ = 0;  // o_u + o_v + o_w
   // Per slot (the points sorted by the corner control of their support): the point it holds, the
   // linear index of that corner control, and Nu[o_u], Nv[o_v], Nw[o_w].
   std::vector<int> slot_point_;
   std::vector<int> first_control_;
   std::vector<double> basis_;
-  std::vector<int> cell_begin_;         // slots of corner control c: [cell_begin_[c], cell_begin_[c + 1])
+  std::vector<int> cell_begin_;            // slots of corner control c: [cell_begin_[c], cell_begin_[c + 1])
   std::vector<std::uint32_t> cell_stamp_;  // scratch: the call in which a cell was last visited
   std::uint32_t stamp_ = 0;
 };

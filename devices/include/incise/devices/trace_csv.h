@@ -36,8 +36,7 @@
 namespace incise::devices {
 
 // The first line of every trace, without its '\n'.
-inline constexpr std::string_view kTraceHeader =
-    "time_s,tip_x_m,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure";
+inline constexpr std::string_view kTraceHeader = "time_s,tip_x_m,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure";
 // The same names one by one; column c (1-based) is kTraceColumns[c - 1].
 inline constexpr std::array<std::string_view, 10> kTraceColumns = {
     "time_s", "tip_x_m", "tip_y_m", "tip_z_m", "q_w", "q_x", "q_y", "q_z", "buttons", "pressure"};

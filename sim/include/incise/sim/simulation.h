@@ -51,7 +51,7 @@ class ForceSink {
 struct StepProfile {
   double haptic_us = 0.0, cut_us = 0.0;
   double publish_us = 0.0, frame_us = 0.0;  // of the previous frame (a snapshot cannot time its own publish)
-  int poses = 0;          // poses taken this frame
+  int poses = 0;                            // poses taken this frame
   int queue_backlog = 0;  // poses still queued after draining: a frame takes at most kMaxPosesPerFrame
 };
 
@@ -123,10 +123,10 @@ enum class ReplayPace : std::uint8_t { Fast, RealTime };
 struct ReplayOptions {
   ReplayPace pace = ReplayPace::Fast;
   std::int64_t period_us = 1000;
-  double settle_s = 0.2;          // simulated time after the last pose before the replay ends
+  double settle_s = 0.2;  // simulated time after the last pose before the replay ends
   bool realtime_priority = false;
-  std::int64_t spin_us = 0;       // busy-wait this long before each deadline (sleep wake-ups are late)
-  bool pin_threads = false;       // loop thread on the last CPU, feeder and reader on the others
+  std::int64_t spin_us = 0;  // busy-wait this long before each deadline (sleep wake-ups are late)
+  bool pin_threads = false;  // loop thread on the last CPU, feeder and reader on the others
   // Called on the replay's thread after each frame in fast mode, or from a reader thread about every 2 ms
   // in real time, with the newest snapshot (e.g. a viewer or a recorder). May be empty.
   std::function<void(const Snapshot&)> observer;

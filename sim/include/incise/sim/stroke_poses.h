@@ -16,7 +16,8 @@
 
 namespace incise::sim {
 
-std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tissue, const std::vector<StrokeSpec>& strokes,
-                                                 const WorldOptions& world, double rate_hz);
+std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tissue,
+                                                 const std::vector<StrokeSpec>& strokes, const WorldOptions& world,
+                                                 double rate_hz);
 
 }  // namespace incise::sim

@@ -52,10 +52,10 @@ struct ToolOptions {
 };
 
 struct TissueOptions {
-  double stiffness_N_per_m = 400.0;    // penalty spring along the contact normal
-  double damping_N_s_per_m = 2.0;      // against the normal velocity while in contact
-  double cutting_resistance_N = 0.6;   // against the tangential motion while cutting
-  double max_force_N = 8.0;            // the haptic device's limit: forces are clamped to it
+  double stiffness_N_per_m = 400.0;   // penalty spring along the contact normal
+  double damping_N_s_per_m = 2.0;     // against the normal velocity while in contact
+  double cutting_resistance_N = 0.6;  // against the tangential motion while cutting
+  double max_force_N = 8.0;           // the haptic device's limit: forces are clamped to it
 };
 
 // The tissue's volume: tetrahedralised from the surface at load (TetGen) and cut by the same incisions.
@@ -71,8 +71,8 @@ struct WorldOptions {
   TetTissueOptions tets;
   ToolOptions tool;
   TissueOptions tissue;
-  double cut_budget_us = 300.0;  // per-frame time for cutting work, turned into an inversion budget
-  double us_per_inversion = 2.0; // the conversion (measured on the reference machine; see README)
+  double cut_budget_us = 300.0;   // per-frame time for cutting work, turned into an inversion budget
+  double us_per_inversion = 2.0;  // the conversion (measured on the reference machine; see README)
 };
 
 struct HapticState {

@@ -37,15 +37,15 @@ namespace incise::sim {
 enum class WrapFormat : std::uint8_t { Obj, Ply };
 
 struct WrapScenario {
-  std::string name;                           // [the file's stem]
-  cutting::SurfaceMesh model;                 // at its start position
-  std::vector<cutting::Obstacle> obstacles;   // each named ["obstacle i"]
-  cutting::GlobalDffdOptions options;         // "lattice"
+  std::string name;                          // [the file's stem]
+  cutting::SurfaceMesh model;                // at its start position
+  std::vector<cutting::Obstacle> obstacles;  // each named ["obstacle i"]
+  cutting::GlobalDffdOptions options;        // "lattice"
   cutting::OpeningTreatment treatment = cutting::OpeningTreatment::Open;
   Eigen::Vector3d translate_m{0.0, 0.1, 0.0};  // the model's move over the run
-  int frames = 20;                            // frames + 1 meshes: offsets 0, 1/frames, ..., 1 of translate_m
+  int frames = 20;                             // frames + 1 meshes: offsets 0, 1/frames, ..., 1 of translate_m
   WrapFormat format = WrapFormat::Obj;
-  double tolerance_m = 1e-6;                  // a frame fails when it penetrates an obstacle deeper
+  double tolerance_m = 1e-6;  // a frame fails when it penetrates an obstacle deeper
 };
 
 WrapScenario loadWrapScenario(const std::filesystem::path& file);
