@@ -8,18 +8,17 @@
 #include <stdexcept>
 
 #include "face_walk.h"
+#include "surface_cutter_internal.h"
 #include "incise/cutting/volume_inversion.h"
 
 namespace incise::cutting {
 
 namespace {
 
-// OpenMesh's delete_face(face, delete_isolated_vertices): a deleted face's vertices stay (they are the
-// seam's, re-attached to the faces that replace it).
-constexpr bool kKeepIsolatedVertices = false;
-
-using VH = TriMesh::VertexHandle;
-using FH = TriMesh::FaceHandle;
+using detail::FH;
+using detail::kKeepIsolatedVertices;
+using detail::segmentKey;
+using detail::VH;
 
 double longestEdgeLength(const TriMesh& mesh) {
   double longest = 0.0;
@@ -38,8 +37,6 @@ double meanEdgeLength(const TriMesh& mesh) {
   }
   return count ? sum / count : 0.0;
 }
-
-std::pair<int, int> segmentKey(VH a, VH b) { return {a.idx(), b.idx()}; }
 
 }  // namespace
 
@@ -382,138 +379,6 @@ void SurfaceCutter::promoteInterior(CutStep& step) {
     ++stats_.vertices_duplicated;
     if (!buildStrip(prev, c, step) || !buildStrip(c, next, step)) return;
   }
-}
-
-bool SurfaceCutter::duplicate(VH c) {
-  TriMesh& m = mesh_.mesh();
-  // The faces around c in counter-clockwise order with their side (from their other vertices).
-  struct Around {
-    FH face;
-    int side;
-  };
-  std::vector<Around> around;
-  for (auto f = m.vf_ccwiter(c); f.is_valid(); ++f) {
-    int side = 0;
-    for (auto v = m.fv_iter(*f); v.is_valid(); ++v) {
-      if (*v == c || !bound(*v)) continue;
-      const int s = data(*v).side;
-      if (s == -1 || s == 1) side = s;
-    }
-    around.push_back({*f, side});
-  }
-  const auto minus = std::find_if(around.begin(), around.end(), [](const Around& a) { return a.side == -1; });
-  if (minus == around.end() ||
-      std::none_of(around.begin(), around.end(), [](const Around& a) { return a.side == 1; })) {
-    fail("seam vertex " + std::to_string(c.idx()) + " does not separate two sides");
-    return false;
-  }
-  std::rotate(around.begin(), minus, around.end());  // the + faces now form one run
-  struct Triangle {
-    VH v[3];
-    FaceKind kind;
-  };
-  std::vector<Triangle> plus;
-  for (const Around& a : around) {
-    if (a.side != 1) continue;
-    Triangle t;
-    int i = 0;
-    for (auto v = m.fv_ccwiter(a.face); v.is_valid() && i < 3; ++v) t.v[i++] = *v;
-    t.kind = mesh_.kind(a.face);
-    plus.push_back(t);
-  }
-  for (const Around& a : around)
-    if (a.side == 1) m.delete_face(a.face, kKeepIsolatedVertices);
-  VertexData copy = data(c);
-  const VH c_plus = addBoundVertex(copy.rest_m, copy.uvw, 1, VertexKind::Seam);
-  data(c).side = -1;
-  data(c).doubled = true;
-  setStencil(c);  // now evaluated on the u < 1/2 side: move it even if no column changes again
-  dirty_.push_back(c);
-  data(c_plus).seam = false;
-  for (Triangle& t : plus) {
-    for (VH& v : t.v)
-      if (v == c) v = c_plus;
-    if (!mesh_.mesh().add_face(t.v[0], t.v[1], t.v[2]).is_valid()) {
-      fail("could not re-attach a face to the copy of seam vertex " + std::to_string(c.idx()));
-      return false;
-    }
-    mesh_.setKind(m.find_halfedge(t.v[0], t.v[1]).is_valid() ? m.face_handle(m.find_halfedge(t.v[0], t.v[1])) : FH(),
-                  t.kind);
-  }
-  WallColumn column;
-  column.minus.push_back(c);
-  column.plus.push_back(c_plus);
-  columns_[c.idx()] = column;
-  return true;
-}
-
-void SurfaceCutter::buildWallColumn(VH c) {
-  WallColumn& column = columns_[c.idx()];
-  const VertexData d = data(c);
-  const int rows = options_.wall_rows;
-  const double w0 = d.uvw[2], w1 = incision_->bottomW();
-  for (int r = 1; r <= rows; ++r) {
-    const Eigen::Vector3d uvw(0.5, d.uvw[1], w0 + (w1 - w0) * r / rows);
-    const Eigen::Vector3d rest_m = incision_->rest().evaluateUnchecked(uvw[0], uvw[1], uvw[2]);
-    if (r == rows) {
-      const VH bottom = addBoundVertex(rest_m, uvw, 2, VertexKind::Wall);
-      column.minus.push_back(bottom);
-      column.plus.push_back(bottom);
-    } else {
-      column.minus.push_back(addBoundVertex(rest_m, uvw, -1, VertexKind::Wall));
-      column.plus.push_back(addBoundVertex(rest_m, uvw, 1, VertexKind::Wall));
-    }
-  }
-}
-
-void SurfaceCutter::deleteStrip(VH a, VH b) {
-  const auto it = strips_.find(segmentKey(a, b));
-  if (it == strips_.end()) return;
-  for (const FH f : it->second)
-    if (!mesh_.mesh().status(f).deleted()) mesh_.mesh().delete_face(f, kKeepIsolatedVertices);
-  strips_.erase(it);
-}
-
-bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>& b, std::vector<FH>& faces) {
-  TriMesh& m = mesh_.mesh();
-  // The lip edge a[0]-b[0] has a surface face on one side: the wall uses its free (boundary) direction.
-  const auto h = m.find_halfedge(a[0], b[0]);
-  if (!h.is_valid())
-    return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is missing"), false;
-  const bool forward = m.is_boundary(h);
-  if (!forward && !m.is_boundary(m.opposite_halfedge_handle(h)))
-    return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is not open"), false;
-  const std::vector<VH>& x = forward ? a : b;
-  const std::vector<VH>& y = forward ? b : a;
-  for (size_t r = 1; r < x.size(); ++r) {
-    const std::array<std::array<VH, 3>, 2> tri = {{{x[r - 1], y[r - 1], y[r]}, {x[r - 1], y[r], x[r]}}};
-    for (const auto& t : tri) {
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
-      const FH f = mesh_.mesh().add_face(t[0], t[1], t[2]);
-      if (!f.is_valid()) return fail("could not add a wall face at seam vertex " + std::to_string(a[0].idx())), false;
-      mesh_.setKind(f, FaceKind::Wall);
-      faces.push_back(f);
-    }
-  }
-  return true;
-}
-
-bool SurfaceCutter::buildStrip(VH a, VH b, CutStep& step) {
-  const bool a_doubled = data(a).doubled, b_doubled = data(b).doubled;
-  if (!a_doubled && !b_doubled) return true;
-  const size_t height = static_cast<size_t>(options_.wall_rows) + 1;
-  enum class Side : std::uint8_t { Minus, Plus };
-  const auto side = [&](VH v, bool doubled, Side s) {
-    if (!doubled) return std::vector<VH>(height, v);
-    const WallColumn& c = columns_.at(v.idx());
-    return s == Side::Plus ? c.plus : c.minus;
-  };
-  std::vector<FH> faces;
-  if (!addStripSide(side(a, a_doubled, Side::Minus), side(b, b_doubled, Side::Minus), faces)) return false;
-  if (!addStripSide(side(a, a_doubled, Side::Plus), side(b, b_doubled, Side::Plus), faces)) return false;
-  step.wall_faces += static_cast<int>(faces.size());
-  strips_[segmentKey(a, b)] = std::move(faces);
-  return true;
 }
 
 void SurfaceCutter::setStencil(VH v) {
