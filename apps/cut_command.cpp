@@ -124,6 +124,7 @@ int runCut(CutArgs& a) {
         {"samples_not_accepted", skipped},
         {"edges_split", cutter->stats().edges_split},
         {"seam_vertices_duplicated", cutter->stats().vertices_duplicated},
+        {"incision_figures", incisionFiguresJson(cutter->stats().figures)},
         {"per_sample", timingSummary(sample_us)},
         {"failure", cutter->stats().failure},
     };
@@ -134,9 +135,11 @@ int runCut(CutArgs& a) {
   const bool ok =
       summary.closed_two_manifold && summary.euler_characteristic == euler_before && cutter->stats().failure.empty();
   std::printf(
-      "incise cut: %zu samples, %d edges split, %d seam vertices opened; %d vertices, %d faces (%d wall); "
+      "incise cut: %zu samples, %d edges split, %d seam vertices opened, a groove of %.1f mm along %.1f mm of "
+      "stroke in contact; %d vertices, %d faces (%d wall); "
       "closed two-manifold: %s, Euler characteristic %d -> %d; per sample p99 %.1f us; wrote %s\n",
-      stroke.samples.size() + 1, cutter->stats().edges_split, cutter->stats().vertices_duplicated, summary.vertices,
+      stroke.samples.size() + 1, cutter->stats().edges_split, cutter->stats().vertices_duplicated,
+      1e3 * totalGroove_m(cutter->stats().figures), 1e3 * totalStroke_m(cutter->stats().figures), summary.vertices,
       summary.faces, summary.wall_faces, summary.closed_two_manifold ? "yes" : "NO", euler_before,
       summary.euler_characteristic, timingSummary(sample_us)["p99_us"].get<double>(), a.out.c_str());
   return ok ? 0 : 1;

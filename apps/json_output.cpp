@@ -12,6 +12,25 @@ void writeJsonAtomically(const nlohmann::json& document, const std::filesystem::
   cutting::writeFileAtomically(path, document.dump(2) + "\n");
 }
 
+nlohmann::json incisionFiguresJson(const std::vector<cutting::IncisionFigures>& figures) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const cutting::IncisionFigures& f : figures)
+    list.push_back({{"stroke_length_m", f.stroke_length_m}, {"groove_length_m", f.groove_length_m}});
+  return list;
+}
+
+double totalGroove_m(const std::vector<cutting::IncisionFigures>& figures) {
+  double sum_m = 0.0;
+  for (const cutting::IncisionFigures& f : figures) sum_m += f.groove_length_m;
+  return sum_m;
+}
+
+double totalStroke_m(const std::vector<cutting::IncisionFigures>& figures) {
+  double sum_m = 0.0;
+  for (const cutting::IncisionFigures& f : figures) sum_m += f.stroke_length_m;
+  return sum_m;
+}
+
 nlohmann::json timingSummary(std::vector<double> values_us) {
   if (values_us.empty()) return {{"count", 0}};
   std::sort(values_us.begin(), values_us.end());

@@ -68,6 +68,40 @@ nlohmann::json writeTets(const cutting::TetCutter& tets, const std::filesystem::
           {"failure", stats.failure}};
 }
 
+// The report.json document of a replay (without the tets' block).
+nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& options, const sim::ReplayReport& report,
+                          const cutting::MeshSummary& mesh, std::uint64_t hash) {
+  const cutting::CutStats& stats = run.world->cutter().stats();
+  return {
+      {"scenario", run.scenario.name},
+      {"mode", options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast"},
+      {"period_us", options.period_us},
+      {"frames", report.frames},
+      {"simulated_s", report.simulated_s},
+      {"wall_s", report.wall_s},
+      {"poses", report.poses},
+      {"poses_dropped", report.poses_dropped},
+      {"incisions", report.incisions},
+      {"edges_split", stats.edges_split},
+      {"seam_vertices_opened", stats.vertices_duplicated},
+      {"cut_failure", stats.failure},
+      {"incision_figures", incisionFiguresJson(stats.figures)},
+      {"geometry_hash", hex(hash)},
+      {"mesh", nlohmann::json::parse(cutting::toJson(mesh))},
+      {"latency",
+       {{"haptic_us", summaryJson(report.latency.haptic_us)},
+        {"cut_us", summaryJson(report.latency.cut_us)},
+        {"frame_us", summaryJson(report.latency.frame_us)},
+        {"period_error_us", summaryJson(report.latency.period_error_us)},
+        {"pose_to_visible_frames", summaryJson(report.latency.pose_to_visible_frames)},
+        {"deadline_misses", report.latency.deadline_misses}}},
+      {"loop",
+       {{"overruns", report.loop.overruns},
+        {"skipped_deadlines", report.loop.skipped_deadlines},
+        {"max_period_error_us", report.loop.max_period_error_us}}},
+  };
+}
+
 int runReplay(const ReplayArgs& a) {
   LoadedScenario run;
   try {
@@ -99,33 +133,7 @@ int runReplay(const ReplayArgs& a) {
   std::string tets_note;
   try {
     cutting::saveObj(tissue, out / "cut.obj");
-    nlohmann::json json = {
-        {"scenario", run.scenario.name},
-        {"mode", options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast"},
-        {"period_us", options.period_us},
-        {"frames", report.frames},
-        {"simulated_s", report.simulated_s},
-        {"wall_s", report.wall_s},
-        {"poses", report.poses},
-        {"poses_dropped", report.poses_dropped},
-        {"incisions", report.incisions},
-        {"edges_split", stats.edges_split},
-        {"seam_vertices_opened", stats.vertices_duplicated},
-        {"cut_failure", stats.failure},
-        {"geometry_hash", hex(hash)},
-        {"mesh", nlohmann::json::parse(cutting::toJson(mesh))},
-        {"latency",
-         {{"haptic_us", summaryJson(report.latency.haptic_us)},
-          {"cut_us", summaryJson(report.latency.cut_us)},
-          {"frame_us", summaryJson(report.latency.frame_us)},
-          {"period_error_us", summaryJson(report.latency.period_error_us)},
-          {"pose_to_visible_frames", summaryJson(report.latency.pose_to_visible_frames)},
-          {"deadline_misses", report.latency.deadline_misses}}},
-        {"loop",
-         {{"overruns", report.loop.overruns},
-          {"skipped_deadlines", report.loop.skipped_deadlines},
-          {"max_period_error_us", report.loop.max_period_error_us}}},
-    };
+    nlohmann::json json = reportJson(run, options, report, mesh, hash);
     if (const cutting::TetCutter* tets = run.world->tets()) {
       json["tets"] = writeTets(*tets, out);
       tets_ok = json["tets"]["failure"].get<std::string>().empty() && json["tets"]["inverted_tets"].get<int>() == 0;
@@ -138,14 +146,16 @@ int runReplay(const ReplayArgs& a) {
     failWith("replay", e.what());
   }
   std::printf(
-      "incise replay %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened; "
+      "incise replay %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened, grooves of "
+      "%.1f mm along %.1f mm of strokes in contact; "
       "frame p99 %.1f us, haptic p99 %.1f us, pose-to-visible p99 %.0f frames, %lld deadline misses; "
       "closed two-manifold: %s; geometry %s%s; wrote %s\n",
       run.scenario.name.c_str(), options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast",
       static_cast<long long>(report.frames), static_cast<long long>(report.poses), report.incisions,
-      stats.vertices_duplicated, report.latency.frame_us.p99, report.latency.haptic_us.p99,
-      report.latency.pose_to_visible_frames.p99, static_cast<long long>(report.latency.deadline_misses),
-      mesh.closed_two_manifold ? "yes" : "NO", hex(hash).c_str(), tets_note.c_str(), a.out.c_str());
+      stats.vertices_duplicated, 1e3 * totalGroove_m(stats.figures), 1e3 * totalStroke_m(stats.figures),
+      report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
+      static_cast<long long>(report.latency.deadline_misses), mesh.closed_two_manifold ? "yes" : "NO",
+      hex(hash).c_str(), tets_note.c_str(), a.out.c_str());
   return mesh.closed_two_manifold && stats.failure.empty() && tets_ok ? 0 : 1;
 }
 

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libopenmesh-dev libtet1.5-dev libglfw3-dev libspdlog-dev catch2 libhidapi-dev
   nlohmann-json3-dev libcli11-dev libcgal-dev
-  clang-format universal-ctags util-linux
+  clang-format universal-ctags util-linux python3
 )
 
 missing=()

@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "face_walk.h"
-#include "surface_cutter_internal.h"
 #include "incise/cutting/volume_inversion.h"
+#include "surface_cutter_internal.h"
 
 namespace incise::cutting {
 
@@ -57,6 +57,7 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   TriMesh& m = mesh_.mesh();
   m.add_property(vertex_data_, "incise:cutter");
   reserveHeadroom();
+  stats_.figures.reserve(CutStats::kReservedIncisions);
   const double edge_m = meanEdgeLength(m);
   contact_tolerance_m_ = options.contact_tolerance_m > 0.0 ? options.contact_tolerance_m : 3.0 * edge_m;
   longest_edge_m_ = longestEdgeLength(m);
@@ -125,6 +126,8 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   incision_ = std::move(incision);
   ++incision_index_;
   ++stats_.incisions;
+  stats_.figures.push_back({});
+  last_accepted_m_ = first.point_m;
   next_column_ = options_.incision.order - 1;  // the first slab of the v domain
   column_started_ = false;
   time_s_ = first.time_s;
@@ -173,7 +176,11 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin o
       break;
     }
     step.sample = incision_->extend(sample);
-    if (step.sample == SampleStatus::Accepted) time_s_ = std::max(time_s_, sample.time_s);
+    if (step.sample == SampleStatus::Accepted) {
+      time_s_ = std::max(time_s_, sample.time_s);
+      stats_.figures.back().stroke_length_m += (sample.point_m - last_accepted_m_).norm();
+      last_accepted_m_ = sample.point_m;
+    }
     if (step.sample == SampleStatus::Ended) break;
   }
   return step;
@@ -213,8 +220,15 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
     fail(std::string("SurfaceCutter: ") + e.what());
   }
   stats_.seam_vertices = static_cast<int>(chain_.size());
+  if (step.vertices_duplicated > 0) stats_.figures.back().groove_length_m = grooveLength();
   step.failed = failed_;
   return step;
+}
+
+double SurfaceCutter::grooveLength() const noexcept {
+  double length_m = 0.0;
+  for (size_t i = 1; i < chain_.size(); ++i) length_m += (data(chain_[i]).rest_m - data(chain_[i - 1]).rest_m).norm();
+  return length_m;
 }
 
 void SurfaceCutter::fail(const std::string& message) {
@@ -423,13 +437,6 @@ Eigen::Vector3d SurfaceCutter::restPosition(VH v) const {
   return bound(v) ? data(v).rest_m : toEigen(mesh_.mesh().point(v));
 }
 
-bool SurfaceCutter::currentWall(FH f) const {
-  if (mesh_.kind(f) != FaceKind::Wall) return false;
-  for (auto v = mesh_.mesh().cfv_iter(f); v.is_valid(); ++v)
-    if (bound(*v) && mesh_.kind(*v) == VertexKind::Wall) return true;
-  return false;
-}
-
 std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
   // Against the surface at rest for the current incision: its own walls left out, every other vertex
   // where it was when the incision began. That surface does not depend on how far the current cut's
@@ -452,7 +459,7 @@ std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, c
         std::uint32_t& stamp = face_stamp_[static_cast<size_t>(f.idx())];
         if (stamp == face_query_) return true;  // a face is met from each of its vertices: test it once
         stamp = face_query_;
-        return currentWall(f);
+        return mesh_.kind(f) == FaceKind::Wall;  // every wound's wall: contact is with the skin
       });
 }
 

@@ -25,6 +25,19 @@ check "replay writes the cut mesh" test -s "$work/ok/cut.obj"
 check "replay writes the report" grep -q '"geometry_hash"' "$work/ok/report.json"
 check "no temporary file is left" bash -c "! ls '$work/ok' | grep -q tmp"
 
+# Per incision, the stroke length in contact and the groove length made: the crossing scenario's second
+# stroke is cut on both sides of the first groove, each groove about as long as its stroke.
+check "replay reports each incision's stroke and groove lengths" "$incise" replay "$scenarios/bunny-crossing.json" --fast --out "$work/cross"
+check "... three incisions, every groove at least 80% of its stroke" python3 -c "
+import json, sys
+f = json.load(open('$work/cross/report.json'))['incision_figures']
+sys.exit(0 if len(f) == 3 and all(x['groove_length_m'] >= 0.8 * x['stroke_length_m'] > 0 for x in f) else 1)"
+check "cut reports its incision's stroke and groove lengths" "$incise" cut --out "$work/cutfig"
+check "... the groove as long as the stroke within 10%" python3 -c "
+import json, sys
+f = json.load(open('$work/cutfig/summary.json'))['incision_figures']
+sys.exit(0 if len(f) == 1 and abs(f[0]['groove_length_m'] - f[0]['stroke_length_m']) <= 0.1 * f[0]['stroke_length_m'] else 1)"
+
 # A tet tissue: the cut tets beside the cut surface, their figures in the report.
 check "replay runs the tet scenario" "$incise" replay "$scenarios/bunny-tets.json" --out "$work/tets"
 for f in tets.vtu tets.node tets.ele cut.obj; do check "the tet replay writes $f" test -s "$work/tets/$f"; done

@@ -6,11 +6,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <sstream>
 #include <thread>
 
 #include "incise/cutting/mesh_hash.h"
 #include "incise/devices/trace_csv.h"
 #include "incise/sim/scenario.h"
+#include "incise/sim/stroke_poses.h"
+#include "scenario_fixture.h"
 
 using namespace incise;
 
@@ -134,4 +137,169 @@ TEST_CASE("replay: pose-to-visible latency stays within 3 frames", "[sim]") {
   const Run run = replayScenario("bunny-curved", sim::ReplayPace::Fast);
   REQUIRE(run.report.latency.pose_to_visible_frames.count > 20);
   REQUIRE(run.report.latency.pose_to_visible_frames.p99 <= 3.0);
+}
+
+// ---- Strokes that cross open grooves (issue: a stroke crossing an open groove keeps cutting beyond it) --
+
+namespace {
+
+// A straight line of the plan in the xz plane (the strokes' rays go down -y onto the bunny's back).
+struct PlanLine {
+  Eigen::Vector2d start;  // (x, z), metres
+  Eigen::Vector2d direction;
+  double length_m;
+  Eigen::Vector2d at(double s_m) const { return start + s_m * direction.normalized(); }
+  double distanceTo(const Eigen::Vector2d& p) const {  // to the segment
+    const Eigen::Vector2d d = direction.normalized();
+    const double s = std::clamp((p - start).dot(d), 0.0, length_m);
+    return (p - at(s)).norm();
+  }
+};
+
+// The stations (every 0.5 mm) of `plan` that no wall face covers: none of the output mesh's wall faces
+// has its centroid within 0.5 mm along and 1.5 mm across the plan there (in xz). Stations within 1.5 mm of
+// an earlier groove's line, and within 1 mm of the plan's ends, are not asked for.
+std::vector<double> uncoveredStations(const cutting::SurfaceMesh& tissue, const PlanLine& plan,
+                                      const std::vector<PlanLine>& earlier) {
+  const cutting::TriMesh& m = tissue.mesh();
+  std::vector<Eigen::Vector2d> walls;
+  for (const auto f : m.faces()) {
+    if (tissue.kind(f) != cutting::FaceKind::Wall) continue;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (auto v = m.cfv_iter(f); v.is_valid(); ++v) c += cutting::toEigen(m.point(*v)) / 3.0;
+    walls.emplace_back(c.x(), c.z());
+  }
+  const Eigen::Vector2d d = plan.direction.normalized(), across(-d.y(), d.x());
+  std::vector<double> uncovered;
+  for (double s = 0.001; s <= plan.length_m - 0.001; s += 0.0005) {
+    const Eigen::Vector2d p = plan.at(s);
+    if (std::any_of(earlier.begin(), earlier.end(), [&](const PlanLine& g) { return g.distanceTo(p) < 0.0015; }))
+      continue;
+    const bool covered = std::any_of(walls.begin(), walls.end(), [&](const Eigen::Vector2d& w) {
+      return std::abs((w - p).dot(d)) <= 0.0005 && std::abs((w - p).dot(across)) <= 0.0015;
+    });
+    if (!covered) uncovered.push_back(s);
+  }
+  return uncovered;
+}
+
+std::string strokeJson(const PlanLine& line, double pause_s) {
+  const Eigen::Vector2d d = line.direction.normalized();
+  std::ostringstream s;
+  s.precision(17);
+  s << R"({ "start_m": [)" << line.start.x() << ", 0.0, " << line.start.y() << R"(], "direction": [)" << d.x()
+    << ", 0, " << d.y() << R"(], "length_m": )" << line.length_m << R"(, "speed_m_per_s": 0.05, "pause_s": )" << pause_s
+    << " }";
+  return s.str();
+}
+
+// The bunny-crossing scenario's tissue and lattice with generated strokes along `lines`, in order.
+sim::Scenario crossingScenario(const std::string& name, const std::vector<PlanLine>& lines) {
+  std::string strokes;
+  for (std::size_t i = 0; i < lines.size(); ++i) strokes += (i ? ", " : "") + strokeJson(lines[i], i ? 0.3 : 0.1);
+  const std::string text = R"({ "name": ")" + name + R"(",
+    "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01, "subdivide": 2 },
+    "tool": { "blade_length_m": 0.03, "cut_button": 0 },
+    "incision": { "depth_m": 0.004, "opening_m": 0.002, "alpha_m": 0.0015, "beta_m": 0.002, "spacing_m": 0.0005 },
+    "pose_source": { "kind": "strokes", "strokes": [ )" +
+                           strokes + R"( ] } })";
+  return sim::loadScenario(incise::test::scenarioDir().scenario(name, text));
+}
+
+struct CrossingRun {
+  std::uint64_t hash = 0;
+  std::vector<std::vector<double>> uncovered;  // per stroke after the first
+  std::vector<cutting::IncisionFigures> figures;
+  int manifold_failures = 0;  // checks after each new incision (fast only) that failed
+};
+
+// Replays the strokes; in fast mode checks the surface after each incision begins (closed two-manifold,
+// Euler characteristic kept) and measures each later stroke's wall coverage at the end.
+CrossingRun replayCrossing(const sim::Scenario& s, const std::vector<PlanLine>& lines, sim::ReplayPace pace) {
+  sim::World world(sim::loadTissue(s), s.world);
+  const int euler = cutting::checkManifold(world.tissue().mesh()).euler_characteristic;
+  const auto poses = sim::posesForStrokes(world.tissue(), s.strokes, s.world, s.rate_hz);
+  sim::ReplayOptions options;
+  options.pace = pace;
+  options.period_us = s.periodUs();
+  options.settle_s = s.settle_s;
+  CrossingRun run;
+  int incisions = 0;
+  if (pace == sim::ReplayPace::Fast) {
+    options.observer = [&](const sim::Snapshot& snapshot) {
+      if (snapshot.incisions == incisions) return;
+      incisions = snapshot.incisions;
+      const cutting::ManifoldReport r = cutting::checkManifold(world.tissue().mesh());
+      if (!r.closed_two_manifold || r.euler_characteristic != euler) ++run.manifold_failures;
+    };
+  }
+  sim::replay(world, poses, options);
+  const cutting::ManifoldReport end = cutting::checkManifold(world.tissue().mesh());
+  if (!end.closed_two_manifold || end.euler_characteristic != euler) ++run.manifold_failures;
+  run.hash = cutting::geometryHash(world.tissue());
+  run.figures = world.cutter().stats().figures;
+  for (std::size_t i = 1; i < lines.size(); ++i)
+    run.uncovered.push_back(uncoveredStations(
+        world.tissue(), lines[i], std::vector<PlanLine>(lines.begin(), lines.begin() + static_cast<long>(i))));
+  return run;
+}
+
+void requireCrossingCut(const char* name, const std::vector<PlanLine>& lines) {
+  const sim::Scenario s = crossingScenario(name, lines);
+  const CrossingRun fast = replayCrossing(s, lines, sim::ReplayPace::Fast);
+  for (std::size_t i = 0; i < fast.uncovered.size(); ++i) {
+    INFO(name << ": stroke " << i + 2 << ": " << fast.uncovered[i].size() << " stations uncovered, first at "
+              << (fast.uncovered[i].empty() ? -1.0 : fast.uncovered[i].front()) << " m along the plan");
+    CHECK(fast.uncovered[i].empty());
+  }
+  CHECK(fast.manifold_failures == 0);
+  // Every incision made a groove about as long as its stroke in contact.
+  for (const cutting::IncisionFigures& f : fast.figures) {
+    INFO("stroke in contact " << f.stroke_length_m << " m, groove " << f.groove_length_m << " m");
+    CHECK(f.groove_length_m > 0.8 * f.stroke_length_m - 0.002);
+  }
+}
+
+const PlanLine kFirstGroove{{-0.010, 0.018}, {1.0, 0.0}, 0.035};  // the shipped crossing's first stroke
+
+}  // namespace
+
+TEST_CASE("replay: the crossing scenario's second stroke cuts its whole length beyond the first groove", "[sim]") {
+  const sim::Scenario s = sim::loadScenario(INCISE_SCENARIOS_DIR "/bunny-crossing.json");
+  sim::World world(sim::loadTissue(s), s.world);
+  const auto poses = devices::TraceReader::readAll(s.trace);
+  sim::ReplayOptions options;
+  options.period_us = s.periodUs();
+  options.settle_s = s.settle_s;
+  sim::replay(world, poses, options);
+  const PlanLine second{{0.004, 0.006}, {0.0, 1.0}, 0.025};
+  const std::vector<double> uncovered = uncoveredStations(world.tissue(), second, {kFirstGroove});
+  INFO(uncovered.size() << " stations uncovered, first at " << (uncovered.empty() ? -1.0 : uncovered.front()));
+  CHECK(uncovered.empty());
+  REQUIRE(cutting::checkManifold(world.tissue().mesh()).closed_two_manifold);
+  // The report's figures: the second stroke is cut as two incisions, one each side of the groove.
+  const auto& figures = world.cutter().stats().figures;
+  REQUIRE(figures.size() == 3);
+  for (const cutting::IncisionFigures& f : figures) CHECK(f.groove_length_m > 0.8 * f.stroke_length_m);
+  CHECK(figures[1].stroke_length_m + figures[2].stroke_length_m > 0.025 * 0.9 - 0.003);
+}
+
+TEST_CASE("replay: a stroke crossing a groove at 45 degrees cuts beyond it", "[sim]") {
+  requireCrossingCut("crossing-45", {kFirstGroove, PlanLine{{-0.004, 0.008}, {1.0, 1.0}, 0.026}});
+}
+
+TEST_CASE("replay: a third stroke crossing two grooves cuts beyond both", "[sim]") {
+  requireCrossingCut("crossing-third", {kFirstGroove, PlanLine{{0.004, 0.006}, {0.0, 1.0}, 0.025},
+                                        PlanLine{{0.016, 0.010}, {-1.0, 1.4}, 0.026}});
+}
+
+TEST_CASE("replay: crossing strokes give the same geometry fast and in real time", "[sim][slow]") {
+  const std::vector<PlanLine> lines{kFirstGroove, PlanLine{{0.004, 0.006}, {0.0, 1.0}, 0.025},
+                                    PlanLine{{0.016, 0.010}, {-1.0, 1.4}, 0.026}};
+  const sim::Scenario s = crossingScenario("crossing-third-realtime", lines);
+  const CrossingRun fast = replayCrossing(s, lines, sim::ReplayPace::Fast);
+  const CrossingRun realtime = replayCrossing(s, lines, sim::ReplayPace::RealTime);
+  CHECK(realtime.manifold_failures == 0);
+  REQUIRE(fast.hash == realtime.hash);
+  for (const auto& u : realtime.uncovered) CHECK(u.empty());
 }

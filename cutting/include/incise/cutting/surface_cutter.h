@@ -84,9 +84,13 @@ class SurfaceCutter {
   int columnsFinal() const noexcept { return incision_ ? incision_->finalColumns() : 0; }
   int columnsDone() const noexcept { return incision_ ? next_column_ : 0; }
   // The first crossing of the segment a -> b with the tissue surface (contact with the tool), through the
-  // cutter's vertex grid, against the surface at rest for the current incision: vertices where they were
-  // when it began, its own walls left out. That surface does not depend on how far the cut's work has got,
-  // so contact is the same whichever frame handles a pose (the previous incisions' cuts are part of it).
+  // cutter's vertex grid, against the skin at rest for the current incision: vertices where they were when
+  // it began, and every wall face left out — the current incision's and the earlier ones'. That surface does
+  // not depend on how far the cut's work has got, so contact is the same whichever frame handles a pose (the
+  // earlier incisions' opened lips are part of it). A blade inside an earlier, open groove touches nothing:
+  // it is in the wound's air; back in the tissue beyond it, its first contact is the far lip's skin, where a
+  // new incision starts (an incision begun on a wall's face, its normal across the stroke, could not chain
+  // its seam from the wall onto the skin and cut nothing beyond the lip).
   // Cost O(vertices within one edge of the segment). No allocation once warmed up.
   std::optional<SurfacePoint> intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
@@ -140,9 +144,9 @@ class SurfaceCutter {
   void redeform(CutStep& step);
   void setStencil(TriMesh::VertexHandle v);
   void fail(const std::string& message);
+  double grooveLength() const noexcept;  // the current chain's arc length at rest (IncisionFigures)
   void reserveHeadroom();
   Eigen::Vector3d restPosition(TriMesh::VertexHandle v) const;
-  bool currentWall(TriMesh::FaceHandle f) const;
   static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
   size_t reserved_vertices_ = 0;                       // what reserveHeadroom last reserved room for
   bool onSurface(const Eigen::Vector3d& p) const;
@@ -178,6 +182,7 @@ class SurfaceCutter {
   mutable std::vector<std::uint32_t> face_stamp_;  // intersect(): the query that last tested each face
   mutable std::uint32_t face_query_ = 0;
   CutStats stats_;
+  Eigen::Vector3d last_accepted_m_ = Eigen::Vector3d::Zero();  // the current incision's last accepted sample
   bool failed_ = false;
   bool unlimited_ = false;  // process() ignores the budget (finishing a previous incision's work)
 };

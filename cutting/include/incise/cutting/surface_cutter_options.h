@@ -2,8 +2,10 @@
 // a header without OpenMesh so that sim's public headers can hold them. Units: metres; counts per call.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "incise/cutting/incision.h"
 
@@ -40,6 +42,13 @@ struct CutStep {
   int vertices_moved = 0;  // re-deformed
 };
 
+// What one incision made, for a user to check that the cut did what the scalpel did.
+struct IncisionFigures {
+  double stroke_length_m = 0.0;  // arc length of the stroke in contact: the incision's accepted samples
+  double groove_length_m = 0.0;  // arc length, at rest, of the seam opened: the chain of seam vertices from
+                                 // its start to its tip once one of them is duplicated; 0 while none is
+};
+
 struct CutStats {
   int incisions = 0;
   int seam_vertices = 0;  // of the current incision's chain
@@ -47,6 +56,10 @@ struct CutStats {
   int vertices_duplicated = 0;
   int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
   std::string failure;        // first internal failure, empty if none
+  // One entry per incision, in order (the current one last). Room for kReservedIncisions is reserved at
+  // construction: more incisions than that grow the vector once in a while (amortised).
+  std::vector<IncisionFigures> figures;
+  static constexpr std::size_t kReservedIncisions = 256;
 };
 
 }  // namespace incise::cutting

@@ -4,12 +4,14 @@
 // A frame is two calls, so that the caller can time them separately without the world reading a clock:
 //   updateTool(poses, dt_s)  every pose that arrived this frame, oldest first: the tool moves to each in
 //                            turn; contact with the tissue is found for each (the blade's last
-//                            depth + 2 mm as a segment towards its tip, against the surface through the
-//                            cutter's spatial index); each pose in contact with the cut button held becomes a stroke sample
-//                            (the entry point, the surface normal, the pose's time); the haptic force is
-//                            computed from the newest pose: a penalty spring along the contact normal with
-//                            damping, plus a constant cutting resistance against the blade's tangential
-//                            motion while it cuts, clamped to max_force_N;
+//                            depth + 2 mm as a segment towards its tip, against the skin through the
+//                            cutter's spatial index: wound walls are left out, so a blade crossing an
+//                            open groove is in its air, lifts out of the incision, and starts a new one
+//                            at the far lip); each pose in contact with the cut button held becomes a
+//                            stroke sample (the entry point, the surface normal, the pose's time); the
+//                            haptic force is computed from the newest pose: a penalty spring along the
+//                            contact normal with damping, plus a constant cutting resistance against the
+//                            blade's tangential motion while it cuts, clamped to max_force_N;
 //   cut(t_s)                 the cutter's carried work for this frame, bounded by the work budget derived
 //                            from cut_budget_us, and the wound's opening at time t_s; then, with a tet
 //                            tissue, the tet cutter's work for the same incision under the same budget.
