@@ -294,12 +294,17 @@ TEST_CASE("replay: a third stroke crossing two grooves cuts beyond both", "[sim]
 }
 
 TEST_CASE("replay: crossing strokes give the same geometry fast and in real time", "[sim][slow]") {
-  const std::vector<PlanLine> lines{kFirstGroove, PlanLine{{0.004, 0.006}, {0.0, 1.0}, 0.025},
-                                    PlanLine{{0.016, 0.010}, {-1.0, 1.4}, 0.026}};
-  const sim::Scenario s = crossingScenario("crossing-third-realtime", lines);
-  const CrossingRun fast = replayCrossing(s, lines, sim::ReplayPace::Fast);
-  const CrossingRun realtime = replayCrossing(s, lines, sim::ReplayPace::RealTime);
-  CHECK(realtime.manifold_failures == 0);
-  REQUIRE(fast.hash == realtime.hash);
-  for (const auto& u : realtime.uncovered) CHECK(u.empty());
+  const std::vector<std::pair<const char*, std::vector<PlanLine>>> scenes{
+      {"crossing-45-realtime", {kFirstGroove, PlanLine{{-0.004, 0.008}, {1.0, 1.0}, 0.026}}},
+      {"crossing-third-realtime",
+       {kFirstGroove, PlanLine{{0.004, 0.006}, {0.0, 1.0}, 0.025}, PlanLine{{0.016, 0.010}, {-1.0, 1.4}, 0.026}}}};
+  for (const auto& [name, lines] : scenes) {
+    INFO(name);
+    const sim::Scenario s = crossingScenario(name, lines);
+    const CrossingRun fast = replayCrossing(s, lines, sim::ReplayPace::Fast);
+    const CrossingRun realtime = replayCrossing(s, lines, sim::ReplayPace::RealTime);
+    CHECK(realtime.manifold_failures == 0);
+    REQUIRE(fast.hash == realtime.hash);
+    for (const auto& u : realtime.uncovered) CHECK(u.empty());
+  }
 }
