@@ -168,17 +168,10 @@ nlohmann::json optionsJson(const GlobalDffdOptions& o) {
 // The number a "too close" refusal asks controls[0] to be raised to, or 0.
 int raiseControlsTo(const DffdError& e) { return e.kind == DffdErrorKind::TooClose ? e.controls_needed : 0; }
 
-nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOptions options, const SurfaceMesh& robot,
-                        const std::vector<int>& part) {
-  static const char* part_names[] = {"leg -x", "leg +x", "torso", "arm -x", "arm +x", "neck", "head"};
-  const std::vector<Obstacle> obstacles = bars(tilt);
-  nlohmann::json out = {{"scene", name},
-                        {"bar_tilt_about_x_deg", tilt.about_x_deg},
-                        {"bar_tilt_about_y_deg", tilt.about_y_deg},
-                        {"bars_x_m", {-kBarSpacing + kBarOffset, kBarOffset, kBarSpacing + kBarOffset}},
-                        {"bar_radius_m", tilt.radius_m},
-                        {"bar_z_m", {-tilt.reach_m, kRobotHeight + tilt.reach_m}}};
-  // GlobalDffd, with controls[0] raised as its TooClose refusal asks (at most twice).
+// GlobalDffd for the bars, with controls[0] raised as its TooClose refusal asks (at most twice); the
+// options used, the refusals and, when it was built, the lattice's figures go into `out`.
+std::optional<GlobalDffd> buildDffd(const std::vector<Obstacle>& obstacles, GlobalDffdOptions options,
+                                    nlohmann::json& out) {
   std::optional<GlobalDffd> built;
   double build_ms = 0.0;
   nlohmann::json refusals = nlohmann::json::array();
@@ -197,7 +190,7 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
   out["options"] = optionsJson(options);
   if (!refusals.empty()) out["refused"] = refusals;
   out["accepted"] = built.has_value();
-  if (!built) return out;
+  if (!built) return built;
   const GlobalDffd& dffd = *built;
   out["construction_ms"] = build_ms;
   const auto t_jac = Clock::now();
@@ -211,35 +204,55 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
     kernels.push_back(
         {{"name", o.name}, {"u_m", o.u}, {"kernel_width_used", o.kernel_width}, {"max_move_m", o.max_move_m}});
   out["discontinuities"] = kernels;
+  return built;
+}
 
-  // The frames: split and deform (timed); then, untimed, how much opened and the penetration.
-  std::vector<double> frame_ms;
-  int frames_split = 0, frames_at_bars = 0, best_frame = 0, best_at_bars = -1, worst_frame = -1;
-  double worst_penetration = 0.0;
-  // The robot as arrays, made once: a moving model's triangles never change, only its positions.
+// The robot as arrays, made once: a moving model's triangles never change, only its positions.
+struct RobotArrays {
   std::vector<Eigen::Vector3d> rest;
   std::vector<std::array<int, 3>> triangles;
-  for (const auto v : robot.mesh().vertices()) rest.push_back(toEigen(robot.mesh().point(v)));
+};
+
+RobotArrays robotArrays(const SurfaceMesh& robot) {
+  RobotArrays a;
+  for (const auto v : robot.mesh().vertices()) a.rest.push_back(toEigen(robot.mesh().point(v)));
   for (const auto f : robot.mesh().faces()) {
     std::array<int, 3> t{};
     int k = 0;
     for (auto v = robot.mesh().cfv_ccwiter(f); v.is_valid() && k < 3; ++v) t[static_cast<size_t>(k++)] = v->idx();
-    triangles.push_back(t);
+    a.triangles.push_back(t);
   }
+  return a;
+}
+
+// The frames: move, split and deform (timed: the positions and triangles a viewer draws); then, untimed,
+// how much opened and the penetration. Returns the frame with the most split vertices at the bars.
+struct BestFrame {
+  int frame = 0;
+  int pairs_at_bars = -1;  // split vertex pairs within 1 mm of a bar in that frame
+};
+
+BestFrame timeFrames(const GlobalDffd& dffd, const std::vector<Obstacle>& obstacles, const Tilt& tilt,
+                     const SurfaceMesh& robot, nlohmann::json& out) {
+  const RobotArrays arrays = robotArrays(robot);
+  const std::vector<Eigen::Vector3d>& rest = arrays.rest;
+  std::vector<double> frame_ms, split_part;  // split_part: of frame_ms, moving and splitting
+  int frames_split = 0, frames_at_bars = 0, worst_frame = -1;
+  BestFrame best;
+  double worst_penetration = 0.0;
   std::vector<Eigen::Vector3d> moved_at(rest.size()), positions_at;
   DffdSplit frame_split;  // reused frame after frame
-  {  // one untimed frame first: the split's buffers are allocated once, then reused (steady state timed)
-    for (size_t v = 0; v < rest.size(); ++v) moved_at[v] = rest[v] + Eigen::Vector3d(0.0, kStartY, 0.0);
-    splitAtDiscontinuities(moved_at, triangles, dffd, Openings::Leave, frame_split);
-    positions_at.resize(frame_split.rest_m.size());
-    deformSplit(frame_split, dffd, positions_at);
-  }
-  std::vector<double> split_part;  // of frame_ms: moving and splitting (the rest is deformSplit)
-  for (int frame = 0; frame < kFrames; ++frame) {
-    const double dy = kStartY + (kEndY - kStartY) * frame / (kFrames - 1);
-    const auto start = Clock::now();  // move, split, deform: positions and triangles ready to draw
+  const auto frame = [&](double dy) {
     for (size_t v = 0; v < rest.size(); ++v) moved_at[v] = rest[v] + Eigen::Vector3d(0.0, dy, 0.0);
-    splitAtDiscontinuities(moved_at, triangles, dffd, Openings::Leave, frame_split);
+    splitAtDiscontinuities(moved_at, arrays.triangles, dffd, Openings::Leave, frame_split);
+  };
+  // One untimed frame first: the split's buffers are allocated once, then reused (steady state timed).
+  frame(kStartY);
+  positions_at.resize(frame_split.rest_m.size());
+  deformSplit(frame_split, dffd, positions_at);
+  for (int f = 0; f < kFrames; ++f) {
+    const auto start = Clock::now();
+    frame(kStartY + (kEndY - kStartY) * f / (kFrames - 1));
     const double split_part_ms = msSince(start);
     positions_at.resize(frame_split.rest_m.size());
     deformSplit(frame_split, dffd, positions_at);
@@ -249,9 +262,9 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
     const int at_bars = splitAtBars(frame_split, tilt);
     frames_split += splitVertices(frame_split) > 0;
     frames_at_bars += at_bars > 0;
-    if (at_bars > best_at_bars) best_at_bars = at_bars, best_frame = frame;
+    if (at_bars > best.pairs_at_bars) best = {f, at_bars};
     const double penetration = worstPenetration(deformed.mesh(), obstacles);
-    if (penetration > worst_penetration) worst_penetration = penetration, worst_frame = frame;
+    if (penetration > worst_penetration) worst_penetration = penetration, worst_frame = f;
   }
   out["frames"] = kFrames;
   out["motion_y_m"] = {kStartY, kEndY};
@@ -261,16 +274,12 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
   out["worst_penetration_all_frames_frame"] = worst_frame;
   out["split_and_deform"] = stats(frame_ms, kTargetFrameMs);
   out["split_and_deform"]["of_which_move_and_split_ms_p50"] = percentile(split_part, 0.5);
+  return best;
+}
 
-  // The frame with the most split vertices at the bars: its split, what it cuts, penetration, the re-deform.
-  const double dy = kStartY + (kEndY - kStartY) * best_frame / (kFrames - 1);
-  const SurfaceMesh moved = translated(robot, dy);
-  auto start = Clock::now();
-  const DffdSplit split = splitAtDiscontinuities(moved, dffd);
-  const double split_ms = msSince(start);
-  start = Clock::now();
-  const SurfaceMesh deformed = deformSplit(split, dffd);
-  const double deform_ms = msSince(start);
+// Which robot parts each plane of `split` cuts (by the vertices' sources).
+nlohmann::json partsCut(const DffdSplit& split, const GlobalDffd& dffd, const std::vector<int>& part) {
+  static const char* part_names[] = {"leg -x", "leg +x", "torso", "arm -x", "arm +x", "neck", "head"};
   nlohmann::json cut = nlohmann::json::object();
   for (size_t i = 0; i < dffd.obstacles().size(); ++i) {
     std::vector<char> hit(7, 0);
@@ -284,28 +293,20 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
       if (hit[p]) parts.push_back(part_names[p]);
     cut[dffd.obstacles()[i].name] = parts;
   }
-  const auto t_pen = Clock::now();
-  std::string which;
-  const double penetration = worstPenetration(deformed.mesh(), obstacles, &which);
-  const double pen_ms = msSince(t_pen);
+  return cut;
+}
 
-  // Building an OpenMesh mesh of the result (for output or checks; not part of the frame).
-  std::vector<double> build_mesh_ms;
-  for (int rep = 0; rep < 10; ++rep) {
-    start = Clock::now();
-    const SurfaceMesh built = split.surface();
-    build_mesh_ms.push_back(msSince(start));
-  }
-
+// Re-deforming an existing split with DffdBinding (F and a stitched F in turn), against deformSplit, and the
+// binding's construction.
+nlohmann::json redeformJson(const DffdSplit& split, const GlobalDffd& dffd) {
   const DffdBinding binding(split, dffd);
   GlobalDffd stitched = dffd;  // F changed (same lattice): the middle bar's planes stitched
   stitched.stitch(1, stitchLevel(split, stitched, 1));
   std::vector<Eigen::Vector3d> positions(binding.size());
-  std::vector<double> redeform_ms, deform_split_ms;
+  std::vector<double> redeform_ms, deform_split_ms, bind_ms;
   for (int rep = 0; rep < kRedeformReps; ++rep) {
-    const GlobalDffd& f = rep % 2 ? stitched : dffd;
-    start = Clock::now();
-    binding.deform(f, positions);
+    const auto start = Clock::now();
+    binding.deform(rep % 2 ? stitched : dffd, positions);
     redeform_ms.push_back(msSince(start));
   }
   bool identical = true;
@@ -316,28 +317,55 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
       identical = identical && toEigen(reference.mesh().point(v)) == positions[static_cast<size_t>(v.idx())];
   }
   for (int rep = 0; rep < kDeformSplitReps; ++rep) {
-    const GlobalDffd& f = rep % 2 ? stitched : dffd;
-    start = Clock::now();
-    const SurfaceMesh again = deformSplit(split, f);
+    const auto start = Clock::now();
+    const SurfaceMesh again = deformSplit(split, rep % 2 ? stitched : dffd);
     deform_split_ms.push_back(msSince(start));
   }
-  std::vector<double> bind_ms;
   for (int rep = 0; rep < 5; ++rep) {
-    start = Clock::now();
+    const auto start = Clock::now();
     const DffdBinding b(split, dffd);
     bind_ms.push_back(msSince(start));
   }
+  return {
+      {"dffd_binding_deform", stats(redeform_ms, kTargetRedeformMs)},
+      {"bound_vertices", binding.bound()},
+      {"binding_construction_ms_p50", percentile(bind_ms, 0.5)},
+      {"bit_identical_to_deformSplit", identical},
+      {"deformSplit_for_comparison", stats(deform_split_ms, kTargetRedeformMs)},
+  };
+}
 
-  out["frame_most_split_at_bars"] = {
-      {"frame", best_frame},
+// The frame with the most split vertices at the bars: its split, what it cuts, the penetration.
+nlohmann::json bestFrameJson(const BestFrame& best, const GlobalDffd& dffd, const std::vector<Obstacle>& obstacles,
+                             const SurfaceMesh& robot, const std::vector<int>& part, DffdSplit& split) {
+  const double dy = kStartY + (kEndY - kStartY) * best.frame / (kFrames - 1);
+  const SurfaceMesh moved = translated(robot, dy);
+  auto start = Clock::now();
+  split = splitAtDiscontinuities(moved, dffd);
+  const double split_ms = msSince(start);
+  start = Clock::now();
+  const SurfaceMesh deformed = deformSplit(split, dffd);
+  const double deform_ms = msSince(start);
+  const auto t_pen = Clock::now();
+  std::string which;
+  const double penetration = worstPenetration(deformed.mesh(), obstacles, &which);
+  const double pen_ms = msSince(t_pen);
+  std::vector<double> build_mesh_ms;  // an OpenMesh mesh of the result (output, checks): not in the frame
+  for (int rep = 0; rep < 10; ++rep) {
+    start = Clock::now();
+    const SurfaceMesh built = split.surface();
+    build_mesh_ms.push_back(msSince(start));
+  }
+  return {
+      {"frame", best.frame},
       {"robot_y_m", dy},
       {"split_vertices_duplicated", splitVertices(split) / 2},
-      {"split_vertex_pairs_within_1mm_of_a_bar", best_at_bars},
+      {"split_vertex_pairs_within_1mm_of_a_bar", best.pairs_at_bars},
       {"split_vertices", split.rest_m.size()},
       {"split_faces", split.faces.size()},
       {"split_boundary_loops", boundaryLoops(split.surface().mesh())},
       {"deformed_boundary_loops", boundaryLoops(deformed.mesh())},
-      {"parts_cut_per_plane", cut},
+      {"parts_cut_per_plane", partsCut(split, dffd, part)},
       {"worst_penetration_m", penetration},
       {"worst_penetration_undeformed_m",
        worstPenetration(split.surface().mesh(), obstacles)},  // the measure sees the overlap
@@ -347,13 +375,23 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, GlobalDffdOpt
       {"deform_split_ms", deform_ms},
       {"openmesh_mesh_of_the_split_ms_p50_not_in_the_frame", percentile(build_mesh_ms, 0.5)},
   };
-  out["redeform_without_split"] = {
-      {"dffd_binding_deform", stats(redeform_ms, kTargetRedeformMs)},
-      {"bound_vertices", binding.bound()},
-      {"binding_construction_ms_p50", percentile(bind_ms, 0.5)},
-      {"bit_identical_to_deformSplit", identical},
-      {"deformSplit_for_comparison", stats(deform_split_ms, kTargetRedeformMs)},
-  };
+}
+
+nlohmann::json runScene(const std::string& name, const Tilt& tilt, const GlobalDffdOptions& options,
+                        const SurfaceMesh& robot, const std::vector<int>& part) {
+  const std::vector<Obstacle> obstacles = bars(tilt);
+  nlohmann::json out = {{"scene", name},
+                        {"bar_tilt_about_x_deg", tilt.about_x_deg},
+                        {"bar_tilt_about_y_deg", tilt.about_y_deg},
+                        {"bars_x_m", {-kBarSpacing + kBarOffset, kBarOffset, kBarSpacing + kBarOffset}},
+                        {"bar_radius_m", tilt.radius_m},
+                        {"bar_z_m", {-tilt.reach_m, kRobotHeight + tilt.reach_m}}};
+  const std::optional<GlobalDffd> dffd = buildDffd(obstacles, options, out);
+  if (!dffd) return out;
+  const BestFrame best = timeFrames(*dffd, obstacles, tilt, robot, out);
+  DffdSplit split;
+  out["frame_most_split_at_bars"] = bestFrameJson(best, *dffd, obstacles, robot, part, split);
+  out["redeform_without_split"] = redeformJson(split, *dffd);
   return out;
 }
 
