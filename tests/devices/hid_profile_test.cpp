@@ -1,0 +1,180 @@
+// Profiles: chosen by usages, pens mapped onto the tissue as PenMapping documents, 6-DOF velocity control
+// integrated over the reports' times, and the pen mapping's inverse (the generator's) undoing it.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "hid_fixture.h"
+#include "incise/devices/hid_profile.h"
+#include "incise/devices/hid_report.h"
+#include "incise/devices/hid_usages.h"
+
+using namespace incise::devices;
+using namespace incise::test;
+
+namespace {
+
+constexpr std::uint32_t kX = hidUsage(0x01, 0x30), kY = hidUsage(0x01, 0x31);
+constexpr std::uint32_t kTip = hidUsage(0x0D, 0x42), kInRange = hidUsage(0x0D, 0x32);
+constexpr std::uint32_t kPressure = hidUsage(0x0D, 0x30), kBarrel = hidUsage(0x0D, 0x44);
+constexpr std::uint32_t kTiltX = hidUsage(0x0D, 0x3D), kTiltY = hidUsage(0x0D, 0x3E);
+
+PenMapping testMapping() {
+  PenMapping m;
+  m.origin_m = {0.1, 0.2, 0.05};
+  m.x_edge_m = {0.2, 0.0, 0.0};
+  m.y_edge_m = {0.0, -0.1, 0.0};
+  m.max_depth_m = 0.02;
+  m.dead_band = 0.0;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("hid_profile: chosen by the usages the descriptor declares", "[devices][hid]") {
+  const auto choose = [](const char* name) {
+    return chooseHidProfile(parseHidDescriptor(loadShippedDescriptor(name))).kind;
+  };
+  CHECK(choose(kWacomDescriptor) == HidProfileKind::Pen);
+  CHECK(choose(kXpPenDescriptor) == HidProfileKind::Pen);
+  CHECK(choose(kSpaceNavigatorDescriptor) == HidProfileKind::SixDof);
+  // A plain mouse: X, Y, buttons, no digitizer, no six axes.
+  const HidDescriptor mouse = parseBytes({0x05, 0x01, 0x09, 0x02, 0xa1, 0x01, 0x05, 0x09, 0x19, 0x01, 0x29,
+                                                  0x03, 0x15, 0x00, 0x25, 0x01, 0x75, 0x01, 0x95, 0x03, 0x81, 0x02,
+                                                  0x95, 0x05, 0x81, 0x03, 0x05, 0x01, 0x09, 0x30, 0x09, 0x31, 0x15,
+                                                  0x81, 0x25, 0x7f, 0x75, 0x08, 0x95, 0x02, 0x81, 0x06, 0xc0});
+  const HidProfileChoice none = chooseHidProfile(mouse);
+  CHECK(none.kind == HidProfileKind::None);
+  CHECK(none.reason.find("Tip Switch or Tip Pressure") != std::string::npos);
+  CHECK_THROWS_AS(makeHidProfile(mouse, {}, {}), HidProfileError);
+}
+
+TEST_CASE("hid_profile: an XP-Pen report becomes the documented pose", "[devices][hid]") {
+  const HidDescriptor d = parseHidDescriptor(loadShippedDescriptor(kXpPenDescriptor));
+  HidMapping mapping;
+  mapping.pen = testMapping();
+  const auto profile = makeHidProfile(d, {0x28bd, 0x095b}, mapping);
+  const HidReportEncoder encoder(d);
+  const HidReportLayout& layout = *d.find(HidReportType::Input, 7);
+  auto raw = encoder.blank(layout);
+  encoder.setLogical(raw, layout, kInRange, 1);
+  encoder.setLogical(raw, layout, kTip, 1);
+  encoder.setLogical(raw, layout, kBarrel, 1);
+  encoder.setLogical(raw, layout, kX, 32767);  // the right edge
+  encoder.setLogical(raw, layout, kY, 0);      // the top edge
+  encoder.setLogical(raw, layout, kPressure, 16383);
+  PoseSample pose;
+  REQUIRE(profile->update(raw, 1.5, pose));
+  CHECK(pose.time_s == 1.5);
+  CHECK(pose.tip_m.x() == Approx(0.3));
+  CHECK(pose.tip_m.y() == Approx(0.2));
+  CHECK(pose.tip_m.z() == Approx(0.05 - 0.02));  // full pressure: max depth below the area
+  CHECK(pose.buttons == 0b011u);                 // cutting (tip switch) + barrel
+  REQUIRE(pose.pressure.has_value());
+  CHECK(*pose.pressure == 1.0);
+  CHECK((pose.orientation * Eigen::Vector3d::UnitZ()).z() == Approx(1.0));  // no tilt: straight up
+
+  // Tilt: 30 degrees towards +X leans the tool's +z towards +x.
+  encoder.setLogical(raw, layout, kTiltX, 30);
+  REQUIRE(profile->update(raw, 1.6, pose));
+  const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();
+  CHECK(std::atan2(axis.x(), axis.z()) == Approx(30.0 * M_PI / 180.0));
+
+  // Tip up: hovering, not cutting. Out of range: lifted, no buttons.
+  encoder.setLogical(raw, layout, kTip, 0);
+  REQUIRE(profile->update(raw, 1.7, pose));
+  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.pen.hover_m));
+  CHECK((pose.buttons & 1u) == 0);
+  encoder.setLogical(raw, layout, kInRange, 0);
+  REQUIRE(profile->update(raw, 1.8, pose));
+  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.pen.lift_m));
+  CHECK(pose.buttons == 0);
+  // A report of another ID, or a short one, moves nothing.
+  raw[0] = 3;
+  CHECK_FALSE(profile->update(raw, 1.9, pose));
+  raw[0] = 7;
+  raw.pop_back();
+  CHECK_FALSE(profile->update(raw, 1.9, pose));
+}
+
+TEST_CASE("hid_profile: the pen mapping's inverse undoes it (Wacom, with twist)", "[devices][hid]") {
+  const HidDescriptor d = parseHidDescriptor(loadShippedDescriptor(kWacomDescriptor));
+  HidMapping mapping;
+  mapping.pen = testMapping();
+  mapping.pen.curve = 1.5;
+  mapping.pen.dead_band = 0.05;
+  const auto profile = makeHidProfile(d, {0x056a, 0x0357}, mapping);
+  const HidReportEncoder encoder(d);
+  const HidReportLayout& layout = *d.find(HidReportType::Input, 0x10);
+  PoseSample target;
+  target.tip_m = {0.17, 0.16, 0.05 - 0.007};
+  target.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) *
+                                          Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()));
+  const PenReading reading = penReadingFor(mapping.pen, target);
+  REQUIRE(reading.pressure.has_value());
+  auto raw = encoder.blank(layout);
+  encoder.setLogical(raw, layout, hidUsage(0xFF0D, 0x32), 1);  // in range, on Wacom's page
+  encoder.setLogical(raw, layout, hidUsage(0xFF0D, 0x42), 1);  // tip switch
+  const auto& x = *std::find_if(layout.fields.begin(), layout.fields.end(),
+                                [](const HidField& f) { return hidEquivalentUsage(f.usageOf(0)) == kX; });
+  encoder.setLogical(raw, layout, x.usages[0], std::llround(reading.fx * static_cast<double>(x.logical_max)));
+  encoder.setLogical(raw, layout, hidUsage(0xFF0D, 0x0131), std::llround(reading.fy * 29600));
+  encoder.setLogical(raw, layout, hidUsage(0xFF0D, 0x30), std::llround(*reading.pressure * 8191));
+  encoder.setPhysical(raw, layout, hidUsage(0xFF0D, 0x3D), reading.tilt_x_deg);
+  encoder.setPhysical(raw, layout, hidUsage(0xFF0D, 0x3E), reading.tilt_y_deg);
+  encoder.setPhysical(raw, layout, hidUsage(0xFF0D, 0x41), reading.twist_deg);
+  PoseSample pose;
+  REQUIRE(profile->update(raw, 0.0, pose));
+  // Within the tablet's resolution: 5 um in x and y, a pressure step in depth, a degree in tilt and 0.2 in twist.
+  CHECK((pose.tip_m - target.tip_m).norm() < 2e-5);
+  CHECK(pose.orientation.angularDistance(target.orientation) < 0.03);
+}
+
+TEST_CASE("hid_profile: SpaceNavigator velocity control over the reports' times", "[devices][hid]") {
+  const HidDescriptor d = parseHidDescriptor(loadShippedDescriptor(kSpaceNavigatorDescriptor));
+  HidMapping mapping;
+  mapping.six_dof.start_m = {0.0, 0.0, 0.1};
+  mapping.six_dof.max_speed_m_per_s = 0.1;
+  mapping.six_dof.dead_zone = 0.1;
+  mapping.six_dof.workspace_max_m = {0.05, 1.0, 1.0};
+  const HidReportEncoder encoder(d);
+  const HidReportLayout& translation = *d.find(HidReportType::Input, 1);
+  const HidReportLayout& rotation = *d.find(HidReportType::Input, 2);
+  const HidReportLayout& buttons = *d.find(HidReportType::Input, 3);
+
+  SECTION("absolute deflections (the quirk table's SpaceNavigator)") {
+    const auto profile = makeHidProfile(d, {0x046d, 0xc626}, mapping);
+    auto raw = encoder.blank(translation);
+    encoder.setLogical(raw, translation, kX, 350);
+    encoder.setLogical(raw, translation, hidUsage(0x01, 0x32), 20);  // inside the dead zone
+    PoseSample pose;
+    REQUIRE(profile->update(raw, 1.0, pose));
+    CHECK(pose.tip_m == Eigen::Vector3d(0.0, 0.0, 0.1));  // the first report sets the velocity only
+    auto rot = encoder.blank(rotation);
+    encoder.setLogical(rot, rotation, hidUsage(0x01, 0x35), -350);
+    REQUIRE(profile->update(rot, 1.2, pose));
+    CHECK(pose.tip_m.x() == Approx(0.02));  // 0.1 m/s for 0.2 s
+    CHECK(pose.tip_m.z() == 0.1);
+    REQUIRE(profile->update(rot, 1.7, pose));
+    CHECK(pose.tip_m.x() == 0.05);  // clamped to the workspace
+    const double angle = 2.0 * std::atan2(pose.orientation.vec().norm(), pose.orientation.w());
+    CHECK(angle == Approx(0.5 * mapping.six_dof.max_rate_rad_per_s));
+    CHECK(pose.orientation.z() < 0.0);  // about -z
+    auto press = encoder.blank(buttons);
+    encoder.setLogical(press, buttons, hidUsage(0x09, 2), 1);
+    REQUIRE(profile->update(press, 1.8, pose));
+    CHECK(pose.buttons == 0b10u);
+    const PoseSample lifted = profile->lifted(1.9);
+    CHECK(lifted.buttons == 0);
+    CHECK(lifted.tip_m.z() == Approx(pose.tip_m.z() + mapping.six_dof.lift_m));
+  }
+  SECTION("an unlisted device with the same descriptor is read as relative") {
+    const auto profile = makeHidProfile(d, {0x1234, 0x5678}, mapping);
+    auto raw = encoder.blank(translation);
+    encoder.setLogical(raw, translation, kX, 100);
+    PoseSample pose;
+    REQUIRE(profile->update(raw, 1.0, pose));
+    REQUIRE(profile->update(raw, 5.0, pose));
+    CHECK(pose.tip_m.x() == Approx(2 * 100 * mapping.six_dof.m_per_count));  // per report, not per second
+  }
+}
