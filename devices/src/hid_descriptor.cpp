@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <fstream>
-#include <sstream>
 #include <cstdio>
+#include <fstream>
 #include <optional>
+#include <sstream>
 
 namespace incise::devices {
 namespace {
@@ -76,7 +76,9 @@ std::string hex2(unsigned value) {
 
 class Parser {
  public:
-  explicit Parser(std::span<const std::uint8_t> bytes) : bytes_(bytes) { result_.bytes.assign(bytes.begin(), bytes.end()); }
+  explicit Parser(std::span<const std::uint8_t> bytes) : bytes_(bytes) {
+    result_.bytes.assign(bytes.begin(), bytes.end());
+  }
 
   HidDescriptor run() {
     std::size_t offset = 0;
@@ -110,12 +112,20 @@ class Parser {
     if (offset + 1 + item.size > bytes_.size())
       fail(item, "truncated: the item needs " + std::to_string(item.size) + " data bytes, " +
                      std::to_string(bytes_.size() - offset - 1) + " left");
-    for (std::uint8_t i = 0; i < item.size; ++i) item.data |= static_cast<std::uint32_t>(bytes_[offset + 1 + i]) << (8 * i);
+    for (std::uint8_t i = 0; i < item.size; ++i)
+      item.data |= static_cast<std::uint32_t>(bytes_[offset + 1 + i]) << (8 * i);
     switch (item.type) {
-      case kMain: mainItem(item); break;
-      case kGlobal: globalItem(item); break;
-      case kLocal: localItem(item); break;
-      default: fail(item, "reserved item type 3 (not defined by HID 1.11)");
+      case kMain:
+        mainItem(item);
+        break;
+      case kGlobal:
+        globalItem(item);
+        break;
+      case kLocal:
+        localItem(item);
+        break;
+      default:
+        fail(item, "reserved item type 3 (not defined by HID 1.11)");
     }
     return offset + 1 + item.size;
   }
@@ -129,15 +139,24 @@ class Parser {
 
   void mainItem(const Item& item) {
     switch (item.tag) {
-      case kInput: addField(item, HidReportType::Input); break;
-      case kOutput: addField(item, HidReportType::Output); break;
-      case kFeature: addField(item, HidReportType::Feature); break;
-      case kCollection: openCollection(item); break;
+      case kInput:
+        addField(item, HidReportType::Input);
+        break;
+      case kOutput:
+        addField(item, HidReportType::Output);
+        break;
+      case kFeature:
+        addField(item, HidReportType::Feature);
+        break;
+      case kCollection:
+        openCollection(item);
+        break;
       case kEndCollection:
         if (open_.empty()) fail(item, "End Collection without an open collection");
         open_.pop_back();
         break;
-      default: fail(item, "unknown main item tag " + hex2(item.tag));
+      default:
+        fail(item, "unknown main item tag " + hex2(item.tag));
     }
     locals_ = Locals{};
   }
@@ -145,22 +164,39 @@ class Parser {
   void globalItem(const Item& item) {
     Globals& g = globals_;
     switch (item.tag) {
-      case 0x0: g.usage_page = static_cast<std::uint16_t>(item.data); break;
+      case 0x0:
+        g.usage_page = static_cast<std::uint16_t>(item.data);
+        break;
       case 0x1:
         g.logical_min = item.signedData();
         g.logical_min_negative = g.logical_min < 0;
         break;
-      case 0x2: g.logical_max_raw = item.data, g.logical_max_size = item.size; break;
+      case 0x2:
+        g.logical_max_raw = item.data, g.logical_max_size = item.size;
+        break;
       case 0x3:
         g.physical_min = item.signedData();
         g.physical_min_negative = g.physical_min < 0;
         break;
-      case 0x4: g.physical_max_raw = item.data, g.physical_max_size = item.size; break;
-      case 0x5: g.unit_exponent = (item.data & ~0xFu) == 0 ? static_cast<int>((item.data ^ 8u) - 8u) : static_cast<int>(item.signedData()); break;
-      case 0x6: g.unit = item.data; break;
-      case 0x7: reportSize(item); break;
-      case 0x8: reportId(item); break;
-      case 0x9: g.report_count = item.data, g.has_report_count = true; break;
+      case 0x4:
+        g.physical_max_raw = item.data, g.physical_max_size = item.size;
+        break;
+      case 0x5:
+        g.unit_exponent =
+            (item.data & ~0xFu) == 0 ? static_cast<int>((item.data ^ 8u) - 8u) : static_cast<int>(item.signedData());
+        break;
+      case 0x6:
+        g.unit = item.data;
+        break;
+      case 0x7:
+        reportSize(item);
+        break;
+      case 0x8:
+        reportId(item);
+        break;
+      case 0x9:
+        g.report_count = item.data, g.has_report_count = true;
+        break;
       case 0xA:
         if (stack_.size() >= kMaxPushDepth) fail(item, "Push nested over " + std::to_string(kMaxPushDepth) + " deep");
         stack_.push_back(g);
@@ -170,7 +206,8 @@ class Parser {
         g = stack_.back();
         stack_.pop_back();
         break;
-      default: fail(item, "unknown global item tag " + hex2(item.tag));
+      default:
+        fail(item, "unknown global item tag " + hex2(item.tag));
     }
   }
 
@@ -201,9 +238,18 @@ class Parser {
       case 0x2:
         if (keepUsage()) locals_.usage_max = usage;
         break;
-      case 0x3: case 0x4: case 0x5: case 0x7: case 0x8: case 0x9: break;  // designators, strings: not kept
-      case 0xA: delimiter(item); break;
-      default: fail(item, "unknown local item tag " + hex2(item.tag));
+      case 0x3:
+      case 0x4:
+      case 0x5:
+      case 0x7:
+      case 0x8:
+      case 0x9:
+        break;  // designators, strings: not kept
+      case 0xA:
+        delimiter(item);
+        break;
+      default:
+        fail(item, "unknown local item tag " + hex2(item.tag));
     }
   }
 
@@ -318,9 +364,12 @@ class Parser {
 
 const char* toString(HidReportType type) {
   switch (type) {
-    case HidReportType::Input: return "Input";
-    case HidReportType::Output: return "Output";
-    case HidReportType::Feature: return "Feature";
+    case HidReportType::Input:
+      return "Input";
+    case HidReportType::Output:
+      return "Output";
+    case HidReportType::Feature:
+      return "Feature";
   }
   return "?";
 }

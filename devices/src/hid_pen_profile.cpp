@@ -50,7 +50,9 @@ class PenProfile final : public HidProfile {
   PenProfile(const HidDescriptor& descriptor, const PenMapping& mapping)
       : descriptor_(descriptor), mapping_(mapping), frame_(mapping) {
     report_ = detail::findPenReport(descriptor);
-    const auto bind = [&](std::uint16_t page, std::uint16_t id) { return detail::findInput(descriptor, hidUsage(page, id), report_); };
+    const auto bind = [&](std::uint16_t page, std::uint16_t id) {
+      return detail::findInput(descriptor, hidUsage(page, id), report_);
+    };
     using namespace hid_usages;
     x_ = bind(hid_pages::kGenericDesktop, kX);
     y_ = bind(hid_pages::kGenericDesktop, kY);

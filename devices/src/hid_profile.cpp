@@ -61,10 +61,11 @@ const HidReportLayout* findPenReport(const HidDescriptor& descriptor) {
   const std::uint32_t x = hidUsage(hid_pages::kGenericDesktop, kX), y = hidUsage(hid_pages::kGenericDesktop, kY);
   for (const HidReportLayout& r : descriptor.reports) {
     if (r.type != HidReportType::Input) continue;
-    const bool has_xy = findInput(descriptor, x, &r, isDigitizerApplication) &&
-                        findInput(descriptor, y, &r, isDigitizerApplication);
-    const bool has_tip = findInput(descriptor, hidUsage(hid_pages::kDigitizers, kTipSwitch), &r, isDigitizerApplication) ||
-                         findInput(descriptor, hidUsage(hid_pages::kDigitizers, kTipPressure), &r, isDigitizerApplication);
+    const bool has_xy =
+        findInput(descriptor, x, &r, isDigitizerApplication) && findInput(descriptor, y, &r, isDigitizerApplication);
+    const bool has_tip =
+        findInput(descriptor, hidUsage(hid_pages::kDigitizers, kTipSwitch), &r, isDigitizerApplication) ||
+        findInput(descriptor, hidUsage(hid_pages::kDigitizers, kTipPressure), &r, isDigitizerApplication);
     if (has_xy && has_tip) return &r;
   }
   return nullptr;
@@ -82,9 +83,12 @@ HidProfile::~HidProfile() = default;
 
 const char* toString(HidProfileKind kind) {
   switch (kind) {
-    case HidProfileKind::None: return "none";
-    case HidProfileKind::Pen: return "pen";
-    case HidProfileKind::SixDof: return "6-dof";
+    case HidProfileKind::None:
+      return "none";
+    case HidProfileKind::Pen:
+      return "pen";
+    case HidProfileKind::SixDof:
+      return "6-dof";
   }
   return "?";
 }
@@ -117,9 +121,12 @@ HidProfileChoice chooseHidProfile(const HidDescriptor& descriptor, HidDeviceId) 
 std::unique_ptr<HidProfile> makeHidProfile(const HidDescriptor& descriptor, HidDeviceId id, const HidMapping& mapping) {
   const HidProfileChoice choice = chooseHidProfile(descriptor, id);
   switch (choice.kind) {
-    case HidProfileKind::Pen: return detail::makePenProfile(descriptor, mapping.pen);
-    case HidProfileKind::SixDof: return detail::makeSixDofProfile(descriptor, id, mapping.six_dof);
-    case HidProfileKind::None: break;
+    case HidProfileKind::Pen:
+      return detail::makePenProfile(descriptor, mapping.pen);
+    case HidProfileKind::SixDof:
+      return detail::makeSixDofProfile(descriptor, id, mapping.six_dof);
+    case HidProfileKind::None:
+      break;
   }
   throw HidProfileError(choice.reason);
 }

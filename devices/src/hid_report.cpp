@@ -32,10 +32,14 @@ void appendTerm(std::string& text, const char* name, int exponent) {
 
 const char* toString(HidDecodeStatus status) {
   switch (status) {
-    case HidDecodeStatus::Ok: return "ok";
-    case HidDecodeStatus::Empty: return "empty report";
-    case HidDecodeStatus::UnknownReportId: return "report ID not declared by the descriptor";
-    case HidDecodeStatus::TooShort: return "report shorter than its layout";
+    case HidDecodeStatus::Ok:
+      return "ok";
+    case HidDecodeStatus::Empty:
+      return "empty report";
+    case HidDecodeStatus::UnknownReportId:
+      return "report ID not declared by the descriptor";
+    case HidDecodeStatus::TooShort:
+      return "report shorter than its layout";
   }
   return "?";
 }
@@ -45,14 +49,16 @@ std::int64_t readHidElement(std::span<const std::uint8_t> report, const HidField
   const std::size_t first = bit / 8, shift = bit % 8;
   const std::size_t last = (bit + field.bit_size - 1) / 8;  // at most first + 4: bit_size <= 32
   std::uint64_t word = 0;
-  for (std::size_t i = first; i <= last && i < report.size(); ++i) word |= std::uint64_t{report[i]} << (8 * (i - first));
+  for (std::size_t i = first; i <= last && i < report.size(); ++i)
+    word |= std::uint64_t{report[i]} << (8 * (i - first));
   const std::uint64_t value = (word >> shift) & mask(field.bit_size);
   if (!field.isSigned() || field.bit_size == 0) return static_cast<std::int64_t>(value);
   const std::uint64_t sign = std::uint64_t{1} << (field.bit_size - 1);
   return static_cast<std::int64_t>(value ^ sign) - static_cast<std::int64_t>(sign);
 }
 
-void writeHidElement(std::span<std::uint8_t> report, const HidField& field, std::uint32_t element, std::int64_t logical) {
+void writeHidElement(std::span<std::uint8_t> report, const HidField& field, std::uint32_t element,
+                     std::int64_t logical) {
   const std::uint64_t bit = std::uint64_t{field.bit_offset} + std::uint64_t{element} * field.bit_size;
   const std::uint64_t bits = static_cast<std::uint64_t>(logical) & mask(field.bit_size);
   for (std::uint32_t b = 0; b < field.bit_size; ++b) {
@@ -70,7 +76,8 @@ double hidPhysical(const HidField& f, std::int64_t logical) {
   const double span = static_cast<double>(f.logical_max - f.logical_min);
   double physical = static_cast<double>(f.physical_min);
   if (span != 0.0)
-    physical += static_cast<double>(logical - f.logical_min) * static_cast<double>(f.physical_max - f.physical_min) / span;
+    physical +=
+        static_cast<double>(logical - f.logical_min) * static_cast<double>(f.physical_max - f.physical_min) / span;
   return physical * pow10(f.unit_exponent);
 }
 
@@ -215,11 +222,16 @@ double hidUnitToSi(std::uint32_t unit) {
   if ((unit & ~0xF0u) != (unit & 0xFu)) return 0.0;  // another dimension than length
   if (nibble(unit, 1) != 1) return 0.0;
   switch (unit & 0xFu) {
-    case 1: return 0.01;
-    case 2: return 1.0;
-    case 3: return 0.0254;
-    case 4: return std::numbers::pi / 180.0;
-    default: return 0.0;
+    case 1:
+      return 0.01;
+    case 2:
+      return 1.0;
+    case 3:
+      return 0.0254;
+    case 4:
+      return std::numbers::pi / 180.0;
+    default:
+      return 0.0;
   }
 }
 

@@ -16,7 +16,8 @@ class SixDofProfile final : public HidProfile {
   SixDofProfile(const HidDescriptor& descriptor, HidDeviceId id, const SixDofMapping& mapping)
       : descriptor_(descriptor), mapping_(mapping) {
     for (int a = 0; a < 6; ++a)
-      axes_[a] = detail::findInput(descriptor, hidUsage(hid_pages::kGenericDesktop, static_cast<std::uint16_t>(hid_usages::kX + a)));
+      axes_[a] = detail::findInput(
+          descriptor, hidUsage(hid_pages::kGenericDesktop, static_cast<std::uint16_t>(hid_usages::kX + a)));
     for (int b = 0; b < kMaxButtons; ++b)
       buttons_[b] = detail::findInput(descriptor, hidUsage(hid_pages::kButton, static_cast<std::uint16_t>(b + 1)));
     relative_ = mapping.axes == SixDofMapping::Axes::Relative;

@@ -4,6 +4,7 @@ namespace incise::devices {
 
 // Out of line so that the vtable has one home.
 PoseSource::~PoseSource() = default;
+PoseSink::~PoseSink() = default;
 
 std::optional<PoseSample> VectorPoseSource::next() {
   if (next_ >= samples_.size()) return std::nullopt;

@@ -91,7 +91,8 @@ TEST_CASE("hid_report: every input field of the shipped descriptors round-trips 
         std::vector<std::uint8_t> payload(raw.begin() + static_cast<long>(start), raw.end());
         for (const HidField& f : layout.fields)
           if (!f.isConstant())
-            for (std::uint32_t e = 0; e < f.count; ++e) writeHidElement(payload, f, e, static_cast<std::int64_t>(random()));
+            for (std::uint32_t e = 0; e < f.count; ++e)
+              writeHidElement(payload, f, e, static_cast<std::int64_t>(random()));
         std::copy(payload.begin(), payload.end(), raw.begin() + static_cast<long>(start));
         const HidDecoded decoded = decoder.decode(raw, values);
         REQUIRE(decoded.status == HidDecodeStatus::Ok);

@@ -68,7 +68,7 @@ inline constexpr std::uint16_t hidUsageId(std::uint32_t usage) { return static_c
 // One main item's worth of report data: `count` elements of `bit_size` bits starting at `bit_offset`.
 struct HidField {
   HidReportType type = HidReportType::Input;
-  std::uint8_t report_id = 0;   // 0 when the descriptor declares no report IDs
+  std::uint8_t report_id = 0;    // 0 when the descriptor declares no report IDs
   std::uint32_t bit_offset = 0;  // from the first bit after the report ID byte
   std::uint32_t bit_size = 0;    // 1..32
   std::uint32_t count = 0;       // elements
@@ -124,8 +124,7 @@ struct HidDescriptor {
 // A descriptor the parser refuses: what() is "report descriptor byte N (item 0xPP): what is wrong".
 class HidDescriptorError : public std::runtime_error {
  public:
-  HidDescriptorError(const std::string& message, std::size_t offset)
-      : std::runtime_error(message), offset_(offset) {}
+  HidDescriptorError(const std::string& message, std::size_t offset) : std::runtime_error(message), offset_(offset) {}
   std::size_t offset() const { return offset_; }  // of the offending item's prefix byte
 
  private:

@@ -59,14 +59,14 @@
 namespace incise::devices {
 
 struct PenMapping {
-  Eigen::Vector3d origin_m{0.0, 0.0, 0.0};   // tissue point under the tablet's (X min, Y min) corner
-  Eigen::Vector3d x_edge_m{0.2, 0.0, 0.0};   // to the (X max, Y min) corner
+  Eigen::Vector3d origin_m{0.0, 0.0, 0.0};    // tissue point under the tablet's (X min, Y min) corner
+  Eigen::Vector3d x_edge_m{0.2, 0.0, 0.0};    // to the (X max, Y min) corner
   Eigen::Vector3d y_edge_m{0.0, -0.15, 0.0};  // to the (X min, Y max) corner
-  double hover_m = 0.01;                     // tip above the area while in range, tip up
-  double lift_m = 0.03;                      // ... out of range, or the device gone
-  double dead_band = 0.02;                   // normalised pressure that makes no depth
-  double curve = 1.0;                        // exponent of the pressure -> depth curve
-  double max_depth_m = 0.01;                 // depth below the area at full pressure
+  double hover_m = 0.01;                      // tip above the area while in range, tip up
+  double lift_m = 0.03;                       // ... out of range, or the device gone
+  double dead_band = 0.02;                    // normalised pressure that makes no depth
+  double curve = 1.0;                         // exponent of the pressure -> depth curve
+  double max_depth_m = 0.01;                  // depth below the area at full pressure
   enum class CutOn : std::uint8_t { TipSwitch, Pressure } cut_on = CutOn::TipSwitch;
   double cut_threshold = 0.05;  // normalised pressure (CutOn::Pressure)
   double yaw_deg = 0.0;         // the blade's edge at twist 0, from x_edge towards y_edge
@@ -77,12 +77,12 @@ struct SixDofMapping {
   Eigen::Vector3d start_m = Eigen::Vector3d::Zero();  // tip at the first report
   Eigen::Quaterniond start_orientation = Eigen::Quaterniond::Identity();
   Eigen::Matrix3d device_to_tissue = Eigen::Matrix3d::Identity();  // device axes -> tissue axes
-  double max_speed_m_per_s = 0.05;  // at full deflection
+  double max_speed_m_per_s = 0.05;                                 // at full deflection
   double max_rate_rad_per_s = 1.0;
   double dead_zone = 0.05;  // fraction of full deflection
   Eigen::Vector3d workspace_min_m{-1.0, -1.0, -1.0}, workspace_max_m{1.0, 1.0, 1.0};
   enum class Axes : std::uint8_t { Auto, Absolute, Relative } axes = Axes::Auto;  // Auto: descriptor + quirks
-  double m_per_count = 1e-5, rad_per_count = 1e-4;                                 // relative axes
+  double m_per_count = 1e-5, rad_per_count = 1e-4;                                // relative axes
   Eigen::Vector3d up{0.0, 0.0, 1.0};  // tissue direction away from the tissue: where `lifted` moves the tip
   double lift_m = 0.03;
 };

@@ -30,7 +30,7 @@ namespace incise::devices {
 struct HidValue {
   std::uint32_t usage = 0;  // page << 16 | id; for an array element, the usage its index selects (0: none)
   std::int64_t logical = 0;
-  double physical = 0.0;  // unit_exponent applied
+  double physical = 0.0;      // unit_exponent applied
   std::uint16_t field = 0;    // index into the report layout's fields
   std::uint16_t element = 0;  // element within the field
   bool in_range = true;       // logical_min <= logical <= logical_max
@@ -49,7 +49,8 @@ struct HidDecoded {
 // Bits past the end of `report` read as 0.
 std::int64_t readHidElement(std::span<const std::uint8_t> report, const HidField& field, std::uint32_t element);
 // Writes one element, clamped to the bits it has (two's complement for a signed field).
-void writeHidElement(std::span<std::uint8_t> report, const HidField& field, std::uint32_t element, std::int64_t logical);
+void writeHidElement(std::span<std::uint8_t> report, const HidField& field, std::uint32_t element,
+                     std::int64_t logical);
 // The linear map logical -> physical of a field (unit exponent applied) and back (rounded to the nearest
 // logical value, clamped to the logical range).
 double hidPhysical(const HidField& field, std::int64_t logical);

@@ -36,6 +36,20 @@ class PoseSource {
   PoseSource& operator=(PoseSource&&) = default;
 };
 
+// Where a live source (a device thread) puts its samples: the simulation's pose queue, a recorder's.
+// push is called on the device thread for every sample and must not block or allocate (a queue); false
+// means the sample was dropped (queue full), which the source counts.
+class PoseSink {
+ public:
+  virtual ~PoseSink();
+  virtual bool push(const PoseSample& sample) noexcept = 0;
+
+ protected:
+  PoseSink() = default;
+  PoseSink(const PoseSink&) = default;
+  PoseSink& operator=(const PoseSink&) = default;
+};
+
 // Samples held in memory, returned in order, as given (no validation). For tests and for scripted input.
 // Cost O(1) per sample (a copy).
 class VectorPoseSource final : public PoseSource {
