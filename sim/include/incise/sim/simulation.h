@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 
 #include "incise/devices/pose_sample.h"
+#include "incise/devices/pose_source.h"
 #include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/latency_stats.h"
 #include "incise/sim/spsc_queue.h"
@@ -68,7 +69,8 @@ struct Snapshot {
   StepProfile profile;
 };
 
-class Simulation {
+// Also a devices::PoseSink: a live source (devices::HidPoseSource) pushes into the pose queue directly.
+class Simulation final : public devices::PoseSink {
  public:
   static constexpr std::size_t kQueueCapacity = 4096;
   static constexpr int kMaxPosesPerFrame = 256;
@@ -78,8 +80,9 @@ class Simulation {
   Simulation(World& world, ForceSink* sink, std::int64_t period_us, double t0_s, LatencyStats* stats = nullptr);
 
   bool pushPose(const devices::PoseSample& pose) noexcept;  // producer thread; false: queue full, dropped
-  void frame(const FrameInfo& info) noexcept;               // sim thread
-  bool takeSnapshot(Snapshot& out) noexcept;                // reader thread: true when newer than the last
+  bool push(const devices::PoseSample& pose) noexcept override { return pushPose(pose); }
+  void frame(const FrameInfo& info) noexcept;  // sim thread
+  bool takeSnapshot(Snapshot& out) noexcept;   // reader thread: true when newer than the last
   double frameTime(std::int64_t frame) const noexcept { return t0_s_ + static_cast<double>(frame) * dt_s_; }
 
   const LatencyStats& stats() const noexcept { return *stats_; }
