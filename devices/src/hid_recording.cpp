@@ -222,11 +222,14 @@ std::vector<std::uint8_t> Parser::parseBytes(const char* prefix, std::span<const
   for (std::size_t i = 1; i <= count; ++i) {
     const std::string_view field = fields[i];
     const auto value = parseUnsigned(field, 16);
+    if (value && *value <= 0xff && field.size() <= 2) {
+      bytes.push_back(static_cast<std::uint8_t>(*value));
+      continue;
+    }
     const std::string which = std::string(prefix) + " byte " + std::to_string(i) + " " + quoteField(field);
     if (!value) fail(which + " is not hex");
     if (*value > 0xff) fail(which + " is over 0xff");
-    if (field.size() > 2) fail(which + " is not a byte (one or two hex digits)");
-    bytes.push_back(static_cast<std::uint8_t>(*value));
+    fail(which + " is not a byte (one or two hex digits)");
   }
   return bytes;
 }
