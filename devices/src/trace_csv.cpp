@@ -1,16 +1,19 @@
 #include "incise/devices/trace_csv.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <system_error>
 #include <utility>
 
+#include "message_text.h"
+#include "record_stream.h"
+
 namespace incise::devices {
 namespace {
+
+using detail::quoteField;
+using detail::shortest;
 
 constexpr int kColumnCount = static_cast<int>(kTraceColumns.size());
 constexpr int kTimeColumn = 1;
@@ -19,27 +22,11 @@ constexpr int kQuaternionColumn = 5;
 constexpr int kButtonsColumn = 9;
 constexpr int kPressureColumn = 10;
 
-// Shortest text that reads back to the same double: for messages.
-std::string shortest(double value) {
-  char text[32];
-  const auto result = std::to_chars(text, text + sizeof text, value);
-  return std::string(text, result.ptr);
-}
-
 // "%.17g" without the locale: what the file holds.
 void appendExact(std::string& out, double value) {
   char text[32];
   const auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::general, 17);
   out.append(text, result.ptr);
-}
-
-// A field as quoted in a message; garbage after a crash can be long.
-std::string quoteField(std::string_view field) {
-  constexpr std::size_t kMax = 40;
-  // Built by append: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string&& here.
-  std::string text = "'";
-  text.append(field.substr(0, kMax)).append(field.size() > kMax ? "...'" : "'");
-  return text;
 }
 
 std::string columnLabel(int column) {
@@ -289,123 +276,56 @@ TraceWriter::TraceWriter(std::filesystem::path path, TraceWriterOptions options)
     if (comment.find_first_of("\r\n") != std::string::npos)
       throw std::invalid_argument("TraceWriter: a comment line contains a newline: " + quoteField(comment));
 
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0)
-    throw std::system_error(errno, std::generic_category(), "TraceWriter: cannot create '" + path_.string() + "'");
-
   // Roughly 200 bytes a line; one allocation for the whole run.
-  buffer_.reserve(options_.flush_every * 200 + 256);
-  buffer_.append(kTraceHeader).push_back('\n');
+  stream_ = std::make_unique<detail::RecordStream>(path_, "TraceWriter", options_.flush_every, options_.fsync_on_close,
+                                                   options_.flush_every * 200 + 256);
+  std::string header(kTraceHeader);
+  header.push_back('\n');
   for (const std::string& comment : options_.comments)
-    buffer_.append(comment.empty() ? "#" : "# ").append(comment).push_back('\n');
-  try {
-    writeBuffer();
-  } catch (...) {
-    ::close(fd_);
-    fd_ = -1;
-    throw;
-  }
+    header.append(comment.empty() ? "#" : "# ").append(comment).push_back('\n');
+  stream_->writeHeader(header);
 }
 
-TraceWriter::~TraceWriter() { closeNoThrow(); }
+TraceWriter::~TraceWriter() = default;  // the stream flushes and closes, swallowing errors
+TraceWriter::TraceWriter(TraceWriter&& other) noexcept = default;
+TraceWriter& TraceWriter::operator=(TraceWriter&& other) noexcept = default;
 
-TraceWriter::TraceWriter(TraceWriter&& other) noexcept
-    : path_(std::move(other.path_)),
-      options_(std::move(other.options_)),
-      fd_(std::exchange(other.fd_, -1)),
-      buffer_(std::move(other.buffer_)),
-      samples_written_(other.samples_written_),
-      samples_flushed_(other.samples_flushed_),
-      samples_buffered_(std::exchange(other.samples_buffered_, 0)),
-      previous_time_s_(other.previous_time_s_) {}
-
-TraceWriter& TraceWriter::operator=(TraceWriter&& other) noexcept {
-  if (this != &other) {
-    closeNoThrow();
-    path_ = std::move(other.path_);
-    options_ = std::move(other.options_);
-    fd_ = std::exchange(other.fd_, -1);
-    buffer_ = std::move(other.buffer_);
-    samples_written_ = other.samples_written_;
-    samples_flushed_ = other.samples_flushed_;
-    samples_buffered_ = std::exchange(other.samples_buffered_, 0);
-    previous_time_s_ = other.previous_time_s_;
-  }
-  return *this;
-}
+std::size_t TraceWriter::samplesWritten() const { return stream_ ? stream_->recordsWritten() : 0; }
+std::size_t TraceWriter::samplesFlushed() const { return stream_ ? stream_->recordsFlushed() : 0; }
 
 void TraceWriter::write(const PoseSample& sample) {
-  if (fd_ < 0) throw std::logic_error("TraceWriter '" + path_.string() + "': write() after close()");
+  if (!stream_ || !stream_->isOpen())
+    throw std::logic_error("TraceWriter '" + path_.string() + "': write() after close()");
   if (const auto problem = checkSample(sample, previous_time_s_, 0))
-    throw std::invalid_argument("TraceWriter '" + path_.string() + "': sample " + std::to_string(samples_written_ + 1) +
-                                ": " + problemLabel(*problem) + ": " + problem->message);
+    throw std::invalid_argument("TraceWriter '" + path_.string() + "': sample " +
+                                std::to_string(stream_->recordsWritten() + 1) + ": " + problemLabel(*problem) + ": " +
+                                problem->message);
 
-  appendExact(buffer_, sample.time_s);
-  for (int i = 0; i < 3; ++i) appendExact(buffer_.append(","), sample.tip_m[i]);
+  std::string& out = stream_->buffer();
+  appendExact(out, sample.time_s);
+  for (int i = 0; i < 3; ++i) appendExact(out.append(","), sample.tip_m[i]);
   const Eigen::Quaterniond& q = sample.orientation;
-  for (const double c : {q.w(), q.x(), q.y(), q.z()}) appendExact(buffer_.append(","), c);
+  for (const double c : {q.w(), q.x(), q.y(), q.z()}) appendExact(out.append(","), c);
   char text[16];
   const auto result = std::to_chars(text, text + sizeof text, sample.buttons);
-  buffer_.append(",").append(text, result.ptr).append(",");
-  if (sample.pressure) appendExact(buffer_, *sample.pressure);
-  buffer_.push_back('\n');
+  out.append(",").append(text, result.ptr).append(",");
+  if (sample.pressure) appendExact(out, *sample.pressure);
+  out.push_back('\n');
 
-  ++samples_written_;
-  ++samples_buffered_;
   previous_time_s_ = sample.time_s;
-  if (samples_buffered_ >= options_.flush_every) flush();
+  stream_->recordAdded();
 }
 
 void TraceWriter::flush() {
-  if (fd_ < 0) return;
-  writeBuffer();
-}
-
-void TraceWriter::writeBuffer() {
-  std::size_t done = 0;
-  while (done < buffer_.size()) {
-    const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int error = errno;
-      buffer_.erase(0, done);
-      throw std::system_error(error, std::generic_category(), "TraceWriter: cannot write '" + path_.string() + "'");
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  buffer_.clear();
-  samples_flushed_ = samples_written_;
-  samples_buffered_ = 0;
+  if (stream_) stream_->flush();
 }
 
 void TraceWriter::sync() {
-  if (fd_ < 0) return;
-  writeBuffer();
-  if (::fsync(fd_) != 0)
-    throw std::system_error(errno, std::generic_category(), "TraceWriter: cannot fsync '" + path_.string() + "'");
+  if (stream_) stream_->sync();
 }
 
 void TraceWriter::close() {
-  if (fd_ < 0) return;
-  try {
-    if (options_.fsync_on_close)
-      sync();
-    else
-      writeBuffer();
-  } catch (...) {
-    ::close(std::exchange(fd_, -1));
-    throw;
-  }
-  if (::close(std::exchange(fd_, -1)) != 0)
-    throw std::system_error(errno, std::generic_category(), "TraceWriter: cannot close '" + path_.string() + "'");
-}
-
-void TraceWriter::closeNoThrow() noexcept {
-  try {
-    close();
-  } catch (...) {
-    // A destructor cannot report; close() is there for callers who want to know.
-  }
+  if (stream_) stream_->close();
 }
 
 }  // namespace incise::devices

@@ -105,6 +105,25 @@ printf '{ "model": { "shape": "sphere" }, "obstacles": [ %s ], "treatment": "glu
 check "a bad treatment names the key" expect_exit 2 "treat.json: treatment: must be" -- "$incise" wrap "$work/treat.json" --out "$work/out7"
 check "... and writes nothing (treatment)" test ! -e "$work/out7"
 
+# import jigsaws: one arm of a JIGSAWS kinematics file (76 columns a frame, JIGSAWS's padding) to a trace
+# that replays; bad input is refused with file:line and writes nothing.
+jigsaws_row() {  # jigsaws_row COLUMNS: a frame, every arm at tip (0, 0.1, 0), R = I, gripper -0.1 (closed)
+  python3 -c "import sys; n = int(sys.argv[1]); arm = [0, 0.1, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, -0.1]
+print('   ' + '   '.join('%.6f' % v for v in (arm * 5)[:n]) + '   ')" "$1"
+}
+for i in 1 2 3 4 5; do jigsaws_row 76; done > "$work/Suturing_B001.txt"
+check "import jigsaws writes a trace" "$incise" import jigsaws "$work/Suturing_B001.txt" --arm psm-right --scale 2 --offset 0.001 0 0 --out "$work/jig.csv"
+check "... the documented header, then the comments" bash -c "head -1 '$work/jig.csv' | grep -qx '$header' && grep -qx '# arm: psm-right (columns 58-76)' '$work/jig.csv'"
+check "... a sample per frame: tip scaled then offset, R = I, gripper closed = button 0" bash -c "[ \$(grep -vc '^#' '$work/jig.csv') -eq 6 ] && grep -qx '0.033333333333333333,0.001,0.20000000000000001,0,1,0,0,0,1,' '$work/jig.csv'"
+check "... no temporary file is left" test ! -e "$work/jig.csv.tmp"
+printf '{ "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01 }, "pose_source": { "kind": "trace", "path": "jig.csv" } }' > "$work/jig.json"
+check "... and the trace replays" "$incise" replay "$work/jig.json" --fast --out "$work/out-jig"
+{ jigsaws_row 76; jigsaws_row 75; } > "$work/short.txt"
+check "a JIGSAWS file with a wrong column count is refused with file:line" expect_exit 2 "short.txt:2: 75 columns, expected 76" -- "$incise" import jigsaws "$work/short.txt" --arm psm-left --out "$work/short.csv"
+check "... and writes nothing (column count)" bash -c "! ls '$work' | grep -q '^short.csv'"
+check "a bad --arm is refused" expect_exit 2 "psm-middle" -- "$incise" import jigsaws "$work/Suturing_B001.txt" --arm psm-middle --out "$work/arm.csv"
+check "... and writes nothing (arm)" test ! -e "$work/arm.csv"
+
 # record then replay: the generator round trip.
 check "record writes a trace from generated strokes" "$incise" record "$scenarios/generate/bunny-straight.json" --out "$work/rec.csv"
 check "the recorded trace has the documented header" bash -c "head -1 '$work/rec.csv' | grep -qx '$header'"

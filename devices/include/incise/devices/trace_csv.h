@@ -24,6 +24,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,10 @@
 #include "incise/devices/pose_source.h"
 
 namespace incise::devices {
+
+namespace detail {
+class RecordStream;  // devices/src/record_stream.h: the buffered write(2) stream both recorders use
+}  // namespace detail
 
 // The first line of every trace, without its '\n'.
 inline constexpr std::string_view kTraceHeader = "time_s,tip_x_m,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure";
@@ -174,22 +179,15 @@ class TraceWriter {
   void close();
 
   // Samples accepted by write().
-  std::size_t samplesWritten() const { return samples_written_; }
+  std::size_t samplesWritten() const;
   // Samples handed to the kernel: what a kill at this moment leaves in the file.
-  std::size_t samplesFlushed() const { return samples_flushed_; }
+  std::size_t samplesFlushed() const;
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  void writeBuffer();
-  void closeNoThrow() noexcept;
-
   std::filesystem::path path_;
   TraceWriterOptions options_;
-  int fd_ = -1;
-  std::string buffer_;
-  std::size_t samples_written_ = 0;
-  std::size_t samples_flushed_ = 0;
-  std::size_t samples_buffered_ = 0;
+  std::unique_ptr<detail::RecordStream> stream_;  // null once moved from
   std::optional<double> previous_time_s_;
 };
 
