@@ -66,20 +66,28 @@ nlohmann::json decodeFigures(const char* name, std::uint8_t id) {
   const auto profile = devices::makeHidProfile(d, {}, {});
   devices::PoseSample pose;
   const double update_ns = nsPerCall(
-      [&](int i) { sink = sink + profile->update(reports[static_cast<std::size_t>(i) & 15u], i * 1e-3, pose); }, kCalls);
+      [&](int i) { sink = sink + profile->update(reports[static_cast<std::size_t>(i) & 15u], i * 1e-3, pose); },
+      kCalls);
   const std::size_t decoded = decoder.decode(reports[0], values).values;
-  return {{"descriptor", name}, {"report_id", id}, {"values_per_report", decoded},
-          {"decode_ns", decode_ns}, {"profile_update_ns", update_ns}, {"decode_target_ns", 1000.0}};
+  return {{"descriptor", name},
+          {"report_id", id},
+          {"values_per_report", decoded},
+          {"decode_ns", decode_ns},
+          {"profile_update_ns", update_ns},
+          {"decode_target_ns", 1000.0}};
 }
 
 // Records arrival -> queued for every pose, in a preallocated array (the device thread's side).
 class TimingSink final : public devices::PoseSink {
  public:
-  TimingSink(sim::Simulation& simulation, std::size_t capacity) : simulation_(simulation) { latency_us_.reserve(capacity); }
+  TimingSink(sim::Simulation& simulation, std::size_t capacity) : simulation_(simulation) {
+    latency_us_.reserve(capacity);
+  }
   bool push(const devices::PoseSample& pose) noexcept override {
     const bool queued = simulation_.push(pose);
     const double now_s = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
-    if (pose.buttons != 0 && latency_us_.size() < latency_us_.capacity()) latency_us_.push_back((now_s - pose.time_s) * 1e6);
+    if (pose.buttons != 0 && latency_us_.size() < latency_us_.capacity())
+      latency_us_.push_back((now_s - pose.time_s) * 1e6);
     return queued;
   }
   const std::vector<double>& latencyUs() const { return latency_us_; }
@@ -93,11 +101,11 @@ nlohmann::json arrivalFigures(double seconds) {
   const auto bytes = descriptorBytes("xppen_artist_pro16_gen2_28bd_095b.txt");
   const devices::HidDescriptor d = devices::parseHidDescriptor(bytes);
   const int count = static_cast<int>(seconds * 200.0);
-  std::vector<devices::ReplayReport> reports;
+  std::vector<devices::HidRecordedReport> reports;
   for (int k = 0; k < count; ++k) {
     auto raw = penReport(d, 7, k);
     raw[1] = 0x21;  // in range, tip down
-    reports.push_back({5000 * static_cast<std::int64_t>(k), raw});
+    reports.push_back({0, 5000 * static_cast<std::int64_t>(k), raw, 0});
   }
   devices::ReplayTransportOptions options;
   options.device.vid = 0x28bd;

@@ -7,10 +7,14 @@ namespace incise::devices {
 
 const char* toString(HidSourceState state) {
   switch (state) {
-    case HidSourceState::Searching: return "searching";
-    case HidSourceState::Connected: return "connected";
-    case HidSourceState::Unplugged: return "unplugged";
-    case HidSourceState::Stopped: return "stopped";
+    case HidSourceState::Searching:
+      return "searching";
+    case HidSourceState::Connected:
+      return "connected";
+    case HidSourceState::Unplugged:
+      return "unplugged";
+    case HidSourceState::Stopped:
+      return "stopped";
   }
   return "?";
 }
@@ -140,8 +144,7 @@ void HidPoseSource::handleReport(std::span<const std::uint8_t> raw, double time_
     pushPose(pose);
     return;
   }
-  const HidReportLayout* layout = decoder_->layoutOf(raw);
-  const bool bad = layout == nullptr || raw.size() < layout->wireBytes(descriptor_.uses_report_ids);
+  const bool bad = decoder_->check(raw) != HidDecodeStatus::Ok;
   (bad ? bad_reports_ : ignored_reports_).fetch_add(1, std::memory_order_relaxed);
 }
 

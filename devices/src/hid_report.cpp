@@ -112,21 +112,19 @@ const HidReportLayout* HidReportDecoder::layoutOf(std::span<const std::uint8_t> 
   return index < 0 ? nullptr : &descriptor_->reports[static_cast<std::size_t>(index)];
 }
 
+HidDecodeStatus HidReportDecoder::check(std::span<const std::uint8_t> raw) const noexcept {
+  if (raw.empty()) return HidDecodeStatus::Empty;
+  const HidReportLayout* layout = layoutOf(raw);
+  if (layout == nullptr) return HidDecodeStatus::UnknownReportId;
+  return raw.size() < layout->wireBytes(descriptor_->uses_report_ids) ? HidDecodeStatus::TooShort : HidDecodeStatus::Ok;
+}
+
 HidDecoded HidReportDecoder::decode(std::span<const std::uint8_t> raw, std::span<HidValue> out) const noexcept {
   HidDecoded result;
-  if (raw.empty()) return result;
+  result.status = check(raw);
+  if (result.status != HidDecodeStatus::Ok) return result;
   result.layout = layoutOf(raw);
-  if (result.layout == nullptr) {
-    result.status = HidDecodeStatus::UnknownReportId;
-    return result;
-  }
-  const bool ids = descriptor_->uses_report_ids;
-  if (raw.size() < result.layout->wireBytes(ids)) {
-    result.status = HidDecodeStatus::TooShort;
-    result.layout = nullptr;
-    return result;
-  }
-  const auto payload = raw.subspan(ids ? 1 : 0);
+  const auto payload = raw.subspan(descriptor_->uses_report_ids ? 1 : 0);
   const auto& fields = result.layout->fields;
   for (std::size_t fi = 0; fi < fields.size(); ++fi) {
     const HidField& f = fields[fi];
@@ -148,7 +146,6 @@ HidDecoded HidReportDecoder::decode(std::span<const std::uint8_t> raw, std::span
       }
     }
   }
-  result.status = HidDecodeStatus::Ok;
   return result;
 }
 

@@ -35,14 +35,16 @@ HidDeviceSelector parseHidDeviceSelector(const std::string& text) {
   }
   const std::size_t first = text.find(':');
   if (first == std::string::npos)
-    throw std::invalid_argument("--device '" + text + "': expected VID:PID, VID:PID:serial (hex) or a /dev/hidraw path");
+    throw std::invalid_argument("--device '" + text +
+                                "': expected VID:PID, VID:PID:serial (hex) or a /dev/hidraw path");
   const std::size_t second = text.find(':', first + 1);
   selector.vid = parseHex16(text, text.substr(0, first), "vendor id");
-  selector.pid = parseHex16(text, text.substr(first + 1, second == std::string::npos ? std::string::npos : second - first - 1),
-                            "product id");
+  selector.pid = parseHex16(
+      text, text.substr(first + 1, second == std::string::npos ? std::string::npos : second - first - 1), "product id");
   if (second != std::string::npos) {
     selector.serial = text.substr(second + 1);
-    if (selector.serial->empty()) throw std::invalid_argument("--device '" + text + "': empty serial after the second ':'");
+    if (selector.serial->empty())
+      throw std::invalid_argument("--device '" + text + "': empty serial after the second ':'");
   }
   return selector;
 }

@@ -43,11 +43,16 @@ std::string utf8(const wchar_t* text) {
 // hidapi's bus numbers as Linux's (BUS_USB 3, BUS_BLUETOOTH 5, BUS_I2C 0x18, BUS_SPI 0x1C).
 std::uint32_t linuxBus(hid_bus_type bus) {
   switch (bus) {
-    case HID_API_BUS_USB: return 0x03;
-    case HID_API_BUS_BLUETOOTH: return 0x05;
-    case HID_API_BUS_I2C: return 0x18;
-    case HID_API_BUS_SPI: return 0x1C;
-    default: return 0;
+    case HID_API_BUS_USB:
+      return 0x03;
+    case HID_API_BUS_BLUETOOTH:
+      return 0x05;
+    case HID_API_BUS_I2C:
+      return 0x18;
+    case HID_API_BUS_SPI:
+      return 0x1C;
+    default:
+      return 0;
   }
 }
 

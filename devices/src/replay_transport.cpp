@@ -20,12 +20,37 @@ class ReplayTransport::Connection final : public HidConnection {
   int generation_;
 };
 
-ReplayTransport::ReplayTransport(std::vector<std::uint8_t> descriptor, std::vector<ReplayReport> reports,
+ReplayTransport::ReplayTransport(std::vector<std::uint8_t> descriptor, std::vector<HidRecordedReport> reports,
                                  ReplayTransportOptions options)
     : descriptor_(std::move(descriptor)), reports_(std::move(reports)), options_(std::move(options)) {
   std::sort(options_.cues.begin(), options_.cues.end(),
             [](const ReplayCue& a, const ReplayCue& b) { return a.before_report < b.before_report; });
 }
+
+namespace {
+
+std::vector<HidRecordedReport> reportsOf(const HidRecording& recording, int device) {
+  std::vector<HidRecordedReport> reports;
+  for (const auto& r : recording.reports)
+    if (r.device == device) reports.push_back(r);
+  return reports;
+}
+
+ReplayTransportOptions withDevice(ReplayTransportOptions options, const HidRecordedDevice& device) {
+  if (options.device.vid == 0 && options.device.pid == 0) {
+    options.device.vid = device.vid;
+    options.device.pid = device.pid;
+  }
+  if (options.device.product.empty()) options.device.product = device.name;
+  if (options.device.bus == 0) options.device.bus = device.bus;
+  return options;
+}
+
+}  // namespace
+
+ReplayTransport::ReplayTransport(const HidRecording& recording, int device, ReplayTransportOptions options)
+    : ReplayTransport(recording.devices.at(static_cast<std::size_t>(device)).descriptor, reportsOf(recording, device),
+                      withDevice(std::move(options), recording.devices.at(static_cast<std::size_t>(device)))) {}
 
 bool ReplayTransport::pluggedNow() {
   if (!unplugged_.load(std::memory_order_relaxed)) return true;
@@ -54,7 +79,8 @@ std::unique_ptr<HidConnection> ReplayTransport::open(const HidDeviceInfo& device
 }
 
 ReplayTransport::Clock::time_point ReplayTransport::due(std::size_t report) const {
-  const double offset_s = static_cast<double>(reports_[report].time_us - reports_.front().time_us) * 1e-6 / options_.speed;
+  const double offset_s =
+      static_cast<double>(reports_[report].time_us - reports_.front().time_us) * 1e-6 / options_.speed;
   return start_ + shift_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(offset_s));
 }
 
@@ -86,7 +112,8 @@ int ReplayTransport::read(std::span<std::uint8_t> buffer, int timeout_ms, int ge
 // The device goes away at report `next`'s time; the reports after it are due again from the replug on.
 int ReplayTransport::unplug(std::size_t next) noexcept {
   const auto now = Clock::now();
-  replug_at_ = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.cues[next_cue_].unplugged_s));
+  replug_at_ = now + std::chrono::duration_cast<Clock::duration>(
+                         std::chrono::duration<double>(options_.cues[next_cue_].unplugged_s));
   if (options_.real_time && next < reports_.size()) shift_ += replug_at_ - now;
   ++next_cue_;
   ++generation_;

@@ -36,10 +36,10 @@ class RecordingSink final : public PoseSink {
 };
 
 // An XP-Pen stroke: `count` reports 5 ms apart, tip down, moving right across the tablet.
-std::vector<ReplayReport> penStroke(const HidDescriptor& d, int count) {
+std::vector<HidRecordedReport> penStroke(const HidDescriptor& d, int count) {
   const HidReportEncoder encoder(d);
   const HidReportLayout& layout = *d.find(HidReportType::Input, 7);
-  std::vector<ReplayReport> reports;
+  std::vector<HidRecordedReport> reports;
   for (int k = 0; k < count; ++k) {
     auto raw = encoder.blank(layout);
     encoder.setLogical(raw, layout, hidUsage(0x0D, 0x32), 1);
@@ -47,7 +47,7 @@ std::vector<ReplayReport> penStroke(const HidDescriptor& d, int count) {
     encoder.setLogical(raw, layout, hidUsage(0x01, 0x30), 1000 + 200 * k);
     encoder.setLogical(raw, layout, hidUsage(0x01, 0x31), 16000);
     encoder.setLogical(raw, layout, hidUsage(0x0D, 0x30), 8000);
-    reports.push_back({5000 * k, raw});
+    reports.push_back({0, 5000 * k, raw, 0});
   }
   return reports;
 }
@@ -87,7 +87,8 @@ struct Messages {
 
 }  // namespace
 
-TEST_CASE("hid_pose_source: unplugged mid-stroke, lifted at once, reopened by VID/PID, resumed", "[devices][hid][threads]") {
+TEST_CASE("hid_pose_source: unplugged mid-stroke, lifted at once, reopened by VID/PID, resumed",
+          "[devices][hid][threads]") {
   const auto descriptor_bytes = loadShippedDescriptor(kXpPenDescriptor);
   const HidDescriptor d = parseHidDescriptor(descriptor_bytes);
   auto options = xpPen();
@@ -97,7 +98,8 @@ TEST_CASE("hid_pose_source: unplugged mid-stroke, lifted at once, reopened by VI
   Messages messages;
   HidPoseSourceOptions source_options;
   source_options.reconnect_period_s = 0.05;
-  HidPoseSource source(transport, parseHidDeviceSelector("28bd:095b:SN1"), {}, sink, messages.callback(), source_options);
+  HidPoseSource source(transport, parseHidDeviceSelector("28bd:095b:SN1"), {}, sink, messages.callback(),
+                       source_options);
   source.start();
   REQUIRE(waitFor([&] { return transport.unplugged(); }));
   const auto unplugged_at = std::chrono::steady_clock::now();
@@ -150,7 +152,8 @@ TEST_CASE("hid_pose_source: bad reports are counted and skipped, never a crash",
   CHECK(sink.samples().size() == 4 + 1);
 }
 
-TEST_CASE("hid_pose_source: no matching device, or a broken descriptor: messages and retries", "[devices][hid][threads]") {
+TEST_CASE("hid_pose_source: no matching device, or a broken descriptor: messages and retries",
+          "[devices][hid][threads]") {
   auto bytes = loadShippedDescriptor(kXpPenDescriptor);
   SECTION("serial does not match") {
     ReplayTransport transport(bytes, {}, xpPen());

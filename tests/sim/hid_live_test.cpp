@@ -23,14 +23,15 @@ using Eigen::Vector3d;
 namespace {
 
 std::vector<std::uint8_t> xpPenDescriptor() {
-  return devices::loadHexBytes(std::string(INCISE_SCENARIOS_DIR) + "/hid/descriptors/xppen_artist_pro16_gen2_28bd_095b.txt");
+  return devices::loadHexBytes(std::string(INCISE_SCENARIOS_DIR) +
+                               "/hid/descriptors/xppen_artist_pro16_gen2_28bd_095b.txt");
 }
 
 // 100 reports 5 ms apart: tip down at half pressure, moving 3.7 cm right over the slab.
-std::vector<devices::ReplayReport> stroke(const devices::HidDescriptor& d) {
+std::vector<devices::HidRecordedReport> stroke(const devices::HidDescriptor& d) {
   const devices::HidReportEncoder encoder(d);
   const devices::HidReportLayout& layout = *d.find(devices::HidReportType::Input, 7);
-  std::vector<devices::ReplayReport> reports;
+  std::vector<devices::HidRecordedReport> reports;
   for (int k = 0; k < 100; ++k) {
     auto raw = encoder.blank(layout);
     encoder.setLogical(raw, layout, devices::hidUsage(0x0D, 0x32), 1);
@@ -38,7 +39,7 @@ std::vector<devices::ReplayReport> stroke(const devices::HidDescriptor& d) {
     encoder.setLogical(raw, layout, devices::hidUsage(0x01, 0x30), 6000 + 150 * k);
     encoder.setLogical(raw, layout, devices::hidUsage(0x01, 0x31), 16000);
     encoder.setLogical(raw, layout, devices::hidUsage(0x0D, 0x30), 8000);
-    reports.push_back({5000 * k, raw});
+    reports.push_back({0, 5000 * k, raw, 0});
   }
   return reports;
 }
@@ -64,7 +65,8 @@ double steadyNowS() {
 
 }  // namespace
 
-TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted within one frame", "[sim][hid][threads]") {
+TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted within one frame",
+          "[sim][hid][threads]") {
   const auto bytes = xpPenDescriptor();
   const devices::HidDescriptor descriptor = devices::parseHidDescriptor(bytes);
   sim::WorldOptions world_options;
@@ -88,7 +90,8 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   TeeSink sink(simulation);
   devices::HidPoseSourceOptions source_options;
   source_options.reconnect_period_s = 0.05;
-  devices::HidPoseSource source(transport, devices::parseHidDeviceSelector("28bd:095b"), mapping, sink, {}, source_options);
+  devices::HidPoseSource source(transport, devices::parseHidDeviceSelector("28bd:095b"), mapping, sink, {},
+                                source_options);
   sim::FixedRateLoop loop;
   loop.start([&](const sim::FrameInfo& info) {
     simulation.frame(info);
@@ -120,7 +123,7 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   const double lifted_frame_t_s = frames[static_cast<std::size_t>(first_lifted)].t_s;
   CHECK(lifted_frame_t_s - lifted->time_s <= 0.001 + 1e-9);  // within one frame
   CHECK(frames[static_cast<std::size_t>(first_lifted)].haptic.force_N.norm() == 0.0);
-  REQUIRE(cut_after > first_lifted);  // resumed after the replug
+  REQUIRE(cut_after > first_lifted);                                                  // resumed after the replug
   CHECK(frames[static_cast<std::size_t>(cut_after)].t_s - lifted_frame_t_s >= 0.15);  // not before the replug
   CHECK(source.connects() == 2);
   CHECK(world.incisions() == 2);

@@ -66,6 +66,8 @@ class HidReportDecoder {
   HidDecoded decode(std::span<const std::uint8_t> raw, std::span<HidValue> out) const noexcept;
   // The layout a raw report would be decoded with (nullptr: empty, unknown ID).
   const HidReportLayout* layoutOf(std::span<const std::uint8_t> raw) const noexcept;
+  // What decode would say of `raw`, without decoding: Ok, Empty, UnknownReportId or TooShort.
+  HidDecodeStatus check(std::span<const std::uint8_t> raw) const noexcept;
   std::size_t maxValues() const { return max_values_; }
   const HidDescriptor& descriptor() const { return *descriptor_; }
 

@@ -18,14 +18,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "incise/devices/hid_recording.h"
 #include "incise/devices/hid_transport.h"
 
 namespace incise::devices {
-
-struct ReplayReport {
-  std::int64_t time_us = 0;
-  std::vector<std::uint8_t> bytes;
-};
 
 struct ReplayCue {
   std::size_t before_report = 0;
@@ -33,15 +29,20 @@ struct ReplayCue {
 };
 
 struct ReplayTransportOptions {
-  HidDeviceInfo device;      // what enumerate lists (its path gets a generation suffix)
-  bool real_time = true;     // false: every read returns the next report at once
-  double speed = 1.0;        // real time only: 2 = twice as fast as recorded
+  HidDeviceInfo device;   // what enumerate lists (its path gets a generation suffix)
+  bool real_time = true;  // false: every read returns the next report at once
+  double speed = 1.0;     // real time only: 2 = twice as fast as recorded
   std::vector<ReplayCue> cues;
 };
 
 class ReplayTransport final : public HidTransport {
  public:
-  ReplayTransport(std::vector<std::uint8_t> descriptor, std::vector<ReplayReport> reports, ReplayTransportOptions options);
+  // `reports` in time order (their `device` field is not looked at).
+  ReplayTransport(std::vector<std::uint8_t> descriptor, std::vector<HidRecordedReport> reports,
+                  ReplayTransportOptions options);
+  // Device `device` of a recording: its descriptor and reports; options.device gets its VID, PID and name
+  // when they are left 0 / empty.
+  ReplayTransport(const HidRecording& recording, int device, ReplayTransportOptions options);
 
   std::vector<HidDeviceInfo> enumerate() override;
   std::unique_ptr<HidConnection> open(const HidDeviceInfo& device, std::string& error) override;
@@ -60,7 +61,7 @@ class ReplayTransport final : public HidTransport {
   Clock::time_point due(std::size_t report) const;
 
   std::vector<std::uint8_t> descriptor_;
-  std::vector<ReplayReport> reports_;
+  std::vector<HidRecordedReport> reports_;
   ReplayTransportOptions options_;
   std::size_t next_cue_ = 0;
   int generation_ = 0;  // bumped at each replug: older connections are dead
