@@ -1,6 +1,7 @@
 #include "json_reader.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -119,6 +120,17 @@ Eigen::Vector3d JsonReader::vector(const char* key, const Eigen::Vector3d& fallb
   if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     fail("must be an array of 3 numbers, got " + v.dump(), key);
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+std::vector<double> JsonReader::numbers(const char* key, std::size_t count, const std::vector<double>& fallback) const {
+  if (!has(key)) return fallback;
+  const json& v = object_.at(key);
+  const bool ok = v.is_array() && v.size() == count &&
+                  std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number() && std::isfinite(x.get<double>()); });
+  if (!ok) fail("must be an array of " + std::to_string(count) + " finite numbers, got " + v.dump(), key);
+  std::vector<double> out;
+  for (const json& x : v) out.push_back(x.get<double>());
+  return out;
 }
 
 std::filesystem::path JsonReader::file(const char* key) const {

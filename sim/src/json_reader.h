@@ -51,8 +51,12 @@ class JsonReader {
   // The text under `key`, which must be one of `choices` (the message lists them).
   std::string choice(const char* key, const char* fallback, const std::vector<std::string>& choices) const;
   Eigen::Vector3d vector(const char* key, const Eigen::Vector3d& fallback) const;
+  // `count` numbers (an array of exactly that many), e.g. a quaternion or a row-major 3x3 matrix.
+  std::vector<double> numbers(const char* key, std::size_t count, const std::vector<double>& fallback) const;
   // A path relative to the file's folder, which must exist.
   std::filesystem::path file(const char* key) const;
+  // A path relative to the file's folder that need not exist yet (an output).
+  std::filesystem::path outputPath(const char* key) const { return file_.parent_path() / text(key, nullptr); }
 
   const nlohmann::json& raw() const { return object_; }
   const std::filesystem::path& filePath() const { return file_; }

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "json_reader.h"
+#include "scenario_hid.h"
 
 namespace incise::sim {
 
@@ -109,8 +110,11 @@ Scenario loadScenario(const std::filesystem::path& file) {
   } else if (kind == "strokes") {
     s.source = Scenario::Source::Strokes;
     s.strokes = readStrokes(source);
+  } else if (kind == "hid-recording") {
+    s.source = Scenario::Source::HidRecording;
+    s.hid = detail::readHidRecordingSource(source);
   } else {
-    source.fail("must be \"trace\" or \"strokes\", got \"" + kind + "\"", "kind");
+    source.fail("must be \"trace\", \"strokes\" or \"hid-recording\", got \"" + kind + "\"", "kind");
   }
   return s;
 }

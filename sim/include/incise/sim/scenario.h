@@ -12,6 +12,14 @@
 //     "pose_source": { "kind": "trace", "path": "traces/bunny-straight.csv" },
 //     "rate_hz": 1000, "cut_budget_us": 300, "settle_s": 0.2 }
 //
+// A recorded HID stream ("kind": "hid-recording") names a hid-recorder file and the pen or 6-DOF mapping:
+//   "pose_source": { "kind": "hid-recording", "path": "hid/bunny-pen-wacom.hid", "device": 0,
+//                    "pen": { "origin_m": [..], "x_edge_m": [..], "y_edge_m": [..], "max_depth_m": 0.02, ... },
+//                    "six_dof": { "start_m": [..], "max_speed_m_per_s": 0.1, ... },
+//                    "synthesis": { "from": "generate/bunny-straight.json", "descriptor": "hid/descriptors/...",
+//                                   "vid": "056a", "pid": "0357", "name": "...", "rate_hz": 200 } }
+// (scenarios/README.md lists every key with its default and unit).
+//
 // A generated pose source ("kind": "strokes") lists strokes over the tissue — start_m [x, y, z] above the
 // surface, direction, length_m, bend_m, speed_m_per_s, pause_s before it — and is how the shipped traces
 // were made (`incise record`).
@@ -27,6 +35,7 @@
 
 #include <Eigen/Core>
 
+#include "incise/devices/hid_profile.h"
 #include "incise/sim/scenario_error.h"
 #include "incise/sim/world.h"
 
@@ -41,6 +50,25 @@ struct StrokeSpec {
   double pause_s = 0.1;  // tool idle above the surface before the stroke
 };
 
+// A hid-recorder recording replayed through the HID parser and profile (devices/hid_recording_poses.h),
+// with the profile's mapping into tissue space; `synthesis`, when given, says how `path` was made
+// (`incise hid synth`): from the strokes of another scenario, through a real descriptor.
+struct HidSynthesis {
+  bool given = false;
+  std::filesystem::path from;        // a scenario whose pose source is "strokes"
+  std::filesystem::path descriptor;  // hex bytes (scenarios/hid/descriptors/)
+  std::string name;                  // the N: line
+  std::uint16_t vid = 0, pid = 0;
+  double rate_hz = 200.0;
+};
+
+struct HidRecordingSource {
+  std::filesystem::path path;
+  int device = 0;  // the D: index in the recording
+  devices::HidMapping mapping;
+  HidSynthesis synthesis;
+};
+
 struct Scenario {
   std::string name;
   std::filesystem::path file;
@@ -50,9 +78,10 @@ struct Scenario {
   WorldOptions world;
   double rate_hz = 1000.0;
   double settle_s = 0.2;  // simulated time after the last pose, for the wound to settle
-  enum class Source { Trace, Strokes } source = Source::Trace;
+  enum class Source { Trace, Strokes, HidRecording } source = Source::Trace;
   std::filesystem::path trace;
   std::vector<StrokeSpec> strokes;
+  HidRecordingSource hid;
 
   std::int64_t periodUs() const { return static_cast<std::int64_t>(std::llround(1e6 / rate_hz)); }
 };
