@@ -11,6 +11,7 @@ void addReplayCommand(CLI::App& app);
 void addRecordCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addWrapCommand(CLI::App& app);
+void addHidCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
 
 }  // namespace incise::apps

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   incise::apps::addBenchCommand(app);
   incise::apps::addCutCommand(app);
   incise::apps::addWrapCommand(app);
+  incise::apps::addHidCommand(app);
   incise::apps::addImportCommand(app);
   try {
     app.parse(argc, argv);

@@ -4,13 +4,37 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "incise/devices/hid_recording.h"
+#include "incise/devices/hid_recording_poses.h"
 #include "incise/devices/trace_csv.h"
 #include "incise/sim/stroke_poses.h"
 
 namespace incise::apps {
 
+namespace {
+
+// The recording through the HID parser and profile; bad reports are skipped as a live device's would be,
+// and said once on stderr.
+std::vector<devices::PoseSample> hidRecordingPoses(const sim::HidRecordingSource& hid) {
+  const devices::HidRecording recording = devices::readHidRecording(hid.path);
+  devices::HidRecordingPoses result = devices::posesFromHidRecording(recording, hid.device, hid.mapping, hid.path);
+  if (result.bad_reports > 0)
+    std::fprintf(stderr, "incise: warning: %s:%zu: %zu bad report(s) skipped (undeclared ID or too short)\n",
+                 hid.path.string().c_str(), result.first_bad_line, result.bad_reports);
+  if (result.poses.empty())
+    throw std::invalid_argument(hid.path.string() + ": device " + std::to_string(hid.device) + ": no report moved the tool (" +
+                                std::to_string(result.reports) + " reports)");
+  return std::move(result.poses);
+}
+
+}  // namespace
+
 std::vector<devices::PoseSample> scenarioPoses(const sim::Scenario& scenario, const cutting::SurfaceMesh& tissue) {
-  if (scenario.source == sim::Scenario::Source::Trace) return devices::TraceReader::readAll(scenario.trace);
+  switch (scenario.source) {
+    case sim::Scenario::Source::Trace: return devices::TraceReader::readAll(scenario.trace);
+    case sim::Scenario::Source::HidRecording: return hidRecordingPoses(scenario.hid);
+    case sim::Scenario::Source::Strokes: break;
+  }
   return sim::posesForStrokes(tissue, scenario.strokes, scenario.world, scenario.rate_hz);
 }
 

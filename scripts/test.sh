@@ -22,11 +22,13 @@ if [ "$quick" = 1 ]; then
 fi
 ctest --test-dir build --output-on-failure -j "$jobs"
 
-echo "== ThreadSanitizer build: the threaded sim tests (queue, triple buffer, loop, snapshots read while the loop runs)"
+echo "== ThreadSanitizer build: the threaded tests (queue, triple buffer, loop, snapshots read while the loop runs,"
+echo "   the HID device thread with hot-plug, alone and feeding the 1 kHz loop)"
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DINCISE_TSAN=ON -DINCISE_BUILD_BENCH=OFF
-cmake --build build-tsan -j "$jobs" --target incise_tests_sim
+cmake --build build-tsan -j "$jobs" --target incise_tests_sim incise_tests_devices
 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   ./build-tsan/tests/sim/incise_tests_sim "[threads],spsc_queue*,triple_buffer*,fixed_rate_loop*"
+TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 ./build-tsan/tests/devices/incise_tests_devices "[threads]"
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DINCISE_SANITIZE=ON -DINCISE_BUILD_BENCH=OFF

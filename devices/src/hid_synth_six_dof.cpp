@@ -19,7 +19,11 @@ std::int64_t deflectionToLogical(const Binding& b, double wanted, double dead_zo
   const double w = std::clamp(wanted, -1.0, 1.0);
   if (w == 0.0) return 0;
   const double raw = std::copysign(dead_zone + std::abs(w) * (1.0 - dead_zone), w);
-  return std::clamp<std::int64_t>(std::llround(raw * full), b.field->logical_min, b.field->logical_max);
+  const std::int64_t logical = std::clamp<std::int64_t>(std::llround(raw * full), b.field->logical_min, b.field->logical_max);
+  // Rest rather than the smallest deflection past the dead zone when rest is nearer (no dithering at rest).
+  const double d = static_cast<double>(logical) / full;
+  const double shaped = std::abs(d) <= dead_zone ? 0.0 : std::copysign((std::abs(d) - dead_zone) / (1.0 - dead_zone), d);
+  return std::abs(shaped - w) < std::abs(w) ? logical : 0;
 }
 
 class SixDofSynth {

@@ -143,6 +143,15 @@ std::unique_ptr<HidConnection> HidapiTransport::open(const HidDeviceInfo& device
   return std::make_unique<HidapiConnection>(handle, std::move(descriptor));
 }
 
+std::vector<std::uint8_t> HidapiTransport::descriptorOf(const HidDeviceInfo& device, std::string& error) {
+  try {
+    return readHidrawDescriptor(device.path);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+    return {};
+  }
+}
+
 std::string HidapiTransport::name() const { return std::string("hidapi ") + hid_version_str() + " (hidraw)"; }
 
 }  // namespace incise::devices

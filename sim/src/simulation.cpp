@@ -32,30 +32,8 @@ Simulation::Simulation(World& world, ForceSink* sink, std::int64_t period_us, do
   if (period_us <= 0) throw std::invalid_argument("Simulation: period_us must be > 0");
 }
 
-Simulation::QueuedPose Simulation::toQueued(const devices::PoseSample& pose) noexcept {
-  QueuedPose q;
-  q.time_s = pose.time_s;
-  for (int a = 0; a < 3; ++a) q.tip[a] = pose.tip_m[a];
-  q.q[0] = pose.orientation.w(), q.q[1] = pose.orientation.x(), q.q[2] = pose.orientation.y(),
-  q.q[3] = pose.orientation.z();
-  q.buttons = pose.buttons;
-  q.has_pressure = pose.pressure.has_value();
-  q.pressure = pose.pressure.value_or(0.0);
-  return q;
-}
-
-devices::PoseSample Simulation::fromQueued(const QueuedPose& q) noexcept {
-  devices::PoseSample pose;
-  pose.time_s = q.time_s;
-  pose.tip_m = Eigen::Vector3d(q.tip[0], q.tip[1], q.tip[2]);
-  pose.orientation = Eigen::Quaterniond(q.q[0], q.q[1], q.q[2], q.q[3]);
-  pose.buttons = q.buttons;
-  if (q.has_pressure) pose.pressure = q.pressure;
-  return pose;
-}
-
 bool Simulation::pushPose(const devices::PoseSample& pose) noexcept {
-  if (queue_.tryPush(toQueued(pose))) return true;
+  if (queue_.push(pose)) return true;
   dropped_.fetch_add(1, std::memory_order_relaxed);
   return false;
 }
@@ -84,9 +62,7 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   const auto start = Clock::now();
   const double t_s = frameTime(info.frame);
   int count = 0;
-  QueuedPose queued;
-  while (count < kMaxPosesPerFrame && queue_.tryPop(queued))
-    frame_poses_[static_cast<std::size_t>(count++)] = fromQueued(queued);
+  while (count < kMaxPosesPerFrame && queue_.pop(frame_poses_[static_cast<std::size_t>(count)])) ++count;
   taken_.fetch_add(count, std::memory_order_relaxed);
 
   const HapticState haptic =

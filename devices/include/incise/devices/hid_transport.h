@@ -42,6 +42,9 @@ class HidTransport {
   virtual ~HidTransport() = default;
   virtual std::vector<HidDeviceInfo> enumerate() = 0;
   virtual std::unique_ptr<HidConnection> open(const HidDeviceInfo& device, std::string& error) = 0;
+  // The device's report descriptor without opening it for reading (for listings); empty and `error` set
+  // when it cannot be read.
+  virtual std::vector<std::uint8_t> descriptorOf(const HidDeviceInfo& device, std::string& error) = 0;
   virtual std::string name() const = 0;  // "hidapi (hidraw)", "replay of 'pen.hid'"
 };
 

@@ -23,6 +23,7 @@ class HidapiTransport final : public HidTransport {
 
   std::vector<HidDeviceInfo> enumerate() override;
   std::unique_ptr<HidConnection> open(const HidDeviceInfo& device, std::string& error) override;
+  std::vector<std::uint8_t> descriptorOf(const HidDeviceInfo& device, std::string& error) override;
   std::string name() const override;
 };
 

@@ -46,6 +46,7 @@ class ReplayTransport final : public HidTransport {
 
   std::vector<HidDeviceInfo> enumerate() override;
   std::unique_ptr<HidConnection> open(const HidDeviceInfo& device, std::string& error) override;
+  std::vector<std::uint8_t> descriptorOf(const HidDeviceInfo&, std::string&) override { return descriptor_; }
   std::string name() const override { return "replay transport"; }
 
   std::size_t delivered() const { return delivered_.load(std::memory_order_acquire); }

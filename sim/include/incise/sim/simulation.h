@@ -27,20 +27,12 @@
 #include "incise/devices/pose_source.h"
 #include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/latency_stats.h"
-#include "incise/sim/spsc_queue.h"
+#include "incise/sim/pose_queue.h"
 #include "incise/sim/triple_buffer.h"
 #include "incise/sim/world.h"
 
 namespace incise::sim {
 
-namespace detail {
-// A pose as plain values: the queue's copies must not throw, and Eigen's assignments are not noexcept.
-struct QueuedPose {
-  double time_s = 0.0, tip[3] = {}, q[4] = {1.0, 0.0, 0.0, 0.0}, pressure = 0.0;
-  std::uint32_t buttons = 0;
-  bool has_pressure = false;
-};
-}  // namespace detail
 
 // Receives the haptic force every frame, on the sim thread: must not block (a device driver queues it).
 class ForceSink {
@@ -99,10 +91,7 @@ class Simulation final : public devices::PoseSink {
   double dt_s_;
   double period_us_;
   double t0_s_;
-  using QueuedPose = detail::QueuedPose;
-  static QueuedPose toQueued(const devices::PoseSample& pose) noexcept;
-  static devices::PoseSample fromQueued(const QueuedPose& pose) noexcept;
-  SpscQueue<QueuedPose, kQueueCapacity> queue_;
+  PoseQueue<kQueueCapacity> queue_;
   std::array<devices::PoseSample, kMaxPosesPerFrame> frame_poses_{};
   TripleBuffer<Snapshot> snapshots_;
   LatencyStats own_stats_{1};

@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Regenerates the HID recordings shipped in scenarios/hid/ from their scenarios' "synthesis" blocks (the
+# strokes of scenarios/generate/, through the real descriptors in scenarios/hid/descriptors/; see
+# devices/include/incise/devices/hid_synth.h). Deterministic: running this again gives the same bytes (a test
+# checks all three).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build --target incise
+for name in bunny-pen-wacom bunny-pen-xppen bunny-spacenavigator; do
+  ./build/apps/incise hid synth "scenarios/$name.json"
+done
