@@ -35,8 +35,9 @@ int runList(const ListArgs& a) {
   }
   const auto devices = transport->enumerate();
   if (devices.empty())
-    std::printf("no HID devices found through %s (none plugged in, or /dev/hidraw* not readable: see README, \"HID devices\")\n",
-                transport->name().c_str());
+    std::printf(
+        "no HID devices found through %s (none plugged in, or /dev/hidraw* not readable: see README, \"HID devices\")\n",
+        transport->name().c_str());
   for (const devices::HidDeviceInfo& d : devices) {
     std::string error, profile;
     const auto bytes = transport->descriptorOf(d, error);
@@ -47,8 +48,8 @@ int runList(const ListArgs& a) {
       profile = std::string("no profile: ") + e.what();
     }
     std::printf("%s  %s  serial '%s'  '%s %s'  usage %s\n  profile %s\n", d.path.c_str(),
-                devices::formatVidPid(d.vid, d.pid).c_str(), d.serial.c_str(), d.manufacturer.c_str(), d.product.c_str(),
-                usageText(devices::hidUsage(d.usage_page, d.usage)).c_str(), profile.c_str());
+                devices::formatVidPid(d.vid, d.pid).c_str(), d.serial.c_str(), d.manufacturer.c_str(),
+                d.product.c_str(), usageText(devices::hidUsage(d.usage_page, d.usage)).c_str(), profile.c_str());
   }
   return 0;
 }
@@ -100,14 +101,18 @@ int runSynth(const SynthArgs& a) {
     device.vid = how.vid;
     device.pid = how.pid;
     device.descriptor = devices::loadHexBytes(how.descriptor);
-    const devices::HidRecording recording = devices::synthesizeHidRecording(device, s.hid.mapping, poses, {how.rate_hz});
+    const devices::HidRecording recording =
+        devices::synthesizeHidRecording(device, s.hid.mapping, poses, {how.rate_hz});
     const std::filesystem::path out = a.out.empty() ? s.hid.path : std::filesystem::path(a.out);
     std::vector<std::string> comments = {
         "generator: incise hid synth " + std::filesystem::path(a.scenario).filename().string(),
-        "strokes: " + std::filesystem::path(how.from).filename().string() + ", descriptor: " + how.descriptor.filename().string()};
-    for (const std::string& line : commentLines(how.descriptor)) comments.push_back("descriptor " + line);  // origin, licence
+        "strokes: " + std::filesystem::path(how.from).filename().string() +
+            ", descriptor: " + how.descriptor.filename().string()};
+    for (const std::string& line : commentLines(how.descriptor))
+      comments.push_back("descriptor " + line);  // origin, licence
     writeRecordingAtomically(recording, out, comments);
-    std::printf("incise hid synth: %zu reports (%zu poses) to %s\n", recording.reports.size(), poses.size(), out.c_str());
+    std::printf("incise hid synth: %zu reports (%zu poses) to %s\n", recording.reports.size(), poses.size(),
+                out.c_str());
   } catch (const std::exception& e) {
     failWith("hid synth", e.what());
   }
@@ -125,7 +130,8 @@ void onRun(CLI::App* cmd, std::shared_ptr<Args> args, Run run) {
 }  // namespace
 
 void addHidCommand(CLI::App& app) {
-  CLI::App* hid = app.add_subcommand("hid", "HID devices: list them, decode and record their reports, synthesise recordings");
+  CLI::App* hid =
+      app.add_subcommand("hid", "HID devices: list them, decode and record their reports, synthesise recordings");
   hid->require_subcommand(1);
 
   auto list = std::make_shared<ListArgs>();
@@ -138,19 +144,22 @@ void addHidCommand(CLI::App& app) {
   decode_cmd->add_option("file", decode->file, "hid-recorder file, or a report descriptor as hex bytes")->required();
   decode_cmd->add_flag("--json", decode->json, "one JSON object per report per line");
   decode_cmd->add_option("--scenario", decode->scenario, "a hid-recording scenario whose mapping makes the poses");
-  decode_cmd->add_option("--device", decode->device, "device index (D:) in the recording")->check(CLI::NonNegativeNumber);
+  decode_cmd->add_option("--device", decode->device, "device index (D:) in the recording")
+      ->check(CLI::NonNegativeNumber);
   onRun(decode_cmd, decode, runHidDecode);
 
   auto record = std::make_shared<HidRecordArgs>();
   CLI::App* record_cmd = hid->add_subcommand("record", "Record a live device's raw reports to a hid-recorder file");
   record_cmd->add_option("--device", record->device, "VID:PID[:serial] in hex, or /dev/hidrawN")->required();
   record_cmd->add_option("--out", record->out, "hid-recorder file to write")->required();
-  record_cmd->add_option("--duration", record->duration_s, "seconds (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  record_cmd->add_option("--duration", record->duration_s, "seconds (default: until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
   record_cmd->add_option("--transport", record->transport, "hidapi, or replay:FILE.hid (a recording as a device)");
   onRun(record_cmd, record, runHidRecord);
 
   auto synth = std::make_shared<SynthArgs>();
-  CLI::App* synth_cmd = hid->add_subcommand("synth", "Make a hid-recording scenario's recording from its synthesis block");
+  CLI::App* synth_cmd =
+      hid->add_subcommand("synth", "Make a hid-recording scenario's recording from its synthesis block");
   synth_cmd->add_option("scenario", synth->scenario, "hid-recording scenario with a \"synthesis\" block")->required();
   synth_cmd->add_option("--out", synth->out, "recording to write (default: the scenario's pose_source.path)");
   onRun(synth_cmd, synth, runSynth);

@@ -38,7 +38,8 @@ bool looksLikeRecording(const std::string& path) {
 }
 
 std::string flagsText(const devices::HidField& f) {
-  return std::string(f.isConstant() ? "Cnst" : "Data") + (f.isVariable() ? ",Var" : ",Arr") + (f.isRelative() ? ",Rel" : ",Abs");
+  return std::string(f.isConstant() ? "Cnst" : "Data") + (f.isVariable() ? ",Var" : ",Arr") +
+         (f.isRelative() ? ",Rel" : ",Abs");
 }
 
 void printLayout(const devices::HidDescriptor& d) {
@@ -55,9 +56,12 @@ void printLayout(const devices::HidDescriptor& d) {
 }
 
 json fieldJson(const devices::HidValue& v, const devices::HidField& f) {
-  return {{"usage_page", devices::hidUsagePage(v.usage)}, {"usage", devices::hidUsageId(v.usage)},
-          {"name", devices::hidUsageName(v.usage)}, {"logical", v.logical},
-          {"physical", v.physical}, {"unit", devices::hidUnitName(f.unit)}};
+  return {{"usage_page", devices::hidUsagePage(v.usage)},
+          {"usage", devices::hidUsageId(v.usage)},
+          {"name", devices::hidUsageName(v.usage)},
+          {"logical", v.logical},
+          {"physical", v.physical},
+          {"unit", devices::hidUnitName(f.unit)}};
 }
 
 json poseJson(const devices::PoseSample& p) {
@@ -83,24 +87,30 @@ struct Decoder {
     const bool moved = profile && profile->update(r.bytes, r.time_s(), pose);
     if (as_json) {
       json fields = json::array();
-      for (std::size_t i = 0; i < decoded.values; ++i) fields.push_back(fieldJson(values[i], decoded.layout->fields[values[i].field]));
-      const json line = {{"time_s", r.time_s()}, {"line", r.line}, {"report_id", decoded.layout->id},
-                         {"fields", fields}, {"pose", moved ? poseJson(pose) : json(nullptr)}};
+      for (std::size_t i = 0; i < decoded.values; ++i)
+        fields.push_back(fieldJson(values[i], decoded.layout->fields[values[i].field]));
+      const json line = {{"time_s", r.time_s()},
+                         {"line", r.line},
+                         {"report_id", decoded.layout->id},
+                         {"fields", fields},
+                         {"pose", moved ? poseJson(pose) : json(nullptr)}};
       std::printf("%s\n", line.dump().c_str());
       return;
     }
     std::printf("E: %.6f report %u:", r.time_s(), decoded.layout->id);
     for (std::size_t i = 0; i < decoded.values; ++i) {
       const devices::HidField& f = decoded.layout->fields[values[i].field];
-      std::printf(" %s %lld", devices::hidUsageName(values[i].usage).c_str(), static_cast<long long>(values[i].logical));
+      std::printf(" %s %lld", devices::hidUsageName(values[i].usage).c_str(),
+                  static_cast<long long>(values[i].logical));
       if (f.unit != 0) std::printf(" (%g %s)", values[i].physical, devices::hidUnitName(f.unit).c_str());
       std::printf(i + 1 < decoded.values ? "," : "");
     }
     std::printf("\n");
     if (moved)
-      std::printf("   pose: tip %.6f %.6f %.6f m, q %.5f %.5f %.5f %.5f, buttons %u%s\n", pose.tip_m.x(), pose.tip_m.y(),
-                  pose.tip_m.z(), pose.orientation.w(), pose.orientation.x(), pose.orientation.y(), pose.orientation.z(),
-                  pose.buttons, pose.pressure ? (", pressure " + std::to_string(*pose.pressure)).c_str() : "");
+      std::printf("   pose: tip %.6f %.6f %.6f m, q %.5f %.5f %.5f %.5f, buttons %u%s\n", pose.tip_m.x(),
+                  pose.tip_m.y(), pose.tip_m.z(), pose.orientation.w(), pose.orientation.x(), pose.orientation.y(),
+                  pose.orientation.z(), pose.buttons,
+                  pose.pressure ? (", pressure " + std::to_string(*pose.pressure)).c_str() : "");
   }
 
   void badReport(const devices::HidRecordedReport& r, devices::HidDecodeStatus status) {
@@ -134,7 +144,8 @@ int decodeRecording(const HidDecodeArgs& a) {
   Decoder decoder{descriptor};
   decoder.as_json = a.json;
   const devices::HidProfileChoice choice = devices::chooseHidProfile(descriptor, {device.vid, device.pid});
-  if (choice.kind != devices::HidProfileKind::None) decoder.profile = devices::makeHidProfile(descriptor, {device.vid, device.pid}, mapping);
+  if (choice.kind != devices::HidProfileKind::None)
+    decoder.profile = devices::makeHidProfile(descriptor, {device.vid, device.pid}, mapping);
   if (!a.json)
     std::printf("# device %d: '%s' %s, descriptor %zu bytes, %s\n", a.device, device.name.c_str(),
                 devices::formatVidPid(device.vid, device.pid).c_str(), device.descriptor.size(), choice.reason.c_str());
@@ -165,6 +176,8 @@ int decodeDescriptor(const HidDecodeArgs& a) {
 
 }  // namespace
 
-int runHidDecode(const HidDecodeArgs& a) { return looksLikeRecording(a.file) ? decodeRecording(a) : decodeDescriptor(a); }
+int runHidDecode(const HidDecodeArgs& a) {
+  return looksLikeRecording(a.file) ? decodeRecording(a) : decodeDescriptor(a);
+}
 
 }  // namespace incise::apps

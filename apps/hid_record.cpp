@@ -57,7 +57,8 @@ int runHidRecord(const HidRecordArgs& a) {
   }
   Opened device = openDevice(*transport, selector);
   devices::HidRecordedDevice recorded;
-  recorded.name = device.info.manufacturer.empty() ? device.info.product : device.info.manufacturer + " " + device.info.product;
+  recorded.name =
+      device.info.manufacturer.empty() ? device.info.product : device.info.manufacturer + " " + device.info.product;
   recorded.phys = device.info.path;
   recorded.bus = device.info.bus;
   recorded.vid = device.info.vid;
@@ -113,7 +114,8 @@ int runPoseRecord(const HidRecordArgs& a) {
                                 [](const std::string& m) { std::fprintf(stderr, "incise record: %s\n", m.c_str()); });
   std::optional<devices::TraceWriter> writer;
   devices::TraceWriterOptions options;
-  options.comments = {"generator: incise record --device " + a.device, "scenario: " + (a.scenario.empty() ? "(default mapping)" : a.scenario)};
+  options.comments = {"generator: incise record --device " + a.device,
+                      "scenario: " + (a.scenario.empty() ? "(default mapping)" : a.scenario)};
   const auto start = Clock::now();
   try {
     source.start();

@@ -25,7 +25,8 @@ std::unique_ptr<devices::HidTransport> makeHidTransport(const std::string& spec)
   if (spec == "hidapi") return std::make_unique<devices::HidapiTransport>();
   if (spec.rfind("replay:", 0) == 0) {
     const std::string path = spec.substr(7);
-    return std::make_unique<devices::ReplayTransport>(devices::readHidRecording(path), 0, devices::ReplayTransportOptions{});
+    return std::make_unique<devices::ReplayTransport>(devices::readHidRecording(path), 0,
+                                                      devices::ReplayTransportOptions{});
   }
   throw std::invalid_argument("--transport '" + spec + "': must be hidapi or replay:FILE.hid");
 }

@@ -24,9 +24,12 @@ struct RecordArgs {
 
 std::string sourceName(sim::Scenario::Source source) {
   switch (source) {
-    case sim::Scenario::Source::Strokes: return "generated strokes";
-    case sim::Scenario::Source::HidRecording: return "hid-recording";
-    case sim::Scenario::Source::Trace: break;
+    case sim::Scenario::Source::Strokes:
+      return "generated strokes";
+    case sim::Scenario::Source::HidRecording:
+      return "hid-recording";
+    case sim::Scenario::Source::Trace:
+      break;
   }
   return "trace";
 }
@@ -42,10 +45,8 @@ int runRecord(const RecordArgs& a) {
   }
   try {
     devices::TraceWriterOptions options;
-    options.comments = {
-        "generator: incise record " + std::filesystem::path(a.scenario).filename().string(),
-        "scenario: " + scenario.name,
-        "source: " + sourceName(scenario.source)};
+    options.comments = {"generator: incise record " + std::filesystem::path(a.scenario).filename().string(),
+                        "scenario: " + scenario.name, "source: " + sourceName(scenario.source)};
     devices::TraceWriter writer(a.out, options);
     for (const auto& pose : poses) writer.write(pose);
     writer.close();
@@ -61,11 +62,14 @@ int runRecord(const RecordArgs& a) {
 void addRecordCommand(CLI::App& app) {
   auto args = std::make_shared<RecordArgs>();
   CLI::App* cmd = app.add_subcommand("record", "Record a scenario's pose source to a CSV trace");
-  cmd->add_option("scenario", args->scenario, "scenario file (JSON); with --device, the hid-recording scenario whose mapping to use");
+  cmd->add_option("scenario", args->scenario,
+                  "scenario file (JSON); with --device, the hid-recording scenario whose mapping to use");
   cmd->add_option("--out", args->out, "trace file to write")->required();
   cmd->add_option("--device", args->live.device, "record a live HID device (VID:PID[:serial] or /dev/hidrawN) instead");
-  cmd->add_option("--duration", args->live.duration_s, "with --device: seconds (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--transport", args->live.transport, "with --device: hidapi, or replay:FILE.hid (a recording as a device)");
+  cmd->add_option("--duration", args->live.duration_s, "with --device: seconds (default: until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--transport", args->live.transport,
+                  "with --device: hidapi, or replay:FILE.hid (a recording as a device)");
   cmd->callback([args] {
     int code = 0;
     if (!args->live.device.empty()) {

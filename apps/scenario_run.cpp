@@ -22,8 +22,8 @@ std::vector<devices::PoseSample> hidRecordingPoses(const sim::HidRecordingSource
     std::fprintf(stderr, "incise: warning: %s:%zu: %zu bad report(s) skipped (undeclared ID or too short)\n",
                  hid.path.string().c_str(), result.first_bad_line, result.bad_reports);
   if (result.poses.empty())
-    throw std::invalid_argument(hid.path.string() + ": device " + std::to_string(hid.device) + ": no report moved the tool (" +
-                                std::to_string(result.reports) + " reports)");
+    throw std::invalid_argument(hid.path.string() + ": device " + std::to_string(hid.device) +
+                                ": no report moved the tool (" + std::to_string(result.reports) + " reports)");
   return std::move(result.poses);
 }
 
@@ -31,9 +31,12 @@ std::vector<devices::PoseSample> hidRecordingPoses(const sim::HidRecordingSource
 
 std::vector<devices::PoseSample> scenarioPoses(const sim::Scenario& scenario, const cutting::SurfaceMesh& tissue) {
   switch (scenario.source) {
-    case sim::Scenario::Source::Trace: return devices::TraceReader::readAll(scenario.trace);
-    case sim::Scenario::Source::HidRecording: return hidRecordingPoses(scenario.hid);
-    case sim::Scenario::Source::Strokes: break;
+    case sim::Scenario::Source::Trace:
+      return devices::TraceReader::readAll(scenario.trace);
+    case sim::Scenario::Source::HidRecording:
+      return hidRecordingPoses(scenario.hid);
+    case sim::Scenario::Source::Strokes:
+      break;
   }
   return sim::posesForStrokes(tissue, scenario.strokes, scenario.world, scenario.rate_hz);
 }

@@ -11,9 +11,7 @@
 #include "incise/devices/hid_usages.h"
 
 namespace incise::devices {
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 namespace detail {
 PoseSample interpolatePose(std::span<const PoseSample> poses, double t_s, std::size_t& hint) {
@@ -56,7 +54,9 @@ class PenSynth {
  public:
   PenSynth(const HidDescriptor& d, const PenMapping& m) : d_(d), m_(m), report_(detail::findPenReport(d)) {
     using namespace hid_usages;
-    const auto bind = [&](std::uint16_t page, std::uint16_t id) { return detail::findInput(d, hidUsage(page, id), report_); };
+    const auto bind = [&](std::uint16_t page, std::uint16_t id) {
+      return detail::findInput(d, hidUsage(page, id), report_);
+    };
     x_ = bind(hid_pages::kGenericDesktop, kX);
     y_ = bind(hid_pages::kGenericDesktop, kY);
     tip_ = bind(hid_pages::kDigitizers, kTipSwitch);
@@ -119,11 +119,14 @@ HidRecording synthesizeHidRecording(const HidRecordedDevice& device, const HidMa
   out.devices = {device};
   out.devices[0].index = 0;
   switch (chooseHidProfile(d, {device.vid, device.pid}).kind) {
-    case HidProfileKind::Pen: synthesizePen(out, d, mapping, poses, options.rate_hz); break;
+    case HidProfileKind::Pen:
+      synthesizePen(out, d, mapping, poses, options.rate_hz);
+      break;
     case HidProfileKind::SixDof:
       detail::synthesizeSixDof(out, d, {device.vid, device.pid}, mapping, poses, options.rate_hz);
       break;
-    case HidProfileKind::None: throw HidProfileError(chooseHidProfile(d).reason);
+    case HidProfileKind::None:
+      throw HidProfileError(chooseHidProfile(d).reason);
   }
   return out;
 }

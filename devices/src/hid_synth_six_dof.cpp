@@ -19,17 +19,23 @@ std::int64_t deflectionToLogical(const Binding& b, double wanted, double dead_zo
   const double w = std::clamp(wanted, -1.0, 1.0);
   if (w == 0.0) return 0;
   const double raw = std::copysign(dead_zone + std::abs(w) * (1.0 - dead_zone), w);
-  const std::int64_t logical = std::clamp<std::int64_t>(std::llround(raw * full), b.field->logical_min, b.field->logical_max);
+  const std::int64_t logical =
+      std::clamp<std::int64_t>(std::llround(raw * full), b.field->logical_min, b.field->logical_max);
   // Rest rather than the smallest deflection past the dead zone when rest is nearer (no dithering at rest).
   const double d = static_cast<double>(logical) / full;
-  const double shaped = std::abs(d) <= dead_zone ? 0.0 : std::copysign((std::abs(d) - dead_zone) / (1.0 - dead_zone), d);
+  const double shaped =
+      std::abs(d) <= dead_zone ? 0.0 : std::copysign((std::abs(d) - dead_zone) / (1.0 - dead_zone), d);
   return std::abs(shaped - w) < std::abs(w) ? logical : 0;
 }
 
 class SixDofSynth {
  public:
   SixDofSynth(const HidDescriptor& d, HidDeviceId id, const HidMapping& mapping, HidRecording& out)
-      : d_(d), m_(mapping.six_dof), plant_(makeHidProfile(d, id, mapping)), out_(out), to_device_(m_.device_to_tissue.inverse()) {
+      : d_(d),
+        m_(mapping.six_dof),
+        plant_(makeHidProfile(d, id, mapping)),
+        out_(out),
+        to_device_(m_.device_to_tissue.inverse()) {
     for (int a = 0; a < 6; ++a)
       axes_[a] = findInput(d, hidUsage(hid_pages::kGenericDesktop, static_cast<std::uint16_t>(hid_usages::kX + a)));
     button_ = findInput(d, hidUsage(hid_pages::kButton, 1));
@@ -38,8 +44,9 @@ class SixDofSynth {
                           (m_.axes == SixDofMapping::Axes::Auto && axes_[0].field->isRelative() &&
                            !(quirk != nullptr && quirk->axes_absolute));
     if (relative)
-      throw std::invalid_argument("synthesizeHidRecording: the generator writes absolute deflections, but this device's "
-                                  "axes would be read as relative (set six_dof.axes to \"absolute\")");
+      throw std::invalid_argument(
+          "synthesizeHidRecording: the generator writes absolute deflections, but this device's "
+          "axes would be read as relative (set six_dof.axes to \"absolute\")");
   }
 
   // Sends axes [first, first + 3) at time_us: probes with the held values to learn the pose there, then
@@ -63,7 +70,8 @@ class SixDofSynth {
     auto raw = HidReportEncoder(d_).blank(*button_.layout);
     const auto payload = std::span(raw).subspan(d_.uses_report_ids ? 1 : 0);
     for (int b = 0; b < 32; ++b) {
-      const Binding bit = findInput(d_, hidUsage(hid_pages::kButton, static_cast<std::uint16_t>(b + 1)), button_.layout);
+      const Binding bit =
+          findInput(d_, hidUsage(hid_pages::kButton, static_cast<std::uint16_t>(b + 1)), button_.layout);
       if (bit) writeHidElement(payload, *bit.field, bit.element, (mask >> b) & 1u);
     }
     send(raw, time_us, true);

@@ -125,8 +125,9 @@ Eigen::Vector3d JsonReader::vector(const char* key, const Eigen::Vector3d& fallb
 std::vector<double> JsonReader::numbers(const char* key, std::size_t count, const std::vector<double>& fallback) const {
   if (!has(key)) return fallback;
   const json& v = object_.at(key);
-  const bool ok = v.is_array() && v.size() == count &&
-                  std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number() && std::isfinite(x.get<double>()); });
+  const bool ok = v.is_array() && v.size() == count && std::all_of(v.begin(), v.end(), [](const json& x) {
+                    return x.is_number() && std::isfinite(x.get<double>());
+                  });
   if (!ok) fail("must be an array of " + std::to_string(count) + " finite numbers, got " + v.dump(), key);
   std::vector<double> out;
   for (const json& x : v) out.push_back(x.get<double>());

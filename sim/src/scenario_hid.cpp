@@ -19,7 +19,7 @@ void readPen(const JsonReader& r, PenMapping& m) {
   m.curve = r.number("curve", m.curve, 0.1, 10.0);
   m.max_depth_m = r.number("max_depth_m", m.max_depth_m, 1e-5, 1.0);
   m.cut_on = r.choice("cut_on", "tip_switch", {"tip_switch", "pressure"}) == "pressure" ? PenMapping::CutOn::Pressure
-                                                                                         : PenMapping::CutOn::TipSwitch;
+                                                                                        : PenMapping::CutOn::TipSwitch;
   m.cut_threshold = r.number("cut_threshold", m.cut_threshold, 0.0, 1.0);
   m.yaw_deg = r.number("yaw_deg", m.yaw_deg, -360.0, 360.0);
   m.use_tilt = r.boolean("use_tilt", m.use_tilt);
@@ -30,19 +30,23 @@ void readSixDof(const JsonReader& r, SixDofMapping& m) {
   m.start_m = r.vector("start_m", m.start_m);
   const auto q = r.numbers("start_orientation", 4, {1.0, 0.0, 0.0, 0.0});
   m.start_orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-  if (std::abs(m.start_orientation.norm() - 1.0) > 1e-6) r.fail("must be a unit quaternion [w, x, y, z]", "start_orientation");
+  if (std::abs(m.start_orientation.norm() - 1.0) > 1e-6)
+    r.fail("must be a unit quaternion [w, x, y, z]", "start_orientation");
   const auto a = r.numbers("device_to_tissue", 9, {1, 0, 0, 0, 1, 0, 0, 0, 1});
   m.device_to_tissue = Eigen::Matrix3d{{a[0], a[1], a[2]}, {a[3], a[4], a[5]}, {a[6], a[7], a[8]}};
-  if (std::abs(m.device_to_tissue.determinant()) < 1e-9) r.fail("must be invertible (row-major 3x3)", "device_to_tissue");
+  if (std::abs(m.device_to_tissue.determinant()) < 1e-9)
+    r.fail("must be invertible (row-major 3x3)", "device_to_tissue");
   m.max_speed_m_per_s = r.number("max_speed_m_per_s", m.max_speed_m_per_s, 1e-6, 100.0);
   m.max_rate_rad_per_s = r.number("max_rate_rad_per_s", m.max_rate_rad_per_s, 1e-6, 1000.0);
   m.dead_zone = r.number("dead_zone", m.dead_zone, 0.0, 0.99);
   m.workspace_min_m = r.vector("workspace_min_m", m.workspace_min_m);
   m.workspace_max_m = r.vector("workspace_max_m", m.workspace_max_m);
-  if ((m.workspace_max_m - m.workspace_min_m).minCoeff() <= 0.0) r.fail("must be above workspace_min_m in x, y and z", "workspace_max_m");
+  if ((m.workspace_max_m - m.workspace_min_m).minCoeff() <= 0.0)
+    r.fail("must be above workspace_min_m in x, y and z", "workspace_max_m");
   const std::string axes = r.choice("axes", "auto", {"auto", "absolute", "relative"});
-  m.axes = axes == "absolute" ? SixDofMapping::Axes::Absolute
-                              : axes == "relative" ? SixDofMapping::Axes::Relative : SixDofMapping::Axes::Auto;
+  m.axes = axes == "absolute"   ? SixDofMapping::Axes::Absolute
+           : axes == "relative" ? SixDofMapping::Axes::Relative
+                                : SixDofMapping::Axes::Auto;
   m.m_per_count = r.number("m_per_count", m.m_per_count, 0.0, 1.0);
   m.rad_per_count = r.number("rad_per_count", m.rad_per_count, 0.0, 1.0);
   m.up = r.vector("up", m.up);

@@ -27,7 +27,8 @@ std::vector<PoseSample> stroke() {
     p.time_s = t;
     const bool cutting = t >= 0.1 && t <= 0.9;
     p.tip_m = {0.15 + 0.05 * t, 0.15, cutting ? 0.05 - 0.004 - 0.004 * std::sin(3 * t) : 0.06};
-    p.orientation = Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.35 * t, Eigen::Vector3d::UnitY());
+    p.orientation =
+        Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.35 * t, Eigen::Vector3d::UnitY());
     p.buttons = cutting ? 1u : 0u;
     poses.push_back(p);
   }
@@ -70,7 +71,8 @@ TEST_CASE("hid_synth: pen strokes come back through the replay to the tablets' r
   };
   // Wacom: 5 um, 8191 pressure levels, 1-degree tilt, twist. XP-Pen: 6 um, tilt in degrees, no twist: the
   // blade's roll is not carried, so only its axis is compared.
-  for (const Case c : {Case{kWacomDescriptor, 0x056a, 0x0357, 2e-5, 0.03}, Case{kXpPenDescriptor, 0x28bd, 0x095b, 2e-5, 0.03}}) {
+  for (const Case c :
+       {Case{kWacomDescriptor, 0x056a, 0x0357, 2e-5, 0.03}, Case{kXpPenDescriptor, 0x28bd, 0x095b, 2e-5, 0.03}}) {
     INFO(c.descriptor);
     const HidRecording recording = synthesizeHidRecording(device(c.descriptor, c.vid, c.pid), tabletOverArea(), poses);
     CHECK(recording.reports.size() == 201 + 1);  // 200 Hz over 1 s, plus the pen leaving
@@ -84,7 +86,8 @@ TEST_CASE("hid_synth: pen strokes come back through the replay to the tablets' r
       ++cutting;
       CHECK(p.buttons == 1u);
       CHECK((p.tip_m - want.tip_m).norm() < c.tip_tolerance_m);
-      const Eigen::Vector3d axis = p.orientation * Eigen::Vector3d::UnitZ(), want_axis = want.orientation * Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d axis = p.orientation * Eigen::Vector3d::UnitZ(),
+                            want_axis = want.orientation * Eigen::Vector3d::UnitZ();
       CHECK(std::acos(std::min(1.0, axis.dot(want_axis))) < c.angle_tolerance_rad);
     }
     CHECK(cutting == 161);
@@ -100,7 +103,8 @@ TEST_CASE("hid_synth: the SpaceNavigator's closed-loop velocity control follows 
   m.six_dof.start_orientation = poses.front().orientation;
   m.six_dof.max_speed_m_per_s = 0.2;
   m.six_dof.max_rate_rad_per_s = 2.0;
-  const HidRecording recording = synthesizeHidRecording(device(kSpaceNavigatorDescriptor, 0x046d, 0xc626), m, poses, {125.0});
+  const HidRecording recording =
+      synthesizeHidRecording(device(kSpaceNavigatorDescriptor, 0x046d, 0xc626), m, poses, {125.0});
   const HidRecordingPoses replayed = posesFromHidRecording(recording, 0, m);
   CHECK(replayed.profile == HidProfileKind::SixDof);
   REQUIRE(replayed.poses.size() > 200);
@@ -114,17 +118,18 @@ TEST_CASE("hid_synth: the SpaceNavigator's closed-loop velocity control follows 
   CHECK(worst_m < 1e-4);
   CHECK(worst_rad < 0.02);
   // The button follows the stroke (pressed from 0.1 s to 0.9 s), one report per change.
-  const auto pressed = std::count_if(replayed.poses.begin(), replayed.poses.end(), [](const PoseSample& p) {
-    return p.buttons == 1u;
-  });
+  const auto pressed =
+      std::count_if(replayed.poses.begin(), replayed.poses.end(), [](const PoseSample& p) { return p.buttons == 1u; });
   CHECK(pressed > 150);
   CHECK(replayed.poses.back().buttons == 0u);
 }
 
-TEST_CASE("hid_synth: a recording written, read back and replayed twice gives the same poses bit for bit", "[devices][hid]") {
+TEST_CASE("hid_synth: a recording written, read back and replayed twice gives the same poses bit for bit",
+          "[devices][hid]") {
   const TempDir dir;
   const auto path = dir.path() / "pen.hid";
-  const HidRecording recording = synthesizeHidRecording(device(kWacomDescriptor, 0x056a, 0x0357), tabletOverArea(), stroke());
+  const HidRecording recording =
+      synthesizeHidRecording(device(kWacomDescriptor, 0x056a, 0x0357), tabletOverArea(), stroke());
   {
     HidRecordingWriter writer(path, recording.devices[0]);
     for (const auto& r : recording.reports) writer.write(r.time_us, r.bytes);
@@ -150,7 +155,9 @@ TEST_CASE("hid_recording_poses: bad reports counted, a device without a profile 
   const HidRecordingPoses replayed = posesFromHidRecording(recording, 0, tabletOverArea(), "pen.hid");
   CHECK(replayed.bad_reports == 2);
   CHECK(replayed.first_bad_line == 17);
-  CHECK_THROWS_WITH(posesFromHidRecording(recording, 3, {}, "pen.hid"), "pen.hid: device 3: no such device (the recording has 1)");
-  recording.devices[0].descriptor = {0x05, 0x01, 0x09, 0x30, 0x15, 0x00, 0x25, 0x01, 0x75, 0x08, 0x95, 0x01, 0x81, 0x02};
+  CHECK_THROWS_WITH(posesFromHidRecording(recording, 3, {}, "pen.hid"),
+                    "pen.hid: device 3: no such device (the recording has 1)");
+  recording.devices[0].descriptor = {0x05, 0x01, 0x09, 0x30, 0x15, 0x00, 0x25,
+                                     0x01, 0x75, 0x08, 0x95, 0x01, 0x81, 0x02};
   CHECK_THROWS_AS(posesFromHidRecording(recording, 0, {}, "pen.hid"), HidProfileError);
 }

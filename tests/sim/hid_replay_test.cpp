@@ -25,7 +25,8 @@ struct HidRun {
 HidRun replayHid(const char* name, sim::ReplayPace pace) {
   const sim::Scenario s = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
   REQUIRE(s.source == sim::Scenario::Source::HidRecording);
-  const auto replayed = devices::posesFromHidRecording(devices::readHidRecording(s.hid.path), s.hid.device, s.hid.mapping);
+  const auto replayed =
+      devices::posesFromHidRecording(devices::readHidRecording(s.hid.path), s.hid.device, s.hid.mapping);
   REQUIRE(replayed.bad_reports == 0);
   sim::World world(sim::loadTissue(s), s.world);
   sim::ReplayOptions options;
@@ -37,7 +38,8 @@ HidRun replayHid(const char* name, sim::ReplayPace pace) {
   HidRun run;
   run.hash = cutting::geometryHash(world.tissue());
   run.incisions = world.incisions();
-  for (const auto& f : world.cutter().stats().figures) run.groove_m += f.groove_length_m, run.stroke_m += f.stroke_length_m;
+  for (const auto& f : world.cutter().stats().figures)
+    run.groove_m += f.groove_length_m, run.stroke_m += f.stroke_length_m;
   return run;
 }
 
@@ -52,7 +54,8 @@ TEST_CASE("hid_replay: a Wacom pen recording replayed twice cuts the same closed
   CHECK(a.groove_m > 0.95 * a.stroke_m);
 }
 
-TEST_CASE("hid_replay: XP-Pen and SpaceNavigator recordings, the same geometry fast and in real time", "[sim][hid][slow]") {
+TEST_CASE("hid_replay: XP-Pen and SpaceNavigator recordings, the same geometry fast and in real time",
+          "[sim][hid][slow]") {
   for (const char* name : {"bunny-pen-xppen", "bunny-spacenavigator"}) {
     INFO(name);
     const HidRun fast = replayHid(name, sim::ReplayPace::Fast);

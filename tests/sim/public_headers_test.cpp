@@ -3,6 +3,7 @@
 // the check is at compile time.
 #include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/latency_stats.h"
+#include "incise/sim/pose_queue.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/scenario_error.h"
 #include "incise/sim/simulation.h"

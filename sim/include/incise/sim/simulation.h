@@ -33,7 +33,6 @@
 
 namespace incise::sim {
 
-
 // Receives the haptic force every frame, on the sim thread: must not block (a device driver queues it).
 class ForceSink {
  public:
