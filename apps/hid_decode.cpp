@@ -73,6 +73,7 @@ json poseJson(const devices::PoseSample& p) {
 }
 
 struct Decoder {
+  explicit Decoder(const devices::HidDescriptor& d) : descriptor(d) {}
   const devices::HidDescriptor& descriptor;
   devices::HidReportDecoder decoder{descriptor};
   std::unique_ptr<devices::HidProfile> profile;
@@ -141,7 +142,7 @@ int decodeRecording(const HidDecodeArgs& a) {
   } catch (const devices::HidDescriptorError& e) {
     failWith("hid decode", a.file + ": device " + std::to_string(a.device) + ": " + e.what());
   }
-  Decoder decoder{descriptor};
+  Decoder decoder(descriptor);
   decoder.as_json = a.json;
   const devices::HidProfileChoice choice = devices::chooseHidProfile(descriptor, {device.vid, device.pid});
   if (choice.kind != devices::HidProfileKind::None)

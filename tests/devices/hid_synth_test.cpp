@@ -5,10 +5,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "hid_fixture.h"
 #include "incise/devices/hid_recording_poses.h"
+#include "incise/devices/hid_report.h"
 #include "incise/devices/hid_synth.h"
 #include "support/temp_dir.h"
 
@@ -145,6 +147,32 @@ TEST_CASE("hid_synth: a recording written, read back and replayed twice gives th
   const auto b = posesFromHidRecording(readHidRecording(path), 0, tabletOverArea()).poses;
   REQUIRE(a.size() == b.size());
   for (std::size_t i = 0; i < a.size(); ++i) REQUIRE(a[i] == b[i]);
+}
+
+TEST_CASE("hid_synth: synthesised reports round-trip through extractor and encoder bit for bit", "[devices][hid]") {
+  const HidMapping pen = tabletOverArea();
+  HidMapping six_dof;
+  six_dof.six_dof.start_m = stroke().front().tip_m;
+  for (const auto& [name, id, mapping] :
+       {std::tuple{kWacomDescriptor, HidDeviceId{0x056a, 0x0357}, pen},
+        std::tuple{kXpPenDescriptor, HidDeviceId{0x28bd, 0x095b}, pen},
+        std::tuple{kSpaceNavigatorDescriptor, HidDeviceId{0x046d, 0xc626}, six_dof}}) {
+    INFO(name);
+    const HidRecording recording = synthesizeHidRecording(device(name, id.vid, id.pid), mapping, stroke());
+    const HidDescriptor d = parseHidDescriptor(recording.devices[0].descriptor);
+    const HidReportDecoder decoder(d);
+    const HidReportEncoder encoder(d);
+    std::vector<HidValue> values(decoder.maxValues());
+    for (const HidRecordedReport& r : recording.reports) {
+      const HidDecoded decoded = decoder.decode(r.bytes, values);
+      REQUIRE(decoded.status == HidDecodeStatus::Ok);
+      auto again = encoder.blank(*decoded.layout);
+      const auto payload = std::span(again).subspan(d.uses_report_ids ? 1 : 0);
+      for (std::size_t i = 0; i < decoded.values; ++i)
+        writeHidElement(payload, decoded.layout->fields[values[i].field], values[i].element, values[i].logical);
+      REQUIRE(again == r.bytes);
+    }
+  }
 }
 
 TEST_CASE("hid_recording_poses: bad reports counted, a device without a profile refused", "[devices][hid]") {

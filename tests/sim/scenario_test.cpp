@@ -84,7 +84,7 @@ TEST_CASE("scenario: bad scenarios name the file and the key or line", "[sim]") 
       Contains("incision: ") && Contains("Theorem 1"));
   REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile(
                           "kind", R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "hid"}})")),
-                      Contains("pose_source.kind: must be \"trace\" or \"strokes\""));
+                      Contains("pose_source.kind: must be \"trace\", \"strokes\" or \"hid-recording\", got \"hid\""));
   REQUIRE_THROWS_WITH(
       sim::loadScenario(scenarioFile(
           "stroke",
@@ -106,4 +106,37 @@ TEST_CASE("scenario: bad scenarios name the file and the key or line", "[sim]") 
           R"({"tissue": {"mesh": "meshes/bunny.obj", "tets": {"keep_surface": 1}}, "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
       Contains("tissue.tets.keep_surface: must be true or false"));
   REQUIRE_THROWS_WITH(sim::loadScenario("/nonexistent/scenario.json"), Contains("scenario.json: cannot open"));
+}
+
+TEST_CASE("scenario: hid-recording sources, their mappings and how they were made", "[sim][hid]") {
+  const sim::Scenario wacom = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/bunny-pen-wacom.json");
+  REQUIRE(wacom.source == sim::Scenario::Source::HidRecording);
+  CHECK(std::filesystem::exists(wacom.hid.path));
+  CHECK(wacom.hid.mapping.pen.max_depth_m == 0.02);
+  CHECK(wacom.hid.mapping.pen.x_edge_m.x() == 0.097384);
+  CHECK(wacom.hid.synthesis.given);
+  CHECK(wacom.hid.synthesis.vid == 0x056a);
+  CHECK(wacom.hid.synthesis.rate_hz == 200.0);
+  const sim::Scenario navigator = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/bunny-spacenavigator.json");
+  CHECK(navigator.hid.mapping.six_dof.max_speed_m_per_s == 0.4);
+  CHECK(navigator.hid.mapping.six_dof.start_orientation.w() == 0.769644815);
+
+  const auto hid = [](const std::string& name, const std::string& source) {
+    return scenarioFile(
+        name, R"({"tissue": {"mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "hid-recording", )" + source + "}}");
+  };
+  REQUIRE_THROWS_WITH(sim::loadScenario(hid("nofile", R"("path": "none.hid")")), Contains("pose_source.path: file"));
+  REQUIRE_THROWS_WITH(
+      sim::loadScenario(hid("parallel", R"("path": "x.hid", "pen": {"x_edge_m": [1, 0, 0], "y_edge_m": [2, 0, 0]},
+                                                           "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})")),
+      Contains("pose_source.pen.y_edge_m: must not be parallel to x_edge_m"));
+  REQUIRE_THROWS_WITH(sim::loadScenario(hid("vid", R"("path": "x.hid",
+                                                      "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "wacom", "pid": "2"})")),
+                      Contains("pose_source.synthesis.vid: must be 1-4 hex digits (\"056a\"), got \"wacom\""));
+  REQUIRE_THROWS_WITH(sim::loadScenario(hid("axes", R"("path": "x.hid", "six_dof": {"axes": "sideways"},
+                                                       "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})")),
+                      Contains("pose_source.six_dof.axes: must be"));
+  REQUIRE_THROWS_WITH(sim::loadScenario(hid("quat", R"("path": "x.hid", "six_dof": {"start_orientation": [1, 1, 0, 0]},
+                                                       "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})")),
+                      Contains("pose_source.six_dof.start_orientation: must be a unit quaternion"));
 }
