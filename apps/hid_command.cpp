@@ -17,6 +17,7 @@
 #include "incise/devices/hid_descriptor.h"
 #include "incise/devices/hid_recording.h"
 #include "incise/devices/hid_synth.h"
+#include "json_output.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -57,20 +58,14 @@ int runList(const ListArgs& a) {
 // Writes `recording` through HidRecordingWriter to path.tmp, then renames it (nothing half-written).
 void writeRecordingAtomically(const devices::HidRecording& recording, const std::filesystem::path& path,
                               const std::vector<std::string>& comments) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  try {
+  writeThroughTemporary(path, [&](const std::filesystem::path& tmp) {
     devices::HidRecordingWriterOptions options;
     options.flush_every = 4096;
     options.comments = comments;
     devices::HidRecordingWriter writer(tmp, recording.devices.at(0), options);
     for (const auto& r : recording.reports) writer.write(r.time_us, r.bytes);
     writer.close();
-    std::filesystem::rename(tmp, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw;
-  }
+  });
 }
 
 // The '#' lines of a descriptor file without the "# " (its origin and licence).

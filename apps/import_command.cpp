@@ -15,6 +15,7 @@
 #include "incise/cutting/format.h"
 #include "incise/devices/jigsaws.h"
 #include "incise/devices/trace_csv.h"
+#include "json_output.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -41,21 +42,14 @@ std::vector<std::string> armNames() {
 // The trace at `out`, through `out`.tmp: complete or absent.
 void writeTrace(const std::vector<devices::PoseSample>& poses, const std::filesystem::path& out,
                 std::vector<std::string> comments) {
-  std::filesystem::path tmp = out;
-  tmp += ".tmp";
-  try {
+  writeThroughTemporary(out, [&](const std::filesystem::path& tmp) {
     devices::TraceWriterOptions options;
     options.flush_every = 1000;
     options.comments = std::move(comments);
     devices::TraceWriter writer(tmp, options);
     for (const auto& pose : poses) writer.write(pose);
     writer.close();
-    std::filesystem::rename(tmp, out);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw;
-  }
+  });
 }
 
 int runJigsawsImport(const JigsawsImportArgs& a) {

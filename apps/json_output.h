@@ -13,6 +13,23 @@ namespace incise::apps {
 
 void writeJsonAtomically(const nlohmann::json& document, const std::filesystem::path& path);
 
+// For outputs written by a stream writer (a trace, a hid-recorder file): `write(tmp)` writes and closes
+// `path`.tmp, which is then renamed onto `path`; on any exception the .tmp is removed and the exception
+// rethrown. So the output is complete or absent.
+template <typename Write>
+void writeThroughTemporary(const std::filesystem::path& path, Write&& write) {
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  try {
+    write(tmp);
+    std::filesystem::rename(tmp, path);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw;
+  }
+}
+
 // Per incision, in order: {"stroke_length_m", "groove_length_m"} (cutting::IncisionFigures).
 nlohmann::json incisionFiguresJson(const std::vector<cutting::IncisionFigures>& figures);
 

@@ -33,13 +33,22 @@ struct Item {
   }
 };
 
+// A Logical or Physical Minimum/Maximum pair as declared. The maximum is kept raw: it is read signed only
+// when the minimum is negative (hid-core does the same), whichever item came first.
+struct RangeItems {
+  std::int64_t min = 0;
+  std::uint32_t max_raw = 0;
+  std::uint8_t max_size = 0;
+
+  void setMin(const Item& item);
+  void setMax(const Item& item) { max_raw = item.data, max_size = item.size; }
+  std::int64_t max() const;
+};
+
 // The global state (6.2.2.7): what Push saves and Pop restores.
 struct Globals {
   std::uint16_t usage_page = 0;
-  std::int64_t logical_min = 0, logical_max = 0, physical_min = 0, physical_max = 0;
-  bool logical_min_negative = false, physical_min_negative = false;
-  std::uint32_t logical_max_raw = 0, physical_max_raw = 0;
-  std::uint8_t logical_max_size = 0, physical_max_size = 0;
+  RangeItems logical, physical;
   int unit_exponent = 0;
   std::uint32_t unit = 0;
   std::uint32_t report_size = 0, report_count = 0;
@@ -59,12 +68,13 @@ struct Locals {
   int delimiter_sets = 0;  // usage sets opened inside the current delimiter
 };
 
-// A maximum is read signed when its minimum is negative, else unsigned (hid-core does the same).
-std::int64_t rangeMax(std::uint32_t raw, std::uint8_t size, bool min_negative) {
-  if (!min_negative) return raw;
+void RangeItems::setMin(const Item& item) { min = item.signedData(); }
+
+std::int64_t RangeItems::max() const {
+  if (min >= 0) return max_raw;
   Item item;
-  item.size = size;
-  item.data = raw;
+  item.size = max_size;
+  item.data = max_raw;
   return item.signedData();
 }
 
@@ -168,18 +178,16 @@ class Parser {
         g.usage_page = static_cast<std::uint16_t>(item.data);
         break;
       case 0x1:
-        g.logical_min = item.signedData();
-        g.logical_min_negative = g.logical_min < 0;
+        g.logical.setMin(item);
         break;
       case 0x2:
-        g.logical_max_raw = item.data, g.logical_max_size = item.size;
+        g.logical.setMax(item);
         break;
       case 0x3:
-        g.physical_min = item.signedData();
-        g.physical_min_negative = g.physical_min < 0;
+        g.physical.setMin(item);
         break;
       case 0x4:
-        g.physical_max_raw = item.data, g.physical_max_size = item.size;
+        g.physical.setMax(item);
         break;
       case 0x5:
         g.unit_exponent =
@@ -322,10 +330,10 @@ class Parser {
     f.bit_size = g.report_size;
     f.count = g.report_count;
     f.flags = item.data;
-    f.logical_min = g.logical_min;
-    f.logical_max = rangeMax(g.logical_max_raw, g.logical_max_size, g.logical_min_negative);
-    f.physical_min = g.physical_min;
-    f.physical_max = rangeMax(g.physical_max_raw, g.physical_max_size, g.physical_min_negative);
+    f.logical_min = g.logical.min;
+    f.logical_max = g.logical.max();
+    f.physical_min = g.physical.min;
+    f.physical_max = g.physical.max();
     if (f.physical_min == 0 && f.physical_max == 0) f.physical_min = f.logical_min, f.physical_max = f.logical_max;
     f.unit = g.unit;
     f.unit_exponent = g.unit_exponent;

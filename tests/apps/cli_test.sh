@@ -5,19 +5,7 @@
 set -u
 incise=$1
 scenarios=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
-check() {  # check NAME CONDITION...
-  local name=$1; shift
-  if "$@"; then echo "ok   $name"; else echo "FAIL $name"; failures=$((failures + 1)); fi
-}
-expect_exit() {  # expect_exit CODE PATTERN -- COMMAND...: exit code and a message on stderr matching PATTERN
-  local code=$1 pattern=$2; shift 3
-  "$@" > "$work/stdout" 2> "$work/stderr"
-  local got=$?
-  [ "$got" -eq "$code" ] && grep -q -- "$pattern" "$work/stderr" || { echo "  exit $got, stderr: $(cat "$work/stderr")"; return 1; }
-}
+source "$(dirname "$0")/harness.sh"
 
 # The main job on the default scenario.
 check "replay runs the default scenario" "$incise" replay --out "$work/ok"
@@ -130,5 +118,4 @@ check "the recorded trace has the documented header" bash -c "head -1 '$work/rec
 check "the shipped trace is what the generator makes" cmp -s "$work/rec.csv" "$scenarios/traces/bunny-straight.csv"
 
 check "an unknown option is refused" expect_exit 2 "not expected" -- "$incise" replay --bogus
-echo "cli: $failures check(s) failed"
-[ "$failures" -eq 0 ]
+finish cli

@@ -6,19 +6,7 @@
 set -u
 incise=$1
 scenarios=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
-check() {  # check NAME CONDITION...
-  local name=$1; shift
-  if "$@"; then echo "ok   $name"; else echo "FAIL $name"; failures=$((failures + 1)); fi
-}
-expect_exit() {  # expect_exit CODE PATTERN -- COMMAND...: exit code and a message on stderr matching PATTERN
-  local code=$1 pattern=$2; shift 3
-  "$@" > "$work/stdout" 2> "$work/stderr"
-  local got=$?
-  [ "$got" -eq "$code" ] && grep -q -- "$pattern" "$work/stderr" || { echo "  exit $got, stderr: $(cat "$work/stderr")"; return 1; }
-}
+source "$(dirname "$0")/harness.sh"
 wacom=$scenarios/hid/bunny-pen-wacom.hid
 
 # hid list: on a machine without devices it says so and where to look; through the replay transport it
@@ -97,5 +85,4 @@ check "a descriptor with an unclosed collection: the byte" expect_exit 2 "collec
 printf 'D: 0\nR: 4 05 01 09\n' > "$work/shortdesc.hid"
 check "an R: line shorter than its length: file:line" expect_exit 2 "shortdesc.hid:2:" -- "$incise" hid decode "$work/shortdesc.hid"
 
-echo "hid_cli_test: $failures failure(s)"
-[ "$failures" -eq 0 ]
+finish hid_cli
