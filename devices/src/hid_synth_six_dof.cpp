@@ -38,7 +38,8 @@ class SixDofSynth {
         to_device_(m_.device_to_tissue.inverse()) {
     for (int a = 0; a < 6; ++a)
       axes_[a] = findInput(d, hidUsage(hid_pages::kGenericDesktop, static_cast<std::uint16_t>(hid_usages::kX + a)));
-    button_ = findInput(d, hidUsage(hid_pages::kButton, 1));
+    for (int b = 0; b < 32; ++b)
+      buttons_[b] = findInput(d, hidUsage(hid_pages::kButton, static_cast<std::uint16_t>(b + 1)));
     const HidQuirk* quirk = findHidQuirk(id);
     const bool relative = m_.axes == SixDofMapping::Axes::Relative ||
                           (m_.axes == SixDofMapping::Axes::Auto && axes_[0].field->isRelative() &&
@@ -65,26 +66,22 @@ class SixDofSynth {
   }
 
   void buttons(std::uint32_t mask, std::int64_t time_us) {
-    if (!button_ || mask == buttons_sent_) return;
+    if (!buttons_[0] || mask == buttons_sent_) return;
     buttons_sent_ = mask;
-    auto raw = HidReportEncoder(d_).blank(*button_.layout);
-    const auto payload = std::span(raw).subspan(d_.uses_report_ids ? 1 : 0);
-    for (int b = 0; b < 32; ++b) {
-      const Binding bit =
-          findInput(d_, hidUsage(hid_pages::kButton, static_cast<std::uint16_t>(b + 1)), button_.layout);
-      if (bit) writeHidElement(payload, *bit.field, bit.element, (mask >> b) & 1u);
-    }
-    send(raw, time_us, true);
+    feed(*buttons_[0].layout, time_us, true);
   }
 
  private:
-  // A report of `layout` holding every axis it carries at its held value (a device with one combined report
-  // gets all six each time).
+  // A report of `layout` holding every axis and button it carries at its held value (a device with one
+  // combined report gets all six axes and the buttons each time).
   PoseSample feed(const HidReportLayout& layout, std::int64_t time_us, bool record) {
     auto raw = HidReportEncoder(d_).blank(layout);
     const auto payload = std::span(raw).subspan(d_.uses_report_ids ? 1 : 0);
     for (int a = 0; a < 6; ++a)
       if (axes_[a].layout == &layout) writeHidElement(payload, *axes_[a].field, axes_[a].element, held_[a]);
+    for (int b = 0; b < 32; ++b)
+      if (buttons_[b] && buttons_[b].layout == &layout)
+        writeHidElement(payload, *buttons_[b].field, buttons_[b].element, (buttons_sent_ >> b) & 1u);
     return send(raw, time_us, record);
   }
 
@@ -102,7 +99,7 @@ class SixDofSynth {
   HidRecording& out_;
   Eigen::Matrix3d to_device_;
   std::array<Binding, 6> axes_;
-  Binding button_;
+  std::array<Binding, 32> buttons_;     // Button page usages 1..32 (bit n - 1)
   std::array<std::int64_t, 6> held_{};  // the logical value last sent, per axis
   std::uint32_t buttons_sent_ = 0;
 };

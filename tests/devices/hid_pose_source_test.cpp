@@ -11,6 +11,7 @@
 #include "hid_fixture.h"
 #include "incise/devices/hid_pose_source.h"
 #include "incise/devices/hid_report.h"
+#include "incise/devices/hidapi_transport.h"
 #include "incise/devices/replay_transport.h"
 
 using namespace incise::devices;
@@ -202,4 +203,18 @@ TEST_CASE("hid_transport: device selectors", "[devices][hid]") {
   info.serial = "X";
   CHECK(a.matches(info));
   CHECK_FALSE(parseHidDeviceSelector("056a:0357:Y").matches(info));
+}
+
+TEST_CASE("hidapi_transport: enumerates what the system has, refuses what is not there", "[devices][hid]") {
+  HidapiTransport transport;
+  const auto devices = transport.enumerate();  // none on a machine without HID devices; never a crash
+  for (const auto& d : devices) CHECK_FALSE(d.path.empty());
+  CHECK(transport.name().rfind("hidapi 0.13", 0) == 0);
+  HidDeviceInfo missing;
+  missing.path = "/dev/hidraw-none";
+  std::string error;
+  CHECK(transport.open(missing, error) == nullptr);
+  CHECK(error.find("/dev/hidraw-none") != std::string::npos);
+  CHECK(transport.descriptorOf(missing, error).empty());
+  CHECK_THROWS_WITH(readHidrawDescriptor("/dev/hidraw-none"), Catch::Contains("/dev/hidraw-none: cannot open"));
 }

@@ -189,3 +189,36 @@ TEST_CASE("hid_recording_poses: bad reports counted, a device without a profile 
                                      0x01, 0x75, 0x08, 0x95, 0x01, 0x81, 0x02};
   CHECK_THROWS_AS(posesFromHidRecording(recording, 0, {}, "pen.hid"), HidProfileError);
 }
+
+TEST_CASE("hid_synth: a 6-DOF device with one combined report (axes and buttons together)", "[devices][hid]") {
+  // Multi-axis Controller, report 1: X Y Z Rx Ry Rz (16 bits, -350..350, absolute), buttons 1-2, padding.
+  HidRecordedDevice combined;
+  combined.vid = 0x1234;
+  combined.pid = 0x0001;
+  combined.descriptor = {0x05, 0x01, 0x09, 0x08, 0xa1, 0x01, 0x85, 0x01, 0x16, 0xa2, 0xfe, 0x26, 0x5e, 0x01,
+                         0x75, 0x10, 0x95, 0x06, 0x09, 0x30, 0x09, 0x31, 0x09, 0x32, 0x09, 0x33, 0x09, 0x34,
+                         0x09, 0x35, 0x81, 0x02, 0x05, 0x09, 0x19, 0x01, 0x29, 0x02, 0x15, 0x00, 0x25, 0x01,
+                         0x75, 0x01, 0x95, 0x02, 0x81, 0x02, 0x95, 0x06, 0x81, 0x03, 0xc0};
+  const auto poses = stroke();
+  HidMapping m;
+  m.six_dof.start_m = poses.front().tip_m;
+  m.six_dof.start_orientation = poses.front().orientation;
+  m.six_dof.max_speed_m_per_s = 0.2;
+  m.six_dof.max_rate_rad_per_s = 2.0;
+  REQUIRE(chooseHidProfile(parseHidDescriptor(combined.descriptor)).kind == HidProfileKind::SixDof);
+  const HidRecording recording = synthesizeHidRecording(combined, m, poses, {125.0});
+  for (const auto& r : recording.reports) REQUIRE(r.bytes.size() == 14);  // ID + 12 axis bytes + 1 button byte
+  const HidRecordingPoses replayed = posesFromHidRecording(recording, 0, m);
+  double worst_m = 0.0, worst_rad = 0.0;
+  int pressed = 0;
+  for (const PoseSample& p : replayed.poses) {
+    pressed += p.buttons == 1u ? 1 : 0;
+    if (p.time_s < 0.2 || p.time_s > 0.88) continue;
+    const PoseSample& want = at(poses, p.time_s);
+    worst_m = std::max(worst_m, (p.tip_m - want.tip_m).norm());
+    worst_rad = std::max(worst_rad, p.orientation.angularDistance(want.orientation));
+  }
+  CHECK(worst_m < 1e-4);  // each report carries all six axes: sending one group keeps the other's held values
+  CHECK(worst_rad < 0.02);
+  CHECK(pressed > 150);
+}
