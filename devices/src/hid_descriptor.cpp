@@ -346,15 +346,16 @@ class Parser {
     if (!globals_.has_report_size || !globals_.has_report_count)
       fail(item, std::string(toString(type)) + " item before any Report Size and Report Count");
     HidField field = makeField(item, type);
-    field.usages = declaredUsages(item);
-    if (field.isVariable() && !field.usages.empty()) field.usages.resize(field.count, field.usages.back());
-    if (!result_.uses_report_ids) fields_without_id_ = true;
     HidReportLayout& report = layout(type, field.report_id);
-    field.bit_offset = report.bits;
+    // The size first: a huge Report Count must not allocate its usages before it is refused.
     const std::uint64_t bits = std::uint64_t{report.bits} + std::uint64_t{field.bit_size} * field.count;
     if (bits > kMaxReportBytes * 8)
       fail(item, std::string(toString(type)) + " report " + std::to_string(field.report_id) + " grows over " +
                      std::to_string(kMaxReportBytes) + " bytes");
+    field.usages = declaredUsages(item);
+    if (field.isVariable() && !field.usages.empty()) field.usages.resize(field.count, field.usages.back());
+    if (!result_.uses_report_ids) fields_without_id_ = true;
+    field.bit_offset = report.bits;
     report.bits = static_cast<std::uint32_t>(bits);
     if (field.count > 0) report.fields.push_back(std::move(field));
   }

@@ -203,6 +203,9 @@ TEST_CASE("hid_descriptor: broken descriptors are refused with the byte offset",
   CHECK(refusal(mixed).find("Report ID after fields without one") != std::string::npos);
   // A report over 4096 bytes.
   CHECK(refusal({0x75, 0x08, 0x96, 0x01, 0x10, 0x81, 0x02}).find("grows over 4096 bytes") != std::string::npos);
+  // A 4-byte Report Count of 2^31 - 1: refused before anything is allocated for it (found by fuzzing).
+  CHECK(refusal({0x09, 0x30, 0x75, 0x08, 0x97, 0xff, 0xff, 0xff, 0x7f, 0x81, 0x02}).find("grows over 4096 bytes") !=
+        std::string::npos);
   // A push stack that never ends.
   CHECK(refusal(std::vector<std::uint8_t>(17, 0xa4)).find("Push nested over 16 deep") != std::string::npos);
   CHECK(refusal({0x05, 0x01}) == "report descriptor: declares no report fields");
