@@ -44,24 +44,31 @@ std::vector<devices::HidRecordedReport> stroke(const devices::HidDescriptor& d) 
   return reports;
 }
 
-// The poses on their way into the simulation, kept (preallocated) to find the lifted one afterwards.
+double steadyNowS() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// The poses on their way into the simulation, kept (preallocated) with the steady-clock time each was in
+// the queue, to find the lifted one afterwards.
 class TeeSink final : public devices::PoseSink {
  public:
-  explicit TeeSink(sim::Simulation& simulation) : simulation_(simulation) { poses_.reserve(1024); }
+  explicit TeeSink(sim::Simulation& simulation) : simulation_(simulation) {
+    poses_.reserve(1024);
+    queued_s_.reserve(1024);
+  }
   bool push(const devices::PoseSample& pose) noexcept override {
-    if (poses_.size() < poses_.capacity()) poses_.push_back(pose);
-    return simulation_.push(pose);
+    const bool queued = simulation_.push(pose);
+    if (poses_.size() < poses_.capacity()) poses_.push_back(pose), queued_s_.push_back(steadyNowS());
+    return queued;
   }
   const std::vector<devices::PoseSample>& poses() const { return poses_; }
+  const std::vector<double>& queuedS() const { return queued_s_; }
 
  private:
   sim::Simulation& simulation_;
   std::vector<devices::PoseSample> poses_;
+  std::vector<double> queued_s_;
 };
-
-double steadyNowS() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 }  // namespace
 
@@ -107,12 +114,14 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   const auto lifted = std::find_if(poses.begin(), poses.end(), [](const auto& p) { return p.buttons == 0; });
   REQUIRE(lifted != poses.end());
   REQUIRE(lifted - poses.begin() == 50);
-  // Frame k's time is t0 + k ms; the first frame at or after the lifted pose's arrival sees it.
+  // Frame k's time is t0 + k ms and it never starts before that (FixedRateLoop waits for its deadline): the
+  // first frame whose time is at or after the lifted pose's arrival in the queue has taken it.
+  const double queued_s = sink.queuedS()[static_cast<std::size_t>(lifted - poses.begin())];
   std::int64_t cut_before = -1, first_lifted = -1, cut_after = -1;
   for (std::int64_t k = 0; k < kFrames; ++k) {
     const sim::Snapshot& s = frames[static_cast<std::size_t>(k)];
     if (s.t_s < lifted->time_s && s.haptic.cutting) cut_before = k;
-    if (s.t_s >= lifted->time_s && first_lifted < 0 && !s.haptic.contact) first_lifted = k;
+    if (s.t_s >= queued_s && first_lifted < 0) first_lifted = k;
     if (first_lifted >= 0 && s.haptic.cutting) {
       cut_after = k;
       break;
@@ -120,9 +129,13 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   }
   REQUIRE(cut_before >= 0);
   REQUIRE(first_lifted >= 0);
-  const double lifted_frame_t_s = frames[static_cast<std::size_t>(first_lifted)].t_s;
-  CHECK(lifted_frame_t_s - lifted->time_s <= 0.001 + 1e-9);  // within one frame
-  CHECK(frames[static_cast<std::size_t>(first_lifted)].haptic.force_N.norm() == 0.0);
+  const sim::Snapshot& lifted_frame = frames[static_cast<std::size_t>(first_lifted)];
+  CHECK(lifted_frame.t_s - queued_s <= 0.001 + 1e-9);  // within one frame of the pose's arrival
+  CHECK_FALSE(lifted_frame.haptic.contact);            // ... and that frame has the tool lifted
+  CHECK_FALSE(lifted_frame.haptic.cutting);
+  CHECK(lifted_frame.haptic.force_N.norm() == 0.0);
+  CHECK(queued_s - lifted->time_s < 0.001);  // stamped at the failed read, queued right after
+  const double lifted_frame_t_s = lifted_frame.t_s;
   REQUIRE(cut_after > first_lifted);                                                  // resumed after the replug
   CHECK(frames[static_cast<std::size_t>(cut_after)].t_s - lifted_frame_t_s >= 0.15);  // not before the replug
   CHECK(source.connects() == 2);
