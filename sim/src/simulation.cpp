@@ -4,6 +4,7 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <stdexcept>
@@ -104,6 +105,8 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   world_.cut(t_s);
   const auto cut_end = Clock::now();
   const int visible = poseToVisible(info.frame);
+  if (geometry_) geometry_->publish(world_, info.frame);
+  const auto geometry_end = Clock::now();
 
   Snapshot& s = snapshots_.writeSlot();
   s.frame = info.frame;
@@ -121,6 +124,10 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   // A snapshot cannot hold its own publish time: it carries the previous frame's publish and frame times.
   s.profile.publish_us = last_publish_us_;
   s.profile.frame_us = last_frame_us_;
+  s.profile.geometry_us = last_geometry_us_;
+  s.deadline_misses = stats_->deadlineMisses();
+  s.frame_start_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count();
+  fillRecent(s, info.frame);
   const auto publish_start = Clock::now();
   snapshots_.publish();
   const auto end = Clock::now();
@@ -129,11 +136,30 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   FrameTiming timing;
   timing.haptic_us = microseconds(start, haptic_end);  // not from `s`: the reader owns that slot now
   timing.cut_us = microseconds(haptic_end, cut_end);
+  timing.geometry_us = last_geometry_us_ = geometry_ ? microseconds(cut_end, geometry_end) : 0.0;
   timing.frame_us = last_frame_us_ = microseconds(start, end);
   timing.period_error_us = info.period_error_us;
   timing.pose_to_visible_frames = visible;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
   stats_->record(timing);
+  recent_[static_cast<std::size_t>(info.frame % Snapshot::kRecentFrames)] = {
+      static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us), static_cast<float>(timing.cut_us),
+      static_cast<float>(timing.geometry_us), timing.deadline_missed};
+}
+
+void Simulation::fillRecent(Snapshot& s, std::int64_t frame) const noexcept {
+  // The slot holds an older copy: only the frames since the one it was last filled for are copied.
+  const std::int64_t from = std::max({s.recent_through + 1, frame - Snapshot::kRecentFrames, std::int64_t{0}});
+  for (std::int64_t f = from; f < frame; ++f) {
+    const auto i = static_cast<std::size_t>(f % Snapshot::kRecentFrames);
+    s.recent[i] = recent_[i];
+  }
+  s.recent_through = frame - 1;
+}
+
+void Simulation::attachGeometry(GeometryStream* stream) {
+  geometry_ = stream;
+  if (stream) stream->attach(world_);
 }
 
 bool Simulation::takeSnapshot(Snapshot& out) noexcept {
@@ -166,12 +192,20 @@ struct ReplayRun {
   int cpus;
   std::atomic<std::size_t> fed{0};
 
-  // Every pose fed and taken (or dropped), no cutting work carried, and the settle time reached.
-  bool finished(const FrameInfo& info) const noexcept {
+  std::atomic<bool> stop{false};  // stop_after_s reached or stop_requested (set by the replay's thread)
+  std::int64_t last_frame = -1;
+
+  // Every pose fed and taken (or dropped), no cutting work carried, and the settle time reached; or told
+  // to stop.
+  bool finished(const FrameInfo& info) noexcept {
+    last_frame = info.frame;
+    if (sim.frameTime(info.frame) >= stop_s) stop.store(true, std::memory_order_relaxed);
+    if (stop.load(std::memory_order_relaxed)) return true;
     return fed.load(std::memory_order_acquire) == trace.size() &&
            sim.posesTaken() + sim.posesDropped() == static_cast<std::int64_t>(trace.size()) &&
            !world.cutter().pending() && sim.frameTime(info.frame) >= end_s;
   }
+  double stop_s = std::numeric_limits<double>::infinity();
 };
 
 void replayFast(ReplayRun& run) {
@@ -187,6 +221,8 @@ void replayFast(ReplayRun& run) {
           run.options.observer(snapshot);
           ++run.report.snapshots_read;
         }
+        if (run.options.geometry_reader) run.options.geometry_reader();
+        if (run.options.stop_requested && run.options.stop_requested()) run.stop.store(true);
         if (run.finished(info)) run.loop.requestStop();
       },
       std::numeric_limits<std::int64_t>::max());
@@ -198,7 +234,7 @@ void replayRealTime(ReplayRun& run) {
   const double t0_s = run.trace.front().time_s;
   std::thread feeder([&] {  // the "device": releases each pose at its time
     pinToOtherCpus(run.pin, run.cpus);
-    for (std::size_t i = 0; i < run.trace.size(); ++i) {
+    for (std::size_t i = 0; i < run.trace.size() && !done.load(std::memory_order_acquire); ++i) {
       std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
                                                 std::chrono::duration<double>(run.trace[i].time_s - t0_s)));
       while (!run.sim.pushPose(run.trace[i]) && !done.load()) std::this_thread::yield();
@@ -223,7 +259,10 @@ void replayRealTime(ReplayRun& run) {
     run.sim.frame(info);
     if (run.finished(info)) run.loop.requestStop();
   });
-  while (run.loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  while (run.loop.running()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (run.options.stop_requested && run.options.stop_requested()) run.stop.store(true);
+  }
   run.loop.stop();
   done.store(true, std::memory_order_release);
   feeder.join();
@@ -248,6 +287,8 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   FixedRateLoop loop(loop_options);
   ReplayReport report;
   ReplayRun run{world, trace, options, sim, loop, report, trace.back().time_s + options.settle_s, pin, cpus};
+  run.stop_s = trace.front().time_s + options.stop_after_s;
+  sim.attachGeometry(options.geometry);
 
   const auto wall_start = Clock::now();
   if (options.pace == ReplayPace::Fast)
@@ -262,6 +303,13 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   report.poses_dropped = sim.posesDropped();
   report.simulated_s = static_cast<double>(report.frames) * static_cast<double>(options.period_us) * 1e-6;
   report.incisions = world.incisions();
+  report.stopped_early = run.stop.load();
+  if (options.geometry) {  // the loop has stopped: this thread is the stream's writer now
+    const auto reader = options.pace == ReplayPace::Fast ? options.geometry_reader : std::function<void()>{};
+    report.geometry_flushed = options.geometry->flush(world, std::max<std::int64_t>(run.last_frame, 0),
+                                                      std::chrono::milliseconds(options.flush_timeout_ms), reader);
+    report.geometry = options.geometry->counters();
+  }
   return report;
 }
 

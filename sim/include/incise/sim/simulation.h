@@ -5,7 +5,9 @@
 //
 // A frame, in order (Simulation::frame): 1. drain every queued pose (oldest first) into a fixed array;
 // 2. World::updateTool -> haptic force -> ForceSink (timed: haptic_us); 3. World::cut at the frame's time
-// (timed: cut_us); 4. publish the Snapshot (timed: publish_us); 5. record the frame in LatencyStats. Frame
+// (timed: cut_us); 4. when a GeometryStream is attached, the frame's mesh changes into it (timed:
+// geometry_us; geometry_stream.h), then publish the Snapshot (timed: publish_us); 5. record the frame in
+// LatencyStats. Frame
 // k's time is t0 + k * period: simulated, never read from a clock, so the cut is the same whichever frame
 // saw which pose. Pose-to-visible latency: frames from the frame whose poses made new lattice columns
 // final to the frame whose snapshot shows them cut.
@@ -19,6 +21,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <span>
 
 #include <Eigen/Core>
@@ -26,6 +29,7 @@
 #include "incise/devices/pose_sample.h"
 #include "incise/devices/pose_source.h"
 #include "incise/sim/fixed_rate_loop.h"
+#include "incise/sim/geometry_stream.h"
 #include "incise/sim/latency_stats.h"
 #include "incise/sim/spsc_queue.h"
 #include "incise/sim/triple_buffer.h"
@@ -52,12 +56,21 @@ class ForceSink {
 struct StepProfile {
   double haptic_us = 0.0, cut_us = 0.0;
   double publish_us = 0.0, frame_us = 0.0;  // of the previous frame (a snapshot cannot time its own publish)
+  double geometry_us = 0.0;                 // of the previous frame: the geometry stream's publish
   int poses = 0;                            // poses taken this frame
   int queue_backlog = 0;  // poses still queued after draining: a frame takes at most kMaxPosesPerFrame
 };
 
-// What a reader sees of a frame: small and fixed-size, copied whole into the triple buffer.
+// One frame's timings as a reader gets them (Snapshot::recent).
+struct RecentFrame {
+  float frame_us = 0.0f, haptic_us = 0.0f, cut_us = 0.0f, geometry_us = 0.0f;
+  bool deadline_missed = false;
+};
+
+// What a reader sees of a frame: fixed-size, copied into the triple buffer (the recent frames' timings only
+// from the frame the slot last held on: a few entries per frame).
 struct Snapshot {
+  static constexpr int kRecentFrames = 256;
   std::int64_t frame = -1;
   double t_s = 0.0;
   HapticState haptic;
@@ -67,6 +80,13 @@ struct Snapshot {
   int edges_split = 0;    // totals over all incisions
   int seam_vertices_opened = 0;
   StepProfile profile;
+  std::int64_t deadline_misses = 0;  // frames so far that missed their deadline
+  std::int64_t frame_start_ns = 0;   // steady_clock time this frame began (a reader's latency on screen)
+  // The timings of frames [recent_through - kRecentFrames + 1, recent_through] (those >= 0), frame f at
+  // recent[f % kRecentFrames]; recent_through = frame - 1 (a frame's own time is known after its publish). A
+  // reader that takes a snapshot at least every kRecentFrames frames sees every frame's timings.
+  std::int64_t recent_through = -1;
+  std::array<RecentFrame, kRecentFrames> recent{};
 };
 
 // Also a devices::PoseSink: a live source (devices::HidPoseSource) pushes into the pose queue directly.
@@ -83,6 +103,9 @@ class Simulation final : public devices::PoseSink {
   bool push(const devices::PoseSample& pose) noexcept override { return pushPose(pose); }
   void frame(const FrameInfo& info) noexcept;  // sim thread
   bool takeSnapshot(Snapshot& out) noexcept;   // reader thread: true when newer than the last
+  // Before the first frame: publish the mesh's changes into `stream` every frame (attach() is done here:
+  // allocates). nullptr detaches. The stream must outlive the simulation's frames.
+  void attachGeometry(GeometryStream* stream);
   double frameTime(std::int64_t frame) const noexcept { return t0_s_ + static_cast<double>(frame) * dt_s_; }
 
   const LatencyStats& stats() const noexcept { return *stats_; }
@@ -116,7 +139,10 @@ class Simulation final : public devices::PoseSink {
   std::array<Pending, 256> pending_{};
   std::size_t pending_head_ = 0, pending_size_ = 0;
   int last_final_ = 0, last_incisions_ = 0;
-  double last_publish_us_ = 0.0, last_frame_us_ = 0.0;
+  double last_publish_us_ = 0.0, last_frame_us_ = 0.0, last_geometry_us_ = 0.0;
+  GeometryStream* geometry_ = nullptr;
+  std::array<RecentFrame, Snapshot::kRecentFrames> recent_{};
+  void fillRecent(Snapshot& s, std::int64_t frame) const noexcept;
 };
 
 // Fast: the frames run back to back on the caller's thread, as fast as possible (same frames, same dt).
@@ -133,6 +159,20 @@ struct ReplayOptions {
   // Called on the replay's thread after each frame in fast mode, or from a reader thread about every 2 ms
   // in real time, with the newest snapshot (e.g. a viewer or a recorder). May be empty.
   std::function<void(const Snapshot&)> observer;
+  // The mesh's changes for a reader on another thread (attached before the first frame); after the last
+  // frame the stream is flushed (up to flush_timeout_ms, waiting for its reader) so that the reader ends
+  // with the final mesh exactly. nullptr: none.
+  GeometryStream* geometry = nullptr;
+  std::int64_t flush_timeout_ms = 5000;
+  // Fast pace only: the stream's reader on the replay's own thread (e.g. pulls it into a GeometryMirror),
+  // called after each frame and while flushing. May be empty (the reader is on another thread).
+  std::function<void()> geometry_reader;
+  // End the replay once a frame's time reaches this (simulated seconds from the first pose's time), even if
+  // poses remain: a picture of the state at that time. Infinity: the whole trace plus settle_s.
+  double stop_after_s = std::numeric_limits<double>::infinity();
+  // Polled by the replay's thread (real time) or after each frame (fast): true ends the replay early (a
+  // viewer's window closed). The outputs are those of the frames run. May be empty.
+  std::function<bool()> stop_requested;
   LatencyStats* stats = nullptr;  // gather the frames here too (e.g. several replays into one benchmark)
 };
 
@@ -143,7 +183,10 @@ struct ReplayReport {
   std::int64_t poses = 0, poses_dropped = 0;
   double simulated_s = 0.0, wall_s = 0.0;
   int incisions = 0;
-  int snapshots_read = 0;  // by the reader thread (real time) or observer calls (fast)
+  int snapshots_read = 0;         // by the reader thread (real time) or observer calls (fast)
+  bool stopped_early = false;     // stop_after_s or stop_requested ended it before the trace's end
+  bool geometry_flushed = false;  // the geometry stream's reader got the final mesh exactly
+  GeometryCounters geometry;      // the stream's counters (zero without one)
 };
 
 // Replays a trace through `world` and returns the statistics; the world is left as the replay made it
