@@ -12,5 +12,7 @@ void addRecordCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addWrapCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
 
 }  // namespace incise::apps

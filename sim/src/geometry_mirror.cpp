@@ -1,6 +1,9 @@
 #include "incise/sim/geometry_mirror.h"
 
 #include <algorithm>
+#include <chrono>
+
+#include "incise/sim/world.h"
 
 namespace incise::sim {
 
@@ -76,6 +79,17 @@ void GeometryMirror::clearChanges() noexcept {
 std::size_t GeometryMirror::liveFaces() const noexcept {
   return static_cast<std::size_t>(std::count_if(face_kind_.begin(), face_kind_.end(),
                                                 [](std::uint8_t k) { return k != kDeletedFace; }));
+}
+
+void copyGeometry(World& world, std::int64_t frame, GeometryMirror& mirror) {
+  GeometryStreamOptions options;
+  options.records_per_frame = static_cast<int>(options.ring_records / 2);
+  GeometryStream stream(options);
+  stream.attach(world);
+  mirror.restart();
+  mirror.pull(stream);  // asks for the full copy
+  stream.flush(world, frame, std::chrono::hours(1), [&] { mirror.pull(stream); });
+  world.recordMeshChanges(false);
 }
 
 }  // namespace incise::sim

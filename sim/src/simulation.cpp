@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <string>
 #include <limits>
 #include <stdexcept>
 #include <thread>
@@ -144,7 +146,8 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   stats_->record(timing);
   recent_[static_cast<std::size_t>(info.frame % Snapshot::kRecentFrames)] = {
       static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us), static_cast<float>(timing.cut_us),
-      static_cast<float>(timing.geometry_us), timing.deadline_missed};
+      static_cast<float>(timing.geometry_us), static_cast<std::int16_t>(std::min(visible, 32767)),
+      timing.deadline_missed};
 }
 
 void Simulation::fillRecent(Snapshot& s, std::int64_t frame) const noexcept {
@@ -206,6 +209,8 @@ struct ReplayRun {
            !world.cutter().pending() && sim.frameTime(info.frame) >= end_s;
   }
   double stop_s = std::numeric_limits<double>::infinity();
+  std::atomic<std::int64_t> paused_frames{0};
+  double wall_period_s = 1e-3;
 };
 
 void replayFast(ReplayRun& run) {
@@ -228,15 +233,27 @@ void replayFast(ReplayRun& run) {
       std::numeric_limits<std::int64_t>::max());
 }
 
+// When the feeder releases pose i: at its time from the start at the replay's speed, later by every frame
+// a pause skipped.
+Clock::time_point releaseTime(const ReplayRun& run, Clock::time_point start, std::size_t i) {
+  const double wall_s = (run.trace[i].time_s - run.trace.front().time_s) / run.options.speed +
+                        static_cast<double>(run.paused_frames.load()) * run.wall_period_s;
+  return start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall_s));
+}
+
 void replayRealTime(ReplayRun& run) {
   std::atomic<bool> done{false};
   const auto start = Clock::now() + std::chrono::milliseconds(5);
-  const double t0_s = run.trace.front().time_s;
+  const auto paused = [&] { return run.options.pause && run.options.pause->load(std::memory_order_relaxed); };
   std::thread feeder([&] {  // the "device": releases each pose at its time
     pinToOtherCpus(run.pin, run.cpus);
     for (std::size_t i = 0; i < run.trace.size() && !done.load(std::memory_order_acquire); ++i) {
-      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                std::chrono::duration<double>(run.trace[i].time_s - t0_s)));
+      while (!done.load(std::memory_order_acquire)) {  // re-read the pause offset until the pose is due
+        const auto now = Clock::now(), due = releaseTime(run, start, i);
+        if (!paused() && now >= due) break;
+        std::this_thread::sleep_until(paused() ? now + std::chrono::milliseconds(1)
+                                               : std::min(due, now + std::chrono::milliseconds(2)));
+      }
       while (!run.sim.pushPose(run.trace[i]) && !done.load()) std::this_thread::yield();
       run.fed.store(i + 1, std::memory_order_release);
     }
@@ -256,8 +273,16 @@ void replayRealTime(ReplayRun& run) {
   });
   std::this_thread::sleep_until(start);
   run.loop.start([&](const FrameInfo& info) {
-    run.sim.frame(info);
-    if (run.finished(info)) run.loop.requestStop();
+    if (paused()) {  // the simulated time stands still: the frame is not run
+      run.paused_frames.fetch_add(1);
+      if (run.stop.load(std::memory_order_relaxed)) run.loop.requestStop();
+      return;
+    }
+    FrameInfo frame = info;  // frames count on from before the pause: the same times as without it
+    frame.frame -= run.paused_frames.load(std::memory_order_relaxed);
+    frame.t_s = static_cast<double>(frame.frame) * frame.dt_s;
+    run.sim.frame(frame);
+    if (run.finished(frame)) run.loop.requestStop();
   });
   while (run.loop.running()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -277,8 +302,12 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   if (options.period_us <= 0 || !(options.settle_s >= 0.0))
     throw std::invalid_argument("replay: bad period or settle time");
   Simulation sim(world, sink, options.period_us, trace.front().time_s, options.stats);
+  if (!(options.speed >= 0.01 && options.speed <= 100.0))
+    throw std::invalid_argument("replay: speed " + std::to_string(options.speed) + " is outside [0.01, 100]");
   FixedRateLoopOptions loop_options;
-  loop_options.period_us = options.period_us;
+  loop_options.period_us = std::max<std::int64_t>(
+      1, static_cast<std::int64_t>(std::llround(static_cast<double>(options.period_us) / options.speed)));
+  sim.setDeadlinePeriodUs(static_cast<double>(loop_options.period_us));
   loop_options.realtime_priority = options.realtime_priority;
   loop_options.spin_us = options.spin_us;
   const int cpus = static_cast<int>(std::thread::hardware_concurrency());
@@ -288,6 +317,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   ReplayReport report;
   ReplayRun run{world, trace, options, sim, loop, report, trace.back().time_s + options.settle_s, pin, cpus};
   run.stop_s = trace.front().time_s + options.stop_after_s;
+  run.wall_period_s = static_cast<double>(loop_options.period_us) * 1e-6;
   sim.attachGeometry(options.geometry);
 
   const auto wall_start = Clock::now();

@@ -64,6 +64,7 @@ struct StepProfile {
 // One frame's timings as a reader gets them (Snapshot::recent).
 struct RecentFrame {
   float frame_us = 0.0f, haptic_us = 0.0f, cut_us = 0.0f, geometry_us = 0.0f;
+  std::int16_t pose_to_visible_frames = -1;  // as FrameTiming's
   bool deadline_missed = false;
 };
 
@@ -106,6 +107,9 @@ class Simulation final : public devices::PoseSink {
   // Before the first frame: publish the mesh's changes into `stream` every frame (attach() is done here:
   // allocates). nullptr detaches. The stream must outlive the simulation's frames.
   void attachGeometry(GeometryStream* stream);
+  // The wall-clock period a frame's deadline is measured against (default: the simulated period; a replay
+  // at another speed sets its own).
+  void setDeadlinePeriodUs(double period_us) noexcept { period_us_ = period_us; }
   double frameTime(std::int64_t frame) const noexcept { return t0_s_ + static_cast<double>(frame) * dt_s_; }
 
   const LatencyStats& stats() const noexcept { return *stats_; }
@@ -173,6 +177,12 @@ struct ReplayOptions {
   // Polled by the replay's thread (real time) or after each frame (fast): true ends the replay early (a
   // viewer's window closed). The outputs are those of the frames run. May be empty.
   std::function<bool()> stop_requested;
+  // Real time only. While *pause is true no frame runs (the simulated time stands still) and no pose is
+  // released; afterwards every pose comes that much later, so the frames see the same poses. nullptr: none.
+  const std::atomic<bool>* pause = nullptr;
+  // Real time only: wall-clock speed (the loop's period is period_us / speed, poses come at their times /
+  // speed); the simulated frames, and so the outputs, are the same. In [0.01, 100].
+  double speed = 1.0;
   LatencyStats* stats = nullptr;  // gather the frames here too (e.g. several replays into one benchmark)
 };
 
