@@ -15,6 +15,14 @@ void checkPngPath(const char* command, const char* option, const std::string& pn
     failWith(command, std::string(option) + " '" + png + "': the picture's file name must end in .png");
 }
 
+void checkPictureContext(const char* command) {
+  try {
+    viewer::GlContext probe(viewer::ContextKind::Offscreen, 64, 64, "incise: probe");
+  } catch (const std::exception& e) {
+    failWith(command, e.what());
+  }
+}
+
 std::vector<Eigen::Vector3d> strokePoints(const LoadedScenario& run) {
   const int button = run.scenario.world.tool.cut_button;
   std::vector<Eigen::Vector3d> points;

@@ -20,6 +20,10 @@ namespace incise::apps {
 // Exits with 2 (failWith) unless `png` ends in .png; `option` names the option in the message.
 void checkPngPath(const char* command, const char* option, const std::string& png);
 
+// Exits with 2 (failWith) when no off-screen OpenGL 3.3 context can be had (no display and no EGL, an old
+// driver): checked before a run, so that the run is not done for nothing.
+void checkPictureContext(const char* command);
+
 // The points the default camera frames: the tips of the poses that cut.
 std::vector<Eigen::Vector3d> strokePoints(const LoadedScenario& run);
 

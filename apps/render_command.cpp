@@ -38,6 +38,7 @@ int runRender(const RenderArgs& a) {
     failWith("render", e.what());
   }
   if (!(a.at_s >= 0.0)) failWith("render", "--at " + std::to_string(a.at_s) + ": must be >= 0 seconds");
+  checkPictureContext("render");
   LoadedScenario run;
   try {
     run = loadScenarioRun(a.scenario);

@@ -106,7 +106,7 @@ nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& o
 }
 
 int runReplay(const ReplayArgs& a) {
-  if (!a.png.empty()) checkPngPath("replay", "--png", a.png);
+  if (!a.png.empty()) checkPngPath("replay", "--png", a.png), checkPictureContext("replay");
   LoadedScenario run;
   try {
     run = loadScenarioRun(a.scenario);

@@ -29,11 +29,15 @@ struct ViewArgs {
   std::string out = "out/view";
   std::string size = "1280x800";
   std::string camera;
+  bool until_end = false;
 };
 
 std::string sourceDescription(const sim::Scenario& s) {
-  if (s.source == sim::Scenario::Source::Trace) return "trace " + s.trace.filename().string();
-  return "generated strokes (" + std::to_string(s.strokes.size()) + ")";
+  switch (s.source) {
+    case sim::Scenario::Source::Trace: return "trace " + s.trace.filename().string();
+    case sim::Scenario::Source::HidRecording: return "hid recording " + s.hid.path.filename().string();
+    default: return "generated strokes (" + std::to_string(s.strokes.size()) + ")";
+  }
 }
 
 // One run: the replay on its own thread (which runs the sim thread, the feeder and the snapshot reader),
@@ -69,7 +73,7 @@ struct Run {
 };
 
 // Shows one run until the window closes (false) or the user restarts (true).
-bool show(viewer::ViewerWindow& window, Run& run, const std::string& name) {
+bool show(viewer::ViewerWindow& window, Run& run, const std::string& name, bool until_end) {
   const std::vector<Eigen::Vector3d> stroke = strokePoints(run.loaded);
   viewer::ReplaySourceStatus source(sourceDescription(run.loaded.scenario), run.loaded.poses.back().time_s);
   viewer::ViewerFeed feed;
@@ -92,9 +96,9 @@ bool show(viewer::ViewerWindow& window, Run& run, const std::string& name) {
       run.paused.store(!run.paused.load());
       source.setPaused(run.paused.load());
     }
-    if (r.close || r.restart) {
+    if (r.close || r.restart || (until_end && run.ended.load())) {
       run.finish();
-      return r.restart && !r.close;
+      return r.restart && !r.close && !(until_end && run.ended.load());
     }
   }
 }
@@ -127,7 +131,13 @@ int runView(const ViewArgs& a) {
       failWith("view", e.what());
     }
     run->start(a.speed);
-    if (show(*window, *run, run->loaded.scenario.name)) continue;
+    if (show(*window, *run, run->loaded.scenario.name, a.until_end)) continue;
+    const viewer::HudFigures h = window->figures();
+    std::printf("incise view %s: %lld display frames, %.1f fps; on screen %.1f ms p50, %.1f ms max after the "
+                "pose's frame (%.2f display frames); sim frame p99 %.1f us in the last 5 s; %s\n",
+                run->loaded.scenario.name.c_str(), static_cast<long long>(window->displayFrames()), h.display_fps,
+                h.screen_latency_ms_p50, h.screen_latency_ms_max, h.screen_latency_display_frames_max, h.frame_us.p99,
+                window->glDescription().c_str());
     window.reset();  // the window closes before the outputs are written
     return writeReplayOutputs("view", run->loaded, run->options, run->report, a.out);
   }
@@ -145,6 +155,7 @@ void addViewCommand(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory (cut.obj, report.json, screenshots)")->capture_default_str();
   cmd->add_option("--size", args->size, "window WIDTHxHEIGHT in pixels")->capture_default_str();
   cmd->add_option("--camera", args->camera, "AZ,EL[,DIST] (default: frame the incision)");
+  cmd->add_flag("--until-end", args->until_end, "close the window when the replay ends (scripts, benchmarks)");
   cmd->callback([args] {
     const int code = runView(*args);
     if (code != 0) std::exit(code);

@@ -86,10 +86,17 @@ Camera Camera::frameStroke(std::span<const Eigen::Vector3d> points_m, const Eige
   // Tilted 25 degrees towards `up`: straight down a groove its walls would be edge-on.
   pose.eye_dir = (std::cos(radians(25.0)) * n + std::sin(radians(25.0)) * up).normalized();
   pose.up = perpendicular(pose.eye_dir, up);
-  const double radius_m = 0.5 * box.diagonal().norm();
-  const double half_fov = radians(0.5 * pose.fov_y_deg);
-  const double fit = std::min(1.0, std::max(aspect, 1e-3));  // the narrower of the two view angles
-  pose.distance_m = 1.35 * radius_m / std::sin(std::atan(std::tan(half_fov) * fit));
+  // Far enough for the box's extent across the view (plus a quarter) to fit both view angles.
+  const Eigen::Vector3d right = pose.up.cross(pose.eye_dir).normalized();
+  double half_x = 0.0, half_y = 0.0, half_z = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d d = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)) - pose.target_m;
+    half_x = std::max(half_x, std::abs(d.dot(right)));
+    half_y = std::max(half_y, std::abs(d.dot(pose.up)));
+    half_z = std::max(half_z, std::abs(d.dot(pose.eye_dir)));
+  }
+  const double tan_y = std::tan(radians(0.5 * pose.fov_y_deg)), tan_x = tan_y * std::max(aspect, 1e-3);
+  pose.distance_m = 1.25 * std::max(half_x / tan_x, half_y / tan_y) + half_z;
   return Camera(pose);
 }
 

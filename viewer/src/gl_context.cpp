@@ -68,7 +68,7 @@ void GlContext::Impl::openWindow(ContextKind kind, int width, int height, const 
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_VISIBLE, kind == ContextKind::Window ? GLFW_TRUE : GLFW_FALSE);
-  glfwWindowHint(GLFW_SAMPLES, kind == ContextKind::Window ? 4 : 0);
+  glfwWindowHint(GLFW_SAMPLES, 0);
   window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
   if (!window) {
     const std::string why = glfwLastError();
@@ -98,7 +98,16 @@ void GlContext::Impl::openEgl() {
   const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
                                        EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes);
-  if (context == EGL_NO_CONTEXT) throw ViewerError("OpenGL 3.3 core profile is not available through EGL");
+  if (context == EGL_NO_CONTEXT) {  // what is there instead: a context of no particular version
+    const EGLContext any = eglCreateContext(display, config, EGL_NO_CONTEXT, nullptr);
+    std::string offered = "no desktop OpenGL context at all";
+    if (any != EGL_NO_CONTEXT && eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, any)) {
+      offered = "OpenGL " + glString(GL_VERSION) + " on " + glString(GL_RENDERER);
+      eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    }
+    if (any != EGL_NO_CONTEXT) eglDestroyContext(display, any);
+    throw ViewerError("OpenGL 3.3 core profile is not available through EGL; the driver offers " + offered);
+  }
   if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) throw fail("eglMakeCurrent failed");
   if (epoxy_gl_version() < 33)
     throw ViewerError("OpenGL 3.3 core profile is not available; the driver offers OpenGL " + glString(GL_VERSION));
