@@ -34,9 +34,12 @@ struct ViewArgs {
 
 std::string sourceDescription(const sim::Scenario& s) {
   switch (s.source) {
-    case sim::Scenario::Source::Trace: return "trace " + s.trace.filename().string();
-    case sim::Scenario::Source::HidRecording: return "hid recording " + s.hid.path.filename().string();
-    default: return "generated strokes (" + std::to_string(s.strokes.size()) + ")";
+    case sim::Scenario::Source::Trace:
+      return "trace " + s.trace.filename().string();
+    case sim::Scenario::Source::HidRecording:
+      return "hid recording " + s.hid.path.filename().string();
+    default:
+      return "generated strokes (" + std::to_string(s.strokes.size()) + ")";
   }
 }
 
@@ -133,11 +136,12 @@ int runView(const ViewArgs& a) {
     run->start(a.speed);
     if (show(*window, *run, run->loaded.scenario.name, a.until_end)) continue;
     const viewer::HudFigures h = window->figures();
-    std::printf("incise view %s: %lld display frames, %.1f fps; on screen %.1f ms p50, %.1f ms max after the "
-                "pose's frame (%.2f display frames); sim frame p99 %.1f us in the last 5 s; %s\n",
-                run->loaded.scenario.name.c_str(), static_cast<long long>(window->displayFrames()), h.display_fps,
-                h.screen_latency_ms_p50, h.screen_latency_ms_max, h.screen_latency_display_frames_max, h.frame_us.p99,
-                window->glDescription().c_str());
+    std::printf(
+        "incise view %s: %lld display frames, %.1f fps; on screen %.1f ms p50, %.1f ms max after the "
+        "pose's frame (%.2f display frames); sim frame p99 %.1f us in the last 5 s; %s\n",
+        run->loaded.scenario.name.c_str(), static_cast<long long>(window->displayFrames()), h.display_fps,
+        h.screen_latency_ms_p50, h.screen_latency_ms_max, h.screen_latency_display_frames_max, h.frame_us.p99,
+        window->glDescription().c_str());
     window.reset();  // the window closes before the outputs are written
     return writeReplayOutputs("view", run->loaded, run->options, run->report, a.out);
   }

@@ -77,8 +77,8 @@ void GeometryMirror::clearChanges() noexcept {
 }
 
 std::size_t GeometryMirror::liveFaces() const noexcept {
-  return static_cast<std::size_t>(std::count_if(face_kind_.begin(), face_kind_.end(),
-                                                [](std::uint8_t k) { return k != kDeletedFace; }));
+  return static_cast<std::size_t>(
+      std::count_if(face_kind_.begin(), face_kind_.end(), [](std::uint8_t k) { return k != kDeletedFace; }));
 }
 
 void copyGeometry(World& world, std::int64_t frame, GeometryMirror& mirror) {

@@ -134,8 +134,8 @@ int GeometryStream::write(World& world, std::int64_t frame, std::size_t room) no
   GeometryRecord& r = next();
   r.type = GeometryRecordType::Frame;
   r.index = 0;
-  const std::uint8_t flags = static_cast<std::uint8_t>((swept_ ? kFrameComplete : 0) |
-                                                       (swept_ && backlog == 0 ? kFrameExact : 0));
+  const std::uint8_t flags =
+      static_cast<std::uint8_t>((swept_ ? kFrameComplete : 0) | (swept_ && backlog == 0 ? kFrameExact : 0));
   r.info = {frame, n_vertices, n_faces, static_cast<std::uint32_t>(backlog), flags};
   head_.store(head_local_, std::memory_order_release);  // the whole frame at once
   return static_cast<int>(head_local_ - first);

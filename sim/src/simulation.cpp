@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <string>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 namespace incise::sim {
@@ -145,8 +145,11 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
   stats_->record(timing);
   recent_[static_cast<std::size_t>(info.frame % Snapshot::kRecentFrames)] = {
-      static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us), static_cast<float>(timing.cut_us),
-      static_cast<float>(timing.geometry_us), static_cast<std::int16_t>(std::min(visible, 32767)),
+      static_cast<float>(timing.frame_us),
+      static_cast<float>(timing.haptic_us),
+      static_cast<float>(timing.cut_us),
+      static_cast<float>(timing.geometry_us),
+      static_cast<std::int16_t>(std::min(visible, 32767)),
       timing.deadline_missed};
 }
 

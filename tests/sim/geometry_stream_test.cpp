@@ -1,8 +1,8 @@
 // The geometry stream (sim/src/geometry_stream.cpp) and its reader's copy (sim/src/geometry_mirror.cpp):
 // a mirror rebuilt from the stream equals the replay's final mesh bit for bit — fast, in real time with
 // the reader on another thread, with a reader that falls behind, and with one that re-syncs mid-run.
-#include "incise/sim/geometry_mirror.h"
 #include "incise/sim/geometry_stream.h"
+#include "incise/sim/geometry_mirror.h"
 
 #include <catch2/catch.hpp>
 
@@ -82,7 +82,8 @@ void requireSameMesh(const sim::GeometryMirror& mirror, const cutting::SurfaceMe
       continue;
     }
     int k = 0;
-    for (auto v = m.cfv_iter(f); v.is_valid(); ++v) differing += mirror.faces()[i][static_cast<std::size_t>(k++)] != v->idx();
+    for (auto v = m.cfv_iter(f); v.is_valid(); ++v)
+      differing += mirror.faces()[i][static_cast<std::size_t>(k++)] != v->idx();
     differing += mirror.faceKind()[i] != static_cast<std::uint8_t>(tissue.kind(f));
   }
   CHECK(differing == 0);

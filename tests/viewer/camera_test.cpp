@@ -59,7 +59,8 @@ TEST_CASE("camera: the framed stroke lies inside the picture and fills a good pa
   for (int i = 0; i <= 50; ++i) stroke.emplace_back(0.001 * i, 0.03 + 0.0002 * i, -0.002 * i);
   for (const double aspect : {0.5, 1.0, 1.6, 3.0}) {
     const int width = static_cast<int>(800 * aspect), height = 800;
-    const Camera camera = Camera::frameStroke(stroke, Eigen::Vector3d(0.1, 1.0, 0.2), Eigen::Vector3d::UnitY(), aspect, {});
+    const Camera camera =
+        Camera::frameStroke(stroke, Eigen::Vector3d(0.1, 1.0, 0.2), Eigen::Vector3d::UnitY(), aspect, {});
     Eigen::AlignedBox2d box;
     for (const Eigen::Vector3d& p : stroke) {
       const auto q = camera.project(p, width, height);

@@ -12,12 +12,13 @@ using namespace incise;
 TEST_CASE("surface_model: updated after every pull, it ends as a model built from the final mesh", "[viewer]") {
   viewer::SurfaceModel followed;
   std::size_t updates_with_changes = 0, max_dirty = 0;
-  const auto run = test::followRun("bunny-straight", std::numeric_limits<double>::infinity(), [&](test::FollowedRun& r) {
-    if (!followed.update(r.mirror)) return;
-    if (!followed.dirty().all && !followed.dirty().vertices.empty()) ++updates_with_changes;
-    if (!followed.dirty().all) max_dirty = std::max(max_dirty, followed.dirty().vertices.size());
-    followed.clearDirty();
-  });
+  const auto run =
+      test::followRun("bunny-straight", std::numeric_limits<double>::infinity(), [&](test::FollowedRun& r) {
+        if (!followed.update(r.mirror)) return;
+        if (!followed.dirty().all && !followed.dirty().vertices.empty()) ++updates_with_changes;
+        if (!followed.dirty().all) max_dirty = std::max(max_dirty, followed.dirty().vertices.size());
+        followed.clearDirty();
+      });
   REQUIRE(run->mirror.exact());
   viewer::SurfaceModel fresh;
   sim::GeometryMirror copy;
@@ -53,7 +54,8 @@ TEST_CASE("surface_model: skin normals point out of the tissue and leave the wal
     const auto i = static_cast<std::size_t>(v.idx());
     const Eigen::Vector3f n(&model.normals()[3 * i]);
     bool skin = false;
-    for (auto f = m.cvf_iter(v); f.is_valid(); ++f) skin = skin || run->world->tissue().kind(*f) != cutting::FaceKind::Wall;
+    for (auto f = m.cvf_iter(v); f.is_valid(); ++f)
+      skin = skin || run->world->tissue().kind(*f) != cutting::FaceKind::Wall;
     if (!skin) {
       zero_on_wall_only += n.norm() == 0.0f;
       continue;

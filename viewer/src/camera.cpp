@@ -147,7 +147,8 @@ void Camera::orbit(double dx_px, double dy_px, int height) {
   const Eigen::Vector3d axis = home_.up;
   const Eigen::Vector3d right = pose_.up.cross(pose_.eye_dir).normalized();
   Eigen::Vector3d dir = Eigen::AngleAxisd(-dx_px * per_px, axis) * pose_.eye_dir;
-  const Eigen::Vector3d turned = Eigen::AngleAxisd(dy_px * per_px, Eigen::AngleAxisd(-dx_px * per_px, axis) * right) * dir;
+  const Eigen::Vector3d turned =
+      Eigen::AngleAxisd(dy_px * per_px, Eigen::AngleAxisd(-dx_px * per_px, axis) * right) * dir;
   if (std::abs(turned.normalized().dot(axis)) < 0.995) dir = turned;  // short of the poles
   pose_.eye_dir = dir.normalized();
   pose_.up = perpendicular(pose_.eye_dir, axis);

@@ -95,7 +95,8 @@ RgbImage readPng(const std::filesystem::path& path) {
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
       for (int c = 0; c < 3; ++c)
-        image.rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)) * 3 +
+        image.rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)) *
+                      3 +
                   static_cast<std::size_t>(c)] = rows[y][x * channels + (channels >= 3 ? c : 0)];
   png_destroy_read_struct(&png, &info, nullptr);
   return image;

@@ -158,7 +158,8 @@ void runs(GLenum target, const Buffer& b, const std::vector<T>& data, std::size_
     while (j < sorted.size() && sorted[j] <= sorted[j - 1] + 8) ++j;  // small gaps are cheaper sent than split
     const std::size_t first = sorted[i], last = sorted[j - 1] + 1;
     glBufferSubData(target, static_cast<GLintptr>(first * per_element * sizeof(T)),
-                    static_cast<GLsizeiptr>((last - first) * per_element * sizeof(T)), data.data() + first * per_element);
+                    static_cast<GLsizeiptr>((last - first) * per_element * sizeof(T)),
+                    data.data() + first * per_element);
     i = j;
   }
 }
@@ -233,7 +234,8 @@ void SceneRenderer::Impl::drawTool(const Eigen::Matrix4f& view, const Eigen::Mat
   glBindVertexArray(0);
 }
 
-void SceneRenderer::draw(const Camera& camera, int width, int height, const ToolView& tool, const DrawOptions& options) {
+void SceneRenderer::draw(const Camera& camera, int width, int height, const ToolView& tool,
+                         const DrawOptions& options) {
   glViewport(0, 0, width, height);
   glClearColor(kBackground[0], kBackground[1], kBackground[2], 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);

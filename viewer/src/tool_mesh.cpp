@@ -32,7 +32,8 @@ struct Builder {
     }
   }
   void octahedron(const Vec& centre, double r, const Vec& rgb) {
-    const std::array<Vec, 6> d = {Vec::UnitX(), -Vec::UnitX(), Vec::UnitY(), -Vec::UnitY(), Vec::UnitZ(), -Vec::UnitZ()};
+    const std::array<Vec, 6> d = {Vec::UnitX(),  -Vec::UnitX(), Vec::UnitY(),
+                                  -Vec::UnitY(), Vec::UnitZ(),  -Vec::UnitZ()};
     for (int x = 0; x < 2; ++x)
       for (int y = 2; y < 4; ++y)
         for (int z = 4; z < 6; ++z) {
@@ -59,7 +60,9 @@ std::vector<float> toolTriangles(const ToolView& tool) {
   // The blade: a curved edge approximated by two triangles, on both faces.
   const Vec belly = tip + 0.45 * blade_m * z + 0.0015 * x, back = heel - 0.0015 * x, edge_heel = heel + 0.0015 * x;
   for (const bool front : {true, false}) {
-    const auto tri = [&](const Vec& p, const Vec& q, const Vec& s) { front ? b.triangle(p, q, s, steel) : b.triangle(p, s, q, steel); };
+    const auto tri = [&](const Vec& p, const Vec& q, const Vec& s) {
+      front ? b.triangle(p, q, s, steel) : b.triangle(p, s, q, steel);
+    };
     tri(tip, belly, back);
     tri(belly, edge_heel, back);
   }

@@ -38,16 +38,29 @@ void onKey(GLFWwindow* window, int key, int, int action, int) {
   auto* in = static_cast<Input*>(glfwGetWindowUserPointer(window));
   switch (key) {
     case GLFW_KEY_SPACE:
-    case GLFW_KEY_P: in->pause = true; break;
-    case GLFW_KEY_R: in->restart = true; break;
-    case GLFW_KEY_W: in->wireframe = true; break;
+    case GLFW_KEY_P:
+      in->pause = true;
+      break;
+    case GLFW_KEY_R:
+      in->restart = true;
+      break;
+    case GLFW_KEY_W:
+      in->wireframe = true;
+      break;
     case GLFW_KEY_S:
-    case GLFW_KEY_F12: in->screenshot = true; break;
+    case GLFW_KEY_F12:
+      in->screenshot = true;
+      break;
     case GLFW_KEY_C:
-    case GLFW_KEY_HOME: in->reset = true; break;
+    case GLFW_KEY_HOME:
+      in->reset = true;
+      break;
     case GLFW_KEY_ESCAPE:
-    case GLFW_KEY_Q: in->close = true; break;
-    default: break;
+    case GLFW_KEY_Q:
+      in->close = true;
+      break;
+    default:
+      break;
   }
 }
 

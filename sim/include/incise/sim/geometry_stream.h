@@ -50,11 +50,11 @@ inline constexpr std::uint8_t kDeletedFace = 0xff;
 inline constexpr std::uint8_t kFrameComplete = 1, kFrameExact = 2;
 
 struct GeometryFrameInfo {
-  std::int64_t frame;           // the sim frame (Reset: the frame the reset started in)
-  std::uint32_t vertices;       // the mesh's vertex and face counts (deleted faces included)
+  std::int64_t frame;      // the sim frame (Reset: the frame the reset started in)
+  std::uint32_t vertices;  // the mesh's vertex and face counts (deleted faces included)
   std::uint32_t faces;
-  std::uint32_t backlog;        // Frame: elements still to send (dirty or not yet swept)
-  std::uint8_t flags;           // Frame: kFrameComplete | kFrameExact
+  std::uint32_t backlog;  // Frame: elements still to send (dirty or not yet swept)
+  std::uint8_t flags;     // Frame: kFrameComplete | kFrameExact
 };
 
 // 32 bytes. Vertex: index, kind (cutting::VertexKind), position_m. Face: index, kind (cutting::FaceKind or
@@ -79,8 +79,8 @@ struct GeometryStreamOptions {
 
 // Per-publish figures (the sim thread's cost is timed by the caller) and the stream's counters.
 struct GeometryPublish {
-  int records = 0;     // written this frame (the Frame record included); 0 when stalled
-  int marked = 0;      // journal entries taken this frame
+  int records = 0;  // written this frame (the Frame record included); 0 when stalled
+  int marked = 0;   // journal entries taken this frame
   bool stalled = false;
 };
 struct GeometryCounters {

@@ -38,7 +38,8 @@ class PoseSourceMonitor {
 // while paused() says so.
 class ReplaySourceStatus final : public PoseSourceMonitor {
  public:
-  ReplaySourceStatus(std::string description, double last_pose_s) : description_(std::move(description)), last_pose_s_(last_pose_s) {}
+  ReplaySourceStatus(std::string description, double last_pose_s)
+      : description_(std::move(description)), last_pose_s_(last_pose_s) {}
   void setPaused(bool paused) noexcept { paused_ = paused; }
   PoseSourceStatus status(const sim::Snapshot& newest) const override;
 

@@ -30,7 +30,7 @@ struct ViewerWindowOptions {
   std::string title = "incise view";
   ImageSize size;
   std::filesystem::path screenshot_dir = ".";  // screenshots go to screenshot_dir/incise-view-N.png
-  std::optional<CameraOption> camera;           // else the stroke is framed
+  std::optional<CameraOption> camera;          // else the stroke is framed
 };
 
 // What one run shows: where its data comes from. The window reads, never writes, these.
