@@ -49,6 +49,7 @@ struct Run {
   LoadedScenario loaded;
   sim::GeometryStream stream;
   sim::TripleBuffer<sim::Snapshot> snapshots;  // written by replay's reader thread, read by the window
+  std::unique_ptr<sim::FrameTimesQueue> times = std::make_unique<sim::FrameTimesQueue>();
   std::atomic<bool> stop{false}, paused{false}, ended{false};
   sim::ReplayOptions options;
   sim::ReplayReport report;
@@ -60,6 +61,7 @@ struct Run {
     options.settle_s = loaded.scenario.settle_s;
     options.speed = speed;
     options.geometry = &stream;
+    options.times = times.get();
     options.pause = &paused;
     options.stop_requested = [this] { return stop.load(); };
     options.observer = [this](const sim::Snapshot& s) { snapshots.publish(s); };
@@ -86,6 +88,7 @@ bool show(viewer::ViewerWindow& window, Run& run, const std::string& name, bool 
     s = run.snapshots.read();
     return true;
   };
+  feed.times = run.times.get();
   feed.source = &source;
   feed.period_us = static_cast<double>(run.loaded.scenario.periodUs());
   feed.cut_budget_us = run.loaded.scenario.world.cut_budget_us;

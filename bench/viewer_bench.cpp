@@ -109,6 +109,7 @@ struct RealTimeResult {
 void replayOnce(Loaded& l, viewer::ViewerWindow* window, sim::LatencyStats& stats, RealTimeResult& out) {
   sim::GeometryStream stream;
   sim::TripleBuffer<sim::Snapshot> snapshots;
+  auto times = std::make_unique<sim::FrameTimesQueue>();
   sim::ReplayOptions o;
   o.pace = sim::ReplayPace::RealTime;
   o.period_us = l.scenario.periodUs();
@@ -118,6 +119,7 @@ void replayOnce(Loaded& l, viewer::ViewerWindow* window, sim::LatencyStats& stat
   o.pin_threads = true;
   if (window) {
     o.geometry = &stream;
+    o.times = times.get();
     o.observer = [&snapshots](const sim::Snapshot& s) { snapshots.publish(s); };
   }
   std::atomic<bool> ended{false};
@@ -135,6 +137,7 @@ void replayOnce(Loaded& l, viewer::ViewerWindow* window, sim::LatencyStats& stat
       s = snapshots.read();
       return true;
     };
+    feed.times = times.get();
     feed.source = &source;
     feed.scenario = "bench";
     window->follow(feed);

@@ -129,7 +129,6 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   s.profile.geometry_us = last_geometry_us_;
   s.deadline_misses = stats_->deadlineMisses();
   s.frame_start_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count();
-  fillRecent(s, info.frame);
   const auto publish_start = Clock::now();
   snapshots_.publish();
   const auto end = Clock::now();
@@ -144,23 +143,10 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   timing.pose_to_visible_frames = visible;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
   stats_->record(timing);
-  recent_[static_cast<std::size_t>(info.frame % Snapshot::kRecentFrames)] = {
-      static_cast<float>(timing.frame_us),
-      static_cast<float>(timing.haptic_us),
-      static_cast<float>(timing.cut_us),
-      static_cast<float>(timing.geometry_us),
-      static_cast<std::int16_t>(std::min(visible, 32767)),
-      timing.deadline_missed};
-}
-
-void Simulation::fillRecent(Snapshot& s, std::int64_t frame) const noexcept {
-  // The slot holds an older copy: only the frames since the one it was last filled for are copied.
-  const std::int64_t from = std::max({s.recent_through + 1, frame - Snapshot::kRecentFrames, std::int64_t{0}});
-  for (std::int64_t f = from; f < frame; ++f) {
-    const auto i = static_cast<std::size_t>(f % Snapshot::kRecentFrames);
-    s.recent[i] = recent_[i];
-  }
-  s.recent_through = frame - 1;
+  if (times_)
+    times_->tryPush({info.frame, static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us),
+                     static_cast<float>(timing.cut_us), static_cast<float>(timing.geometry_us),
+                     static_cast<std::int16_t>(std::min(visible, 32767)), timing.deadline_missed});
 }
 
 void Simulation::attachGeometry(GeometryStream* stream) {
@@ -322,6 +308,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   run.stop_s = trace.front().time_s + options.stop_after_s;
   run.wall_period_s = static_cast<double>(loop_options.period_us) * 1e-6;
   sim.attachGeometry(options.geometry);
+  sim.attachTimes(options.times);
 
   const auto wall_start = Clock::now();
   if (options.pace == ReplayPace::Fast)

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <memory>
 #include <thread>
 
 #include "incise/cutting/mesh_hash.h"
@@ -191,18 +192,30 @@ TEST_CASE("geometry_stream: a reader thread follows a real-time replay and rebui
   Loaded l = load("bunny-straight");
   sim::GeometryStream stream;
   sim::ReplayOptions o = options(l, sim::ReplayPace::RealTime, stream);
+  auto times = std::make_unique<sim::FrameTimesQueue>();  // every frame's timings, for the same reader (a HUD)
+  o.times = times.get();
   std::atomic<bool> done{false};
   sim::GeometryMirror mirror;
-  bool always_valid = true;
+  bool always_valid = true, times_in_order = true;
   int pulls_with_changes = 0;
+  std::int64_t next_time = 0, timed_geometry = 0;
+  const auto popTimes = [&] {
+    sim::FrameTimes t;
+    while (times->tryPop(t)) {
+      times_in_order = times_in_order && t.frame == next_time++;
+      timed_geometry += t.geometry_us > 0.0f;
+    }
+  };
   std::thread reader([&] {  // a viewer's thread: pulls at its own pace, never waited for
     while (!done.load(std::memory_order_acquire)) {
       if (mirror.pull(stream) > 0 && !mirror.changedVertices().empty()) ++pulls_with_changes;
       mirror.clearChanges();
       always_valid = always_valid && facesValid(mirror);
+      popTimes();
       std::this_thread::sleep_for(std::chrono::milliseconds(3));
     }
     mirror.pull(stream);  // what flush() wrote last
+    popTimes();
   });
   const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
   done.store(true, std::memory_order_release);
@@ -211,5 +224,8 @@ TEST_CASE("geometry_stream: a reader thread follows a real-time replay and rebui
   CHECK(always_valid);
   CHECK(pulls_with_changes > 20);
   CHECK(mirror.frame() == report.frames - 1);
+  CHECK(times_in_order);
+  CHECK(next_time == report.frames);  // every frame's timings, once, in order
+  CHECK(timed_geometry > report.frames / 2);
   requireSameMesh(mirror, l.world->tissue());
 }

@@ -8,34 +8,42 @@ using incise::viewer::HudModel;
 
 namespace {
 
-// The snapshot of frame `frame`, its recent timings as the sim fills them: frame f took f % 100 + 1 us
-// (cut: half of it), every 250th missed its deadline.
+// Frame f took f % 100 + 1 us (cut: half of it, haptic 1 us); every 250th missed its deadline; frame 500
+// made a cut visible 2 frames after its pose.
+incise::sim::FrameTimes timesOf(std::int64_t f) {
+  incise::sim::FrameTimes t;
+  t.frame = f;
+  t.frame_us = static_cast<float>(f % 100 + 1);
+  t.haptic_us = 1.0f;
+  t.cut_us = t.frame_us / 2;
+  t.deadline_missed = f % 250 == 0;
+  t.pose_to_visible_frames = f == 500 ? 2 : -1;
+  return t;
+}
+
 Snapshot snapshotAt(std::int64_t frame) {
   Snapshot s;
   s.frame = frame;
   s.t_s = 0.001 * static_cast<double>(frame);
-  s.recent_through = frame - 1;
-  for (std::int64_t f = std::max<std::int64_t>(0, frame - Snapshot::kRecentFrames); f < frame; ++f) {
-    auto& r = s.recent[static_cast<std::size_t>(f % Snapshot::kRecentFrames)];
-    r.frame_us = static_cast<float>(f % 100 + 1);
-    r.haptic_us = 1.0f;
-    r.cut_us = r.frame_us / 2;
-    r.deadline_missed = f % 250 == 0;
-    r.pose_to_visible_frames = f == 500 ? 2 : -1;
-  }
-  s.deadline_misses = (frame - 1) / 250 + 1;
+  s.deadline_misses = frame / 250 + 1;
   s.haptic.force_N = Eigen::Vector3d(3.0, 4.0, 0.0);
   s.incisions = 2;
   return s;
 }
 
+// Frames [from, to) as the HUD gets them.
+void feed(HudModel& hud, std::int64_t from, std::int64_t to) {
+  for (std::int64_t f = from; f < to; ++f) hud.add(timesOf(f));
+  hud.add(snapshotAt(to - 1));
+}
+
 }  // namespace
 
-TEST_CASE("hud_model: percentiles over every frame the snapshots brought, budget used, force", "[viewer]") {
+TEST_CASE("hud_model: percentiles over the window's frames, budget used, force", "[viewer]") {
   HudModel hud(1000.0, 300.0, 1.0);  // a window of 1000 frames
-  for (std::int64_t frame = 10; frame <= 2000; frame += 20) hud.add(snapshotAt(frame));
+  feed(hud, 0, 1990);
   const auto h = hud.figures();
-  CHECK(h.frames == 1000);  // frames 990..1989: the last snapshot (frame 1990) brings up to 1989
+  CHECK(h.frames == 1000);  // frames 990..1989
   CHECK(h.frames_unseen == 0);
   CHECK(h.frame_us.p50 == 50.0);
   CHECK(h.frame_us.p99 == 99.0);
@@ -46,28 +54,37 @@ TEST_CASE("hud_model: percentiles over every frame the snapshots brought, budget
   CHECK(h.force_N == Approx(5.0));
   CHECK(h.incisions == 2);
   CHECK(h.window_misses == 4);  // frames 1000, 1250, 1500, 1750
-  CHECK(h.deadline_misses == snapshotAt(1990).deadline_misses);
+  CHECK(h.deadline_misses == snapshotAt(1989).deadline_misses);
   CHECK(h.pose_to_visible_frames_max == -1);  // frame 500 has left the window
+  HudModel wide(1000.0, 300.0, 5.0);
+  feed(wide, 0, 1990);
+  CHECK(wide.figures().pose_to_visible_frames_max == 2);
 }
 
-TEST_CASE("hud_model: frames no snapshot brought are counted, not invented", "[viewer]") {
+TEST_CASE("hud_model: frames the queue dropped are counted, not invented", "[viewer]") {
   HudModel hud(1000.0, 300.0, 5.0);
-  hud.add(snapshotAt(100));
-  hud.add(snapshotAt(1000));  // 1000 - 256 = 744: frames 100..743 went by unseen
+  feed(hud, 0, 100);
+  feed(hud, 744, 1000);  // frames 100..743 never came
   const auto h = hud.figures();
-  CHECK(h.frames_unseen == 744 - 100);
-  CHECK(h.frames == 100 + Snapshot::kRecentFrames);
+  CHECK(h.frames_unseen == 644);
+  CHECK(h.frames == 100 + 256);
   CHECK(h.pose_to_visible_frames_max == -1);
-  hud.add(snapshotAt(0));  // a restart: the window starts over
-  CHECK(hud.figures().frames == 0);
+  feed(hud, 0, 1);  // a restart: the window starts over
+  CHECK(hud.figures().frames == 1);
+  CHECK(hud.figures().frames_unseen == 0);
 }
 
 TEST_CASE("hud_model: the plot's buckets hold their largest frame time, oldest first", "[viewer]") {
   HudModel hud(1000.0, 300.0, 1.0);
-  for (std::int64_t frame = 100; frame <= 1100; frame += 100) hud.add(snapshotAt(frame));
+  feed(hud, 0, 1100);
   const std::vector<float> plot = hud.plot(10);  // 100 frames a bucket
   REQUIRE(plot.size() == 10);
   for (const float v : plot) CHECK(v == 100.0f);  // every bucket of 100 frames holds one f % 100 == 99
+  HudModel young(1000.0, 300.0, 1.0);
+  feed(young, 0, 150);  // a short window ends at the right edge: the first buckets are empty
+  const std::vector<float> part = young.plot(10);
+  CHECK(part[0] == 0.0f);
+  CHECK(part[9] == 100.0f);
 }
 
 TEST_CASE("hud_model: latency on screen in milliseconds and display frames", "[viewer]") {

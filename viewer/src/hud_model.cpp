@@ -31,19 +31,18 @@ HudModel::HudModel(double period_us, double cut_budget_us, double window_s)
       period_us_(period_us),
       cut_budget_us_(cut_budget_us) {}
 
-void HudModel::add(const sim::Snapshot& s) {
-  if (s.frame < newest_.frame) {  // a new run (restart): start over
+void HudModel::add(const sim::Snapshot& s) { newest_ = s; }
+
+void HudModel::add(const sim::FrameTimes& t) {
+  if (t.frame < next_frame_) {  // a new run (restart): start over
     frames_.clear();
     next_frame_ = 0;
     unseen_ = 0;
   }
-  newest_ = s;
-  const std::int64_t oldest = std::max<std::int64_t>(0, s.recent_through - sim::Snapshot::kRecentFrames + 1);
-  if (next_frame_ < oldest) unseen_ += oldest - next_frame_, next_frame_ = oldest;
-  for (; next_frame_ <= s.recent_through; ++next_frame_) {
-    frames_.push_back(s.recent[static_cast<std::size_t>(next_frame_ % sim::Snapshot::kRecentFrames)]);
-    if (frames_.size() > window_frames_) frames_.pop_front();
-  }
+  unseen_ += t.frame - next_frame_;  // frames the queue dropped
+  next_frame_ = t.frame + 1;
+  frames_.push_back(t);
+  if (frames_.size() > window_frames_) frames_.pop_front();
 }
 
 void HudModel::displayed(std::int64_t shown_frame_start_ns, std::int64_t shown_ns) {
@@ -56,7 +55,7 @@ void HudModel::displayed(std::int64_t shown_frame_start_ns, std::int64_t shown_n
 HudFigures HudModel::figures() const {
   HudFigures h;
   std::vector<double> frame, haptic, cut, geometry;
-  for (const sim::RecentFrame& f : frames_) {
+  for (const sim::FrameTimes& f : frames_) {
     frame.push_back(f.frame_us), haptic.push_back(f.haptic_us), cut.push_back(f.cut_us);
     geometry.push_back(f.geometry_us);
     h.window_misses += f.deadline_missed;

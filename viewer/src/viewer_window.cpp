@@ -148,6 +148,8 @@ void ViewerWindow::Impl::follow() {
     snapshot = s;
     hud->add(s);
   }
+  sim::FrameTimes t;
+  while (feed.times && feed.times->tryPop(t)) hud->add(t);
   if (!framed && model.ready()) {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window, &w, &h);

@@ -61,17 +61,18 @@ struct StepProfile {
   int queue_backlog = 0;  // poses still queued after draining: a frame takes at most kMaxPosesPerFrame
 };
 
-// One frame's timings as a reader gets them (Snapshot::recent).
-struct RecentFrame {
+// One frame's timings for a reader that wants every frame (a HUD): Simulation pushes one per frame into a
+// FrameTimesQueue when one is attached (a full queue drops it; the reader sees the gap in `frame`).
+struct FrameTimes {
+  std::int64_t frame = -1;
   float frame_us = 0.0f, haptic_us = 0.0f, cut_us = 0.0f, geometry_us = 0.0f;
   std::int16_t pose_to_visible_frames = -1;  // as FrameTiming's
   bool deadline_missed = false;
 };
+using FrameTimesQueue = SpscQueue<FrameTimes, 8192>;  // 8 s at 1 kHz, 256 KiB
 
-// What a reader sees of a frame: fixed-size, copied into the triple buffer (the recent frames' timings only
-// from the frame the slot last held on: a few entries per frame).
+// What a reader sees of a frame: small and fixed-size, copied whole into the triple buffer.
 struct Snapshot {
-  static constexpr int kRecentFrames = 256;
   std::int64_t frame = -1;
   double t_s = 0.0;
   HapticState haptic;
@@ -83,11 +84,6 @@ struct Snapshot {
   StepProfile profile;
   std::int64_t deadline_misses = 0;  // frames so far that missed their deadline
   std::int64_t frame_start_ns = 0;   // steady_clock time this frame began (a reader's latency on screen)
-  // The timings of frames [recent_through - kRecentFrames + 1, recent_through] (those >= 0), frame f at
-  // recent[f % kRecentFrames]; recent_through = frame - 1 (a frame's own time is known after its publish). A
-  // reader that takes a snapshot at least every kRecentFrames frames sees every frame's timings.
-  std::int64_t recent_through = -1;
-  std::array<RecentFrame, kRecentFrames> recent{};
 };
 
 // Also a devices::PoseSink: a live source (devices::HidPoseSource) pushes into the pose queue directly.
@@ -107,6 +103,9 @@ class Simulation final : public devices::PoseSink {
   // Before the first frame: publish the mesh's changes into `stream` every frame (attach() is done here:
   // allocates). nullptr detaches. The stream must outlive the simulation's frames.
   void attachGeometry(GeometryStream* stream);
+  // Before the first frame: push every frame's timings into `queue` (one reader thread pops them). nullptr
+  // detaches. The queue must outlive the simulation's frames.
+  void attachTimes(FrameTimesQueue* queue) noexcept { times_ = queue; }
   // The wall-clock period a frame's deadline is measured against (default: the simulated period; a replay
   // at another speed sets its own).
   void setDeadlinePeriodUs(double period_us) noexcept { period_us_ = period_us; }
@@ -145,8 +144,7 @@ class Simulation final : public devices::PoseSink {
   int last_final_ = 0, last_incisions_ = 0;
   double last_publish_us_ = 0.0, last_frame_us_ = 0.0, last_geometry_us_ = 0.0;
   GeometryStream* geometry_ = nullptr;
-  std::array<RecentFrame, Snapshot::kRecentFrames> recent_{};
-  void fillRecent(Snapshot& s, std::int64_t frame) const noexcept;
+  FrameTimesQueue* times_ = nullptr;
 };
 
 // Fast: the frames run back to back on the caller's thread, as fast as possible (same frames, same dt).
@@ -167,6 +165,7 @@ struct ReplayOptions {
   // frame the stream is flushed (up to flush_timeout_ms, waiting for its reader) so that the reader ends
   // with the final mesh exactly. nullptr: none.
   GeometryStream* geometry = nullptr;
+  FrameTimesQueue* times = nullptr;  // every frame's timings for a reader on another thread (a HUD)
   std::int64_t flush_timeout_ms = 5000;
   // Fast pace only: the stream's reader on the replay's own thread (e.g. pulls it into a GeometryMirror),
   // called after each frame and while flushing. May be empty (the reader is on another thread).

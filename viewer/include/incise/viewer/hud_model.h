@@ -3,11 +3,11 @@
 // frame period and of the cutting budget used, the force, incisions, pose-to-visible latency (in sim
 // frames, and on screen in display frames), the pose source and its state, and a frame-time plot.
 //
-// Every snapshot carries the timings of its last Snapshot::kRecentFrames frames: add() keeps each frame
-// once, so the window holds every frame as long as snapshots are taken often enough (frames that went by
-// unseen are counted in HudFigures::frames_unseen). Units: microseconds, newtons, seconds, frames.
-// Threads: one (the viewer's). Cost: add() O(new frames); figures() O(W log W) for a window of W frames
-// (call it a few times a second). Failure: nothing throws but std::bad_alloc.
+// Every frame's timings come through a sim::FrameTimesQueue (add(const FrameTimes&)); frames the queue
+// dropped (a reader away longer than the queue holds) show as gaps in the frame numbers and are counted in
+// HudFigures::frames_unseen. The newest snapshot gives the force, incisions, deadline misses and the
+// pose's clock time. Units: microseconds, newtons, seconds, frames. Threads: one (the viewer's). Cost:
+// add() O(1); figures() O(W log W) for a window of W frames (call it a few times a second). Failure: nothing throws but std::bad_alloc.
 #pragma once
 
 #include <cstdint>
@@ -74,6 +74,7 @@ class HudModel {
   HudModel(double period_us, double cut_budget_us, double window_s = 5.0);
 
   void add(const sim::Snapshot& snapshot);
+  void add(const sim::FrameTimes& times);
   // A display frame finished at `shown_ns` (steady_clock) showing the snapshot `shown` (its frame_start_ns).
   void displayed(std::int64_t shown_frame_start_ns, std::int64_t shown_ns);
 
@@ -85,7 +86,7 @@ class HudModel {
  private:
   std::size_t window_frames_;
   double period_us_, cut_budget_us_;
-  std::deque<sim::RecentFrame> frames_;
+  std::deque<sim::FrameTimes> frames_;
   std::int64_t next_frame_ = 0, unseen_ = 0;
   sim::Snapshot newest_;
   struct Shown {

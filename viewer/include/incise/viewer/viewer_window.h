@@ -37,6 +37,7 @@ struct ViewerWindowOptions {
 struct ViewerFeed {
   sim::GeometryStream* geometry = nullptr;
   std::function<bool(sim::Snapshot&)> take_snapshot;  // the newest snapshot, true when there was one
+  sim::FrameTimesQueue* times = nullptr;              // every frame's timings (popped here)
   const PoseSourceMonitor* source = nullptr;
   double period_us = 1000.0, cut_budget_us = 300.0, blade_length_m = 0.03;
   std::span<const Eigen::Vector3d> stroke_points_m;  // framed by the default camera
