@@ -78,7 +78,7 @@ struct Run {
 };
 
 // Shows one run until the window closes (false) or the user restarts (true).
-bool show(viewer::ViewerWindow& window, Run& run, const std::string& name, bool until_end) {
+bool show(viewer::ViewerWindow& window, Run& run, const std::string& name, bool until_end, double speed) {
   const std::vector<Eigen::Vector3d> stroke = strokePoints(run.loaded);
   viewer::ReplaySourceStatus source(sourceDescription(run.loaded.scenario), run.loaded.poses.back().time_s);
   viewer::ViewerFeed feed;
@@ -95,7 +95,10 @@ bool show(viewer::ViewerWindow& window, Run& run, const std::string& name, bool 
   feed.blade_length_m = run.loaded.scenario.world.tool.blade_length_m;
   feed.stroke_points_m = stroke;
   feed.scenario = name;
-  window.follow(feed);
+  sim::GeometryMirror seeded;  // the tissue as it starts, copied before the run: no sweep on the sim thread
+  run.stream.seed(*run.loaded.world, seeded);
+  window.follow(feed, std::move(seeded));
+  run.start(speed);
   while (true) {
     const viewer::ViewerRequests r = window.frame();
     if (r.pause_toggled) {
@@ -136,8 +139,7 @@ int runView(const ViewArgs& a) {
     } catch (const std::exception& e) {
       failWith("view", e.what());
     }
-    run->start(a.speed);
-    if (show(*window, *run, run->loaded.scenario.name, a.until_end)) continue;
+    if (show(*window, *run, run->loaded.scenario.name, a.until_end, a.speed)) continue;
     const viewer::HudFigures h = window->figures();
     std::printf(
         "incise view %s: %lld display frames, %.1f fps; on screen %.1f ms p50, %.1f ms max after the "

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "incise/cutting/surface_mesh.h"
+#include "incise/sim/geometry_mirror.h"
 #include "incise/sim/world.h"
 
 namespace incise::sim {
@@ -30,26 +31,51 @@ GeometryStream::GeometryStream(const GeometryStreamOptions& options)
   ring_.resize(n);
 }
 
+void GeometryStream::Dirty::reserve(std::size_t elements) {
+  std::vector<std::uint32_t> order;  // the queue's entries, oldest first, into the larger ring
+  order.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) order.push_back(ring[(head + i) % ring.size()]);
+  flag.resize(elements, 0);
+  ring.assign(elements, 0);
+  std::copy(order.begin(), order.end(), ring.begin());
+  head = 0;
+}
+
 void GeometryStream::Dirty::mark(std::size_t index, std::int64_t& regrowths) {
   if (index >= flag.size()) {  // past the room reserved at attach(): grow once, amortised
-    flag.resize(std::max(index + 1, 2 * flag.size()), 0);
-    list.reserve(flag.size());
+    reserve(std::max(index + 1, 2 * flag.size()));
     ++regrowths;
   }
-  if (flag[index]) return;
-  flag[index] = 1;
-  list.push_back(static_cast<std::uint32_t>(index));  // within the reserve: never reallocates
+  if (flag[index] & kQueued) return;
+  flag[index] |= kQueued;
+  ring[(head + count++) % ring.size()] = static_cast<std::uint32_t>(index);
+}
+
+std::uint32_t GeometryStream::Dirty::pop() noexcept {
+  const std::uint32_t index = ring[head];
+  head = (head + 1) % ring.size();
+  --count;
+  flag[index] &= static_cast<std::uint8_t>(~kQueued);
+  return index;
 }
 
 void GeometryStream::attach(World& world) {
   const cutting::TriMesh& m = world.tissue().mesh();
-  vertices_.flag.assign(m.n_vertices() + m.n_vertices() / 2 + kHeadroomVertices, 0);
-  vertices_.list.clear();
-  vertices_.list.reserve(vertices_.flag.size());
-  faces_.flag.assign(m.n_faces() + m.n_faces() / 2 + kHeadroomFaces, 0);
-  faces_.list.clear();
-  faces_.list.reserve(faces_.flag.size());
+  vertices_.reserve(m.n_vertices() + m.n_vertices() / 2 + kHeadroomVertices);
+  faces_.reserve(m.n_faces() + m.n_faces() / 2 + kHeadroomFaces);
   world.recordMeshChanges(true);
+}
+
+void GeometryStream::seed(World& world, GeometryMirror& mirror) {
+  copyGeometry(world, -1, mirror);  // the mirror now counts its reset as answered
+  const std::size_t n = world.tissue().mesh().n_vertices();
+  if (vertices_.flag.size() < n) vertices_.reserve(n);
+  for (std::size_t v = 0; v < n; ++v) vertices_.flag[v] |= kSent;
+  reset_requests_.store(1, std::memory_order_release);
+  resets_done_ = 1;
+  sweeping_ = false;
+  swept_ = true;
+  world.recordMeshChanges(true);  // from now on every change is this stream's
 }
 
 void GeometryStream::take(World& world) noexcept {
@@ -67,6 +93,7 @@ void GeometryStream::emitVertex(const World& world, std::uint32_t v) noexcept {
   const cutting::SurfaceMesh& tissue = world.tissue();
   const cutting::TriMesh::VertexHandle h(static_cast<int>(v));
   const auto& p = tissue.mesh().point(h);
+  vertices_.flag[v] |= kSent;  // a vertex sent was marked or swept: within the flags
   GeometryRecord& r = next();
   r.type = GeometryRecordType::Vertex;
   r.kind = static_cast<std::uint8_t>(tissue.kind(h));
@@ -91,6 +118,64 @@ void GeometryStream::emitFace(const World& world, std::uint32_t f) noexcept {
   for (auto v = m.cfv_iter(h); v.is_valid() && i < 3; ++v) r.vertices[i++] = v->idx();
 }
 
+void GeometryStream::startReset(std::int64_t frame, std::uint32_t n_vertices, std::uint32_t n_faces) noexcept {
+  GeometryRecord& r = next();
+  r.type = GeometryRecordType::Reset;
+  r.index = 0;
+  r.info = {frame, n_vertices, n_faces, 0, 0};
+  sweeping_ = true;
+  swept_ = false;
+  sweep_vertex_ = sweep_face_ = 0;
+  sweep_vertices_ = n_vertices, sweep_faces_ = n_faces;
+  for (std::uint8_t& f : vertices_.flag) f &= static_cast<std::uint8_t>(~kSent);  // the reader starts over
+  ++counters_.resets;
+}
+
+bool GeometryStream::sendable(const World& world, std::uint32_t f) const noexcept {
+  const cutting::TriMesh& m = world.tissue().mesh();
+  const cutting::TriMesh::FaceHandle h(static_cast<int>(f));
+  if (m.status(h).deleted()) return true;
+  for (auto v = m.cfv_iter(h); v.is_valid(); ++v)
+    if (static_cast<std::size_t>(v->idx()) >= vertices_.flag.size() ||
+        !(vertices_.flag[static_cast<std::size_t>(v->idx())] & kSent))
+      return false;
+  return true;
+}
+
+std::size_t GeometryStream::writeVertices(const World& world, std::size_t budget) noexcept {
+  std::size_t n = 0;
+  for (; n < budget && !vertices_.empty(); ++n) emitVertex(world, vertices_.pop());
+  for (; n < budget && sweeping_ && sweep_vertex_ < sweep_vertices_; ++n) emitVertex(world, sweep_vertex_++);
+  return n;
+}
+
+// A face whose vertices the reader does not all have yet (a new vertex still queued) goes to the back of
+// the queue: the reader never gets a face naming a vertex it lacks. Every face looked at counts against
+// the budget, sent or not. The sweep's faces come once its vertices have all gone.
+std::size_t GeometryStream::writeFaces(const World& world, std::size_t budget) noexcept {
+  std::size_t work = 0;
+  for (std::size_t tries = std::min(faces_.count, budget); tries > 0; --tries, ++work) {
+    const std::uint32_t f = faces_.pop();
+    if (sendable(world, f))
+      emitFace(world, f);
+    else
+      faces_.mark(f, counters_.regrowths);  // room for it: it was just popped
+  }
+  if (!sweeping_ || sweep_vertex_ < sweep_vertices_) return work;
+  for (; work < budget && sweep_face_ < sweep_faces_; ++sweep_face_, ++work) {
+    if (sendable(world, sweep_face_))
+      emitFace(world, sweep_face_);
+    else
+      faces_.mark(sweep_face_, counters_.regrowths);
+  }
+  return work;
+}
+
+std::size_t GeometryStream::backlog() const noexcept {
+  return vertices_.count + faces_.count +
+         (sweeping_ ? (sweep_vertices_ - sweep_vertex_) + (sweep_faces_ - sweep_face_) : 0);
+}
+
 int GeometryStream::write(World& world, std::int64_t frame, std::size_t room) noexcept {
   const cutting::TriMesh& m = world.tissue().mesh();
   const auto n_vertices = static_cast<std::uint32_t>(m.n_vertices());
@@ -99,44 +184,25 @@ int GeometryStream::write(World& world, std::int64_t frame, std::size_t room) no
   const std::uint32_t requests = reset_requests_.load(std::memory_order_acquire);
   if (requests != resets_done_) {  // a full re-sync: the counts, then every element within the budget
     resets_done_ = requests;
-    GeometryRecord& r = next();
-    r.type = GeometryRecordType::Reset;
-    r.index = 0;
-    r.info = {frame, n_vertices, n_faces, 0, 0};
-    sweeping_ = true;
-    swept_ = false;
-    sweep_vertex_ = sweep_face_ = 0;
-    sweep_vertices_ = n_vertices, sweep_faces_ = n_faces;
-    ++counters_.resets;
+    startReset(frame, n_vertices, n_faces);
     --room;
   }
-  std::size_t left = std::min(room - 1, static_cast<std::size_t>(budget_));  // one for the Frame record
-  for (; left > 0 && !vertices_.list.empty(); --left) {
-    const std::uint32_t v = vertices_.list.back();
-    vertices_.list.pop_back();
-    vertices_.flag[v] = 0;
-    emitVertex(world, v);
-  }
-  for (; left > 0 && sweeping_ && sweep_vertex_ < sweep_vertices_; --left) emitVertex(world, sweep_vertex_++);
-  // Faces only once the reader has every vertex (a face never names a vertex the reader lacks).
-  if (vertices_.list.empty() && !(sweeping_ && sweep_vertex_ < sweep_vertices_)) {
-    for (; left > 0 && !faces_.list.empty(); --left) {
-      const std::uint32_t f = faces_.list.back();
-      faces_.list.pop_back();
-      faces_.flag[f] = 0;
-      emitFace(world, f);
-    }
-    for (; left > 0 && sweeping_ && sweep_face_ < sweep_faces_; --left) emitFace(world, sweep_face_++);
-  }
+  const std::size_t budget = std::min(room - 1, static_cast<std::size_t>(budget_));  // one for the Frame record
+  // Faces get a quarter of the budget while vertices keep coming (the wound's opening moves many every
+  // frame): neither starves.
+  const bool faces_waiting =
+      !faces_.empty() || (sweeping_ && sweep_vertex_ == sweep_vertices_ && sweep_face_ < sweep_faces_);
+  const std::size_t vertex_budget = faces_waiting ? budget - budget / 4 : budget;
+  const std::size_t vertices = writeVertices(world, vertex_budget);
+  writeFaces(world, budget - vertices);
   if (sweeping_ && sweep_vertex_ == sweep_vertices_ && sweep_face_ == sweep_faces_) sweeping_ = false, swept_ = true;
-  const std::size_t backlog = vertices_.list.size() + faces_.list.size() +
-                              (sweeping_ ? (sweep_vertices_ - sweep_vertex_) + (sweep_faces_ - sweep_face_) : 0);
+  const std::size_t waiting = backlog();
   GeometryRecord& r = next();
   r.type = GeometryRecordType::Frame;
   r.index = 0;
   const std::uint8_t flags =
-      static_cast<std::uint8_t>((swept_ ? kFrameComplete : 0) | (swept_ && backlog == 0 ? kFrameExact : 0));
-  r.info = {frame, n_vertices, n_faces, static_cast<std::uint32_t>(backlog), flags};
+      static_cast<std::uint8_t>((swept_ ? kFrameComplete : 0) | (swept_ && waiting == 0 ? kFrameExact : 0));
+  r.info = {frame, n_vertices, n_faces, static_cast<std::uint32_t>(waiting), flags};
   head_.store(head_local_, std::memory_order_release);  // the whole frame at once
   return static_cast<int>(head_local_ - first);
 }
@@ -150,9 +216,7 @@ GeometryPublish GeometryStream::publish(World& world, std::int64_t frame) noexce
   if (requests == 0) return out;  // no reader yet: keep marking, send nothing
   const std::size_t used = static_cast<std::size_t>(head_local_ - tail_.load(std::memory_order_acquire));
   const std::size_t room = ring_.size() - used;
-  const std::size_t sweep_left = sweeping_ ? (sweep_vertices_ - sweep_vertex_) + (sweep_faces_ - sweep_face_) : 0;
-  const std::size_t waiting = vertices_.list.size() + faces_.list.size() + sweep_left +
-                              (requests != resets_done_ ? static_cast<std::size_t>(budget_) : 0);
+  const std::size_t waiting = backlog() + (requests != resets_done_ ? static_cast<std::size_t>(budget_) : 0);
   if (room < std::min(waiting, static_cast<std::size_t>(budget_)) + 2) {  // the reader is behind: wait for it
     out.stalled = true;
     ++counters_.stalled_frames;
@@ -169,9 +233,7 @@ bool GeometryStream::flush(World& world, std::int64_t frame, std::chrono::millis
   while (std::chrono::steady_clock::now() < deadline) {
     const GeometryPublish p = publish(world, frame);
     if (reader) reader();
-    if (!p.stalled && reset_requests_.load(std::memory_order_acquire) != 0 && !sweeping_ && swept_ &&
-        vertices_.list.empty() && faces_.list.empty())
-      return true;
+    if (!p.stalled && reset_requests_.load(std::memory_order_acquire) != 0 && swept_ && backlog() == 0) return true;
     if (!reader && (p.stalled || reset_requests_.load(std::memory_order_acquire) == 0))
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }

@@ -210,9 +210,9 @@ void ViewerWindow::Impl::hudFrame() {
 ViewerWindow::ViewerWindow(const ViewerWindowOptions& options) : impl_(std::make_unique<Impl>(options)) {}
 ViewerWindow::~ViewerWindow() = default;
 
-void ViewerWindow::follow(const ViewerFeed& feed) {
+void ViewerWindow::follow(const ViewerFeed& feed, sim::GeometryMirror seeded) {
   impl_->feed = feed;
-  impl_->mirror = sim::GeometryMirror();  // asks the new stream for a full copy at the first pull
+  impl_->mirror = std::move(seeded);  // a default one asks the new stream for a full copy at the first pull
   impl_->model = SurfaceModel();
   impl_->hud = std::make_unique<HudModel>(feed.period_us, feed.cut_budget_us);
   impl_->snapshot = sim::Snapshot();

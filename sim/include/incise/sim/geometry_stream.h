@@ -42,6 +42,7 @@
 namespace incise::sim {
 
 class World;
+class GeometryMirror;
 
 enum class GeometryRecordType : std::uint8_t { Reset = 1, Vertex = 2, Face = 3, Frame = 4 };
 inline constexpr std::uint8_t kDeletedFace = 0xff;
@@ -73,8 +74,8 @@ struct GeometryRecord {
 static_assert(sizeof(GeometryRecord) == 32);
 
 struct GeometryStreamOptions {
-  std::size_t ring_records = std::size_t{1} << 18;  // a power of two; 8 MiB at the default
-  int records_per_frame = 2048;                     // the writer's budget per frame (Frame record apart)
+  std::size_t ring_records = std::size_t{1} << 16;  // a power of two; 2 MiB at the default (128 full frames)
+  int records_per_frame = 256;                      // the writer's budget per frame (Frame record apart)
 };
 
 // Per-publish figures (the sim thread's cost is timed by the caller) and the stream's counters.
@@ -96,6 +97,10 @@ class GeometryStream {
   // Writer, before the loop: turns the world's change journal on and reserves the dirty sets for the mesh
   // plus the cutter's headroom. Allocates (load time). The world must outlive its use here.
   void attach(World& world);
+  // Before the loop, on the thread that owns the world then (it is not running): copies the mesh into
+  // `mirror` at once (sim::copyGeometry) and counts that reader as in sync, so the run starts without a
+  // sweep (which, on a large mesh, would take the per-frame budget for many frames). Allocates.
+  void seed(World& world, GeometryMirror& mirror);
   // Writer, once per frame: see the header comment. Never blocks, never throws.
   GeometryPublish publish(World& world, std::int64_t frame) noexcept;
   // Writer, after the loop has stopped: publishes until nothing is waiting (waiting for the reader to make
@@ -120,13 +125,25 @@ class GeometryStream {
   }
 
  private:
+  // Elements waiting to be sent: a flag each (so an element is queued once) and a FIFO ring of their
+  // indices (oldest first: with more changes than budget, each waits at most backlog / budget frames).
+  static constexpr std::uint8_t kQueued = 1, kSent = 2;  // Dirty::flag bits (kSent: vertices the reader has)
   struct Dirty {
     std::vector<std::uint8_t> flag;
-    std::vector<std::uint32_t> list;
+    std::vector<std::uint32_t> ring;  // as large as flag: never more entries than elements
+    std::size_t head = 0, count = 0;
+    void reserve(std::size_t elements);
     void mark(std::size_t index, std::int64_t& regrowths);
+    std::uint32_t pop() noexcept;
+    bool empty() const noexcept { return count == 0; }
   };
   void take(World& world) noexcept;
   int write(World& world, std::int64_t frame, std::size_t room) noexcept;
+  void startReset(std::int64_t frame, std::uint32_t n_vertices, std::uint32_t n_faces) noexcept;
+  std::size_t writeVertices(const World& world, std::size_t budget) noexcept;
+  std::size_t writeFaces(const World& world, std::size_t budget) noexcept;
+  bool sendable(const World& world, std::uint32_t f) const noexcept;
+  std::size_t backlog() const noexcept;
   void emitVertex(const World& world, std::uint32_t v) noexcept;
   void emitFace(const World& world, std::uint32_t f) noexcept;
   GeometryRecord& next() noexcept { return ring_[(head_local_++) & mask_]; }

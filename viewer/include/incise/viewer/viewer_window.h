@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "incise/sim/geometry_mirror.h"
 #include "incise/sim/geometry_stream.h"
 #include "incise/sim/simulation.h"
 #include "incise/viewer/camera.h"
@@ -56,8 +57,9 @@ class ViewerWindow {
   ViewerWindow(const ViewerWindow&) = delete;
   ViewerWindow& operator=(const ViewerWindow&) = delete;
 
-  // Starts following a (new) run: a fresh copy of its geometry (a re-sync), a fresh HUD.
-  void follow(const ViewerFeed& feed);
+  // Starts following a (new) run with a fresh HUD: from `seeded` (GeometryStream::seed, before the run), or
+  // with a fresh copy that asks the stream for a full re-sync.
+  void follow(const ViewerFeed& feed, sim::GeometryMirror seeded = {});
   // One display frame: pull, update, draw, HUD, swap; then the user's requests.
   ViewerRequests frame();  // after follow()
   // The HUD's numbers now (for the benchmark and the report).
