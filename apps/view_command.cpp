@@ -3,7 +3,12 @@
 // window on the main thread at display rate, reading the snapshots and the geometry stream and never
 // making the sim wait. R restarts the run on a fresh tissue, Space pauses it. Closing the window stops the
 // run cleanly; what `replay` writes (cut.obj, report.json, the summary line) is written for the frames run.
-// No display: a message naming `incise render` and `xvfb-run`, exit 2.
+// The sim thread is pinned to the last CPU (spinning the last 200 us before each deadline, as `incise bench`),
+// the window and Mesa's llvmpipe threads to the others. No display: a message naming `incise render` and
+// `xvfb-run`, exit 2.
+#include <pthread.h>
+#include <sched.h>
+
 #include <atomic>
 #include <cstdio>
 #include <thread>
@@ -43,6 +48,17 @@ std::string sourceDescription(const sim::Scenario& s) {
   }
 }
 
+// The window's thread (and llvmpipe's rasterizer threads, created with the context) keeps off the last
+// CPU, where the replay pins the sim thread.
+void keepOffLastCpu() {
+  const int cpus = static_cast<int>(std::thread::hardware_concurrency());
+  if (cpus < 2) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (int c = 0; c < cpus - 1; ++c) CPU_SET(c, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+}
+
 // One run: the replay on its own thread (which runs the sim thread, the feeder and the snapshot reader),
 // the window on this one until the replay ends and the user closes or restarts.
 struct Run {
@@ -60,6 +76,8 @@ struct Run {
     options.period_us = loaded.scenario.periodUs();
     options.settle_s = loaded.scenario.settle_s;
     options.speed = speed;
+    options.pin_threads = true;  // the loop on the last CPU, the feeder and reader elsewhere (as incise bench)
+    options.spin_us = 200;
     options.geometry = &stream;
     options.times = times.get();
     options.pause = &paused;
@@ -126,6 +144,7 @@ int runView(const ViewArgs& a) {
   std::filesystem::create_directories(a.out, error);
   if (error) failWith("view", "cannot create output directory " + a.out + ": " + error.message());
   window_options.screenshot_dir = a.out;
+  keepOffLastCpu();  // before the window: llvmpipe's threads inherit this thread's CPUs
   std::unique_ptr<viewer::ViewerWindow> window;
   try {
     window = std::make_unique<viewer::ViewerWindow>(window_options);
