@@ -78,6 +78,7 @@ struct Run {
     options.speed = speed;
     options.pin_threads = true;  // the loop on the last CPU, the feeder and reader elsewhere (as incise bench)
     options.spin_us = 200;
+    options.realtime_priority = true;  // SCHED_FIFO when the process may have it
     options.geometry = &stream;
     options.times = times.get();
     options.pause = &paused;

@@ -4,11 +4,12 @@
 //    replayed as fast as possible with a GeometryMirror pulling after every frame, the mirror seeded before
 //    the run (as incise view does) or asking for its copy at the first frame (a sweep of the whole mesh
 //    within the per-frame budget); target p99 <= 20 us on ~1M triangles;
-//  - "realtime" (needs a display: run it under xvfb-run): the same stroke on the 235k bunny replayed in real
+//  - "realtime" (needs a display: run it under xvfb-run, e.g. `taskset -c 0 xvfb-run -a ...` so that Xvfb
+//    keeps off the sim's core too): the shipped scenario (the bunny subdivided twice) replayed in real
 //    time at 1 kHz without the viewer, then with the viewer attached and drawing (a GLFW window, the
 //    geometry stream, the HUD), twice each in this order: the sim's frame p99 with the viewer within 10% of
-//    without; the viewer's frame rate under llvmpipe (aim >= 30 fps); pose-to-visible on screen (target
-//    <= 2 display frames). Deadline misses are split into our own overruns (a frame longer than the period)
+//    without, pose-to-visible on screen (target <= 2 display frames); then the viewer on the 235k bunny:
+//    its frame rate under llvmpipe (aim >= 30 fps) and latency. Deadline misses are split into our own overruns (a frame longer than the period)
 //    and late wake-ups (the VM not running the loop on time: the period error).
 //   incise_bench_viewer [--seconds S] [--geometry-only]
 #include <pthread.h>
@@ -123,6 +124,7 @@ void replayOnce(Loaded& l, viewer::ViewerWindow* window, sim::LatencyStats& stat
   o.stats = &stats;
   o.spin_us = 200;
   o.pin_threads = true;
+  o.realtime_priority = true;  // SCHED_FIFO when the process may have it, as incise bench
   if (window) {
     o.geometry = &stream;
     o.times = times.get();
@@ -197,6 +199,9 @@ nlohmann::json realTime(int subdivide, viewer::ViewerWindow* window, double seco
   return j;
 }
 
+// The sim's frame p99 without and with the viewer on the shipped scenario (the bunny subdivided twice,
+// 58,784 triangles: the loop keeps its period there, so the viewer's effect is not lost in the loop's own
+// overruns), twice in this order; then the viewer's frame rate and latency on the 235k bunny.
 nlohmann::json realTimePairs(double seconds) {
   pinAwayFromLastCpu();
   viewer::ViewerWindowOptions options;
@@ -205,17 +210,19 @@ nlohmann::json realTimePairs(double seconds) {
   viewer::ViewerWindow window(options);
   nlohmann::json runs = nlohmann::json::array();
   for (int pass = 0; pass < 2; ++pass) {
-    nlohmann::json without = realTime(3, nullptr, seconds);
-    nlohmann::json with = realTime(3, &window, seconds);
+    nlohmann::json without = realTime(2, nullptr, seconds);
+    nlohmann::json with = realTime(2, &window, seconds);
     const double a = without["frame_us"]["p99"], b = with["frame_us"]["p99"];
     runs.push_back({{"without_viewer", without},
                     {"with_viewer", with},
                     {"frame_p99_change", b / a - 1.0},
                     {"meets_target_p99_within_10_percent", b <= 1.1 * a},
-                    {"meets_target_screen_latency", with["screen_latency_display_frames_max"].get<double>() <= 2.0},
-                    {"meets_aim_30_fps", with["viewer_fps_mean"].get<double>() >= 30.0}});
+                    {"meets_target_screen_latency", with["screen_latency_display_frames_max"].get<double>() <= 2.0}});
   }
-  return {{"gl", window.glDescription()}, {"runs", runs}};
+  nlohmann::json large = realTime(3, &window, seconds);
+  large["meets_aim_30_fps"] = large["viewer_fps_mean"].get<double>() >= 30.0;
+  large["meets_target_screen_latency"] = large["screen_latency_display_frames_max"].get<double>() <= 2.0;
+  return {{"gl", window.glDescription()}, {"runs", runs}, {"viewer_on_235k", large}};
 }
 
 }  // namespace
