@@ -66,7 +66,7 @@ class GeometryMirror {
 
 // The world's mesh as it is now, into `mirror` (which ends exact), through a stream of its own written and
 // read on this thread: for pictures after a run. Not during a run (the sim thread owns the world then).
-// Leaves the world's change journal off. Allocates (an 8 MiB ring). O(V + F).
+// Leaves the world's change journal off. Allocates (a 2 MiB ring). O(V + F).
 void copyGeometry(World& world, std::int64_t frame, GeometryMirror& mirror);
 
 }  // namespace incise::sim

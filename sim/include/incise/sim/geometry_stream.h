@@ -5,29 +5,33 @@
 // contact point and the force; this stream carries the mesh.
 //
 // Writer, once per frame after the cut (Simulation::frame, phase 4): the cutter's change journal
-// (World::meshChanges) goes into two dirty sets (a flag and a list per element: an element changed ten
-// times is sent once, with its newest value); then at most `records_per_frame` records are written with
-// the elements' current values — dirty vertices first, then (only once the reader has every vertex) dirty
-// faces — and a Frame record closes the frame. The frame's records become visible to the reader at once
-// (one release store of the write position): the reader never sees part of a frame. The sim thread's cost
-// is O(journal entries) to mark (a flag test each; the cutter's own work is larger per entry) plus
-// O(records_per_frame) to write: bounded whatever the mesh size. It never blocks and never allocates after
-// attach(), unless the mesh grows past the room reserved there (then the flags grow once, counted in
+// (World::meshChanges) goes into two dirty queues (a flag per element and a FIFO of indices: an element
+// changed ten times is queued once and sent with its newest value); then at most `records_per_frame`
+// records are written with the elements' current values, oldest queued first — vertices, and faces once
+// the reader has all three of their vertices (a "sent" bit per vertex; a face still waiting for a new
+// vertex goes to the back of the queue; faces get a quarter of the budget while vertices keep coming) —
+// and a Frame record closes the frame. With more changes than budget (the wound's opening moves many
+// vertices every frame on a dense mesh) each waits its turn: a few frames later, never lost. The frame's
+// records become visible to the reader at once (one release store of the write position): the reader never
+// sees part of a frame. The sim thread's cost is O(journal entries) to mark (a flag test each; the cutter's
+// own work is larger per entry) plus O(records_per_frame) to write: bounded whatever the mesh size (the
+// benchmark: bench/viewer_bench.cpp, figures in README.md). It never blocks and never allocates after
+// attach(), unless the mesh grows past the room reserved there (then the queues grow once, counted in
 // regrowths).
 //
 // A reader that falls behind loses nothing and never sees a torn state: when the ring has no room for a
 // frame, the writer writes nothing that frame (counted in stalled_frames) and keeps marking, so the reader,
-// once it has caught up, gets every element changed meanwhile with its newest value. A full re-sync
-// (a reader that starts late, or that dropped its copy) is asked for with requestReset(): the writer
-// starts the next frame with a Reset record (the element counts) and then sends every vertex and every face
-// within the same per-frame budget (a sweep), interleaved with the changes; when the sweep is over and no
-// change is waiting the Frame record says `exact`: the reader's copy then equals the mesh bit for bit.
-// Faces only ever reference vertices the reader has (vertices go first), so every state a reader applies
-// up to a Frame record is a valid mesh.
+// once it has caught up, gets every element changed meanwhile with its newest value. A reader's first copy
+// is made before the run with seed() (no sweep), or asked for with requestReset() (a reader that starts
+// late, or dropped its copy): the writer starts the next frame with a Reset record (the element counts) and
+// then sends every vertex and every face within the same per-frame budget (a sweep), interleaved with the
+// changes; once the sweep is over and nothing is waiting, the Frame record says `exact`: the reader's copy
+// then equals the mesh bit for bit. Faces only ever name vertices the reader has, so every state a reader
+// applies up to a Frame record is a valid mesh.
 //
 // Shapes: indices are OpenMesh handle indices of the tissue (vertices are never deleted; a deleted face
 // keeps its index, kind kDeletedFace). Units: metres. Threads: attach(), publish() and flush() from the
-// writer thread (the sim thread; flush() after the loop has stopped); requestReset() and read() from one
+// writer thread (the sim thread; seed() before and flush() after the loop); requestReset() and read() from one
 // reader thread. Failure: the constructor throws std::invalid_argument for bad options; nothing else throws
 // but attach() (std::bad_alloc).
 #pragma once
