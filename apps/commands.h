@@ -13,5 +13,7 @@ void addBenchCommand(CLI::App& app);
 void addWrapCommand(CLI::App& app);
 void addHidCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
 
 }  // namespace incise::apps

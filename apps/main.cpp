@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
   incise::apps::addWrapCommand(app);
   incise::apps::addHidCommand(app);
   incise::apps::addImportCommand(app);
+  incise::apps::addViewCommand(app);
+  incise::apps::addRenderCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,8 +2,8 @@
 // through the simulation loop (a fixed-rate 1 kHz thread in real time, or the same frames as fast as
 // possible), then writes the cut mesh, a JSON report (latency statistics, counts, the geometry's hash) and
 // prints a short summary. With a tet tissue (the scenario's tissue.tets), also the cut tets (tets.vtu,
-// tets.node/.ele) and their figures in the report. Outputs are written to temporary files and renamed:
-// nothing half-written.
+// tets.node/.ele) and their figures in the report. With --png FILE, a picture of the end state too
+// (picture_output.h). Outputs are written to temporary files and renamed: nothing half-written.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,7 +17,9 @@
 #include "incise/cutting/tet_cutter.h"
 #include "incise/sim/simulation.h"
 #include "json_output.h"
+#include "picture_output.h"
 #include "progress.h"
+#include "replay_outputs.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -29,6 +31,7 @@ struct ReplayArgs {
   bool realtime = false;
   bool fast = false;
   std::string out = "out/replay";
+  std::string png;
 };
 
 std::string hex(std::uint64_t h) {
@@ -103,6 +106,7 @@ nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& o
 }
 
 int runReplay(const ReplayArgs& a) {
+  if (!a.png.empty()) checkPngPath("replay", "--png", a.png), checkPictureContext("replay");
   LoadedScenario run;
   try {
     run = loadScenarioRun(a.scenario);
@@ -124,11 +128,22 @@ int runReplay(const ReplayArgs& a) {
     options.observer = [&progress](const sim::Snapshot& s) { progress.update(static_cast<double>(s.frame)); };
   const sim::ReplayReport report = sim::replay(*run.world, run.poses, options);
   progress.finish();
+  const int code = writeReplayOutputs("replay", run, options, report, a.out);
+  if (!a.png.empty()) writeEndPicture("replay", run, report.frames - 1, a.png);
+  return code;
+}
+
+}  // namespace
+
+// The outputs of a run that has ended (replay, view): cut.obj, report.json (and the tets' files), and the
+// summary line.
+int writeReplayOutputs(const char* command, const LoadedScenario& run, const sim::ReplayOptions& options,
+                       const sim::ReplayReport& report, const std::string& out_dir) {
   const cutting::SurfaceMesh& tissue = run.world->tissue();
   const cutting::MeshSummary mesh = cutting::summarize(tissue);
   const std::uint64_t hash = cutting::geometryHash(tissue);
   const auto& stats = run.world->cutter().stats();
-  const std::filesystem::path out(a.out);
+  const std::filesystem::path out(out_dir);
   bool tets_ok = true;
   std::string tets_note;
   try {
@@ -143,23 +158,21 @@ int runReplay(const ReplayArgs& a) {
     }
     writeJsonAtomically(json, out / "report.json");
   } catch (const std::exception& e) {
-    failWith("replay", e.what());
+    failWith(command, e.what());
   }
   std::printf(
-      "incise replay %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened, grooves of "
+      "incise %s %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened, grooves of "
       "%.1f mm along %.1f mm of strokes in contact; "
       "frame p99 %.1f us, haptic p99 %.1f us, pose-to-visible p99 %.0f frames, %lld deadline misses; "
       "closed two-manifold: %s; geometry %s%s; wrote %s\n",
-      run.scenario.name.c_str(), options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast",
+      command, run.scenario.name.c_str(), options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast",
       static_cast<long long>(report.frames), static_cast<long long>(report.poses), report.incisions,
       stats.vertices_duplicated, 1e3 * totalGroove_m(stats.figures), 1e3 * totalStroke_m(stats.figures),
       report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
       static_cast<long long>(report.latency.deadline_misses), mesh.closed_two_manifold ? "yes" : "NO",
-      hex(hash).c_str(), tets_note.c_str(), a.out.c_str());
+      hex(hash).c_str(), tets_note.c_str(), out_dir.c_str());
   return mesh.closed_two_manifold && stats.failure.empty() && tets_ok ? 0 : 1;
 }
-
-}  // namespace
 
 void addReplayCommand(CLI::App& app) {
   auto args = std::make_shared<ReplayArgs>();
@@ -171,6 +184,7 @@ void addReplayCommand(CLI::App& app) {
   auto* fast = cmd->add_flag("--fast", args->fast, "run the same frames as fast as possible (default)");
   realtime->excludes(fast);
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
+  cmd->add_option("--png", args->png, "also a picture of the end state (PNG; the camera frames the incision)");
   cmd->callback([args] {
     const int code = runReplay(*args);
     if (code != 0) std::exit(code);

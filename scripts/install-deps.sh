@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages incise builds and tests with. Idempotent: only what is missing is installed.
+# Installs the Debian 12 packages incise builds and tests with (the viewer: GLFW, libepoxy, Dear ImGui, libpng;
+# its pictures: Xvfb and Mesa's llvmpipe through GLX or EGL, no GPU needed). Idempotent: only what is missing is installed.
 # Nothing is fetched from anywhere but Debian's package archive.
 set -euo pipefail
 
@@ -8,6 +9,8 @@ packages=(
   libeigen3-dev libopenmesh-dev libtet1.5-dev libglfw3-dev libspdlog-dev catch2 libhidapi-dev
   nlohmann-json3-dev libcli11-dev libcgal-dev
   clang-format universal-ctags util-linux python3
+  libepoxy-dev libimgui-dev libstb-dev libpng-dev
+  xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl1
 )
 
 missing=()

@@ -77,6 +77,15 @@ void SurfaceCutter::reserveHeadroom() {
   m.reserve(reserved_vertices_, m.n_edges() + 3 * kHeadroomVertices, m.n_faces() + 2 * kHeadroomVertices);
 }
 
+void SurfaceCutter::recordChanges(bool on) {
+  record_changes_ = on;
+  changes_.clear();
+  if (on) {
+    changes_.vertices.reserve(kReservedChanges);
+    changes_.faces.reserve(kReservedChanges);
+  }
+}
+
 bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d r = Eigen::Vector3d::Constant(contact_tolerance_m_);
   query_.clear();
@@ -298,6 +307,7 @@ VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vec
   all_bound_.push_back(v);
   dirty_.push_back(v);
   grid_.insert(v.idx(), rest_m);
+  vertexChanged(v);
   return v;
 }
 
@@ -344,7 +354,10 @@ void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) 
                       mesh_.kind(m.face_handle(m.opposite_halfedge_handle(h))) == FaceKind::Wall;
     const VH v = addBoundVertex(rest_m, uvw, 0, VertexKind::Seam);
     m.split(e, v);
-    for (auto f = m.vf_iter(v); f.is_valid(); ++f) mesh_.setKind(*f, wall ? FaceKind::Wall : FaceKind::Split);
+    for (auto f = m.vf_iter(v); f.is_valid(); ++f) {  // the two faces split and the two new ones
+      mesh_.setKind(*f, wall ? FaceKind::Wall : FaceKind::Split);
+      faceChanged(*f);
+    }
     data(v).seam = true;
     seam_created_.push_back(v);
     ++step.edges_split;
@@ -423,6 +436,7 @@ void SurfaceCutter::redeform(CutStep& step) {
                                              stencil_count_[s], &stencil_first_[2 * s],
                                              &stencil_basis_[2 * s * static_cast<size_t>(incision_->stencilSize())]);
     m.set_point(v, toOpenMesh(x));
+    vertexChanged(v);
     ++step.vertices_moved;
   };
   const int order = options_.incision.order;

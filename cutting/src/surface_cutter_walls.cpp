@@ -54,7 +54,10 @@ bool SurfaceCutter::duplicate(VH c) {
     plus.push_back(t);
   }
   for (const Around& a : around)
-    if (a.side == 1) m.delete_face(a.face, kKeepIsolatedVertices);
+    if (a.side == 1) {
+      faceChanged(a.face);
+      m.delete_face(a.face, kKeepIsolatedVertices);
+    }
   VertexData copy = data(c);
   const VH c_plus = addBoundVertex(copy.rest_m, copy.uvw, 1, VertexKind::Seam);
   data(c).side = -1;
@@ -65,10 +68,12 @@ bool SurfaceCutter::duplicate(VH c) {
   for (Triangle& t : plus) {
     for (VH& v : t.v)
       if (v == c) v = c_plus;
-    if (!mesh_.mesh().add_face(t.v[0], t.v[1], t.v[2]).is_valid()) {
+    const FH added = mesh_.mesh().add_face(t.v[0], t.v[1], t.v[2]);
+    if (!added.is_valid()) {
       fail("could not re-attach a face to the copy of seam vertex " + std::to_string(c.idx()));
       return false;
     }
+    faceChanged(added);
     mesh_.setKind(m.find_halfedge(t.v[0], t.v[1]).is_valid() ? m.face_handle(m.find_halfedge(t.v[0], t.v[1])) : FH(),
                   t.kind);
   }
@@ -102,7 +107,10 @@ void SurfaceCutter::deleteStrip(VH a, VH b) {
   const auto it = strips_.find(segmentKey(a, b));
   if (it == strips_.end()) return;
   for (const FH f : it->second)
-    if (!mesh_.mesh().status(f).deleted()) mesh_.mesh().delete_face(f, kKeepIsolatedVertices);
+    if (!mesh_.mesh().status(f).deleted()) {
+      faceChanged(f);
+      mesh_.mesh().delete_face(f, kKeepIsolatedVertices);
+    }
   strips_.erase(it);
 }
 
@@ -124,6 +132,7 @@ bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>
       const FH f = mesh_.mesh().add_face(t[0], t[1], t[2]);
       if (!f.is_valid()) return fail("could not add a wall face at seam vertex " + std::to_string(a[0].idx())), false;
       mesh_.setKind(f, FaceKind::Wall);
+      faceChanged(f);
       faces.push_back(f);
     }
   }

@@ -9,7 +9,7 @@ namespace incise::sim {
 
 namespace {
 
-constexpr std::size_t kQuantities = 5;
+constexpr std::size_t kQuantities = 6;
 
 // The value of quantity q in a frame, or false when the frame has none (no new cut visible).
 bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
@@ -26,9 +26,12 @@ bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
     case 3:
       value = t.period_error_us;
       return true;
-    default:
+    case 4:
       value = static_cast<double>(t.pose_to_visible_frames);
       return t.pose_to_visible_frames >= 0;
+    default:
+      value = t.geometry_us;
+      return true;
   }
 }
 
@@ -76,8 +79,8 @@ LatencySummary LatencyStats::summary() const {
   out.frames = frames_;
   out.frames_stored = static_cast<std::int64_t>(samples_.size());
   out.deadline_misses = deadline_misses_;
-  const std::array<SampleSummary*, kQuantities> targets = {&out.haptic_us, &out.cut_us, &out.frame_us,
-                                                           &out.period_error_us, &out.pose_to_visible_frames};
+  const std::array<SampleSummary*, kQuantities> targets = {
+      &out.haptic_us, &out.cut_us, &out.frame_us, &out.period_error_us, &out.pose_to_visible_frames, &out.geometry_us};
   std::vector<double> values;
   values.reserve(samples_.size());
   for (std::size_t q = 0; q < kQuantities; ++q) {
@@ -112,6 +115,7 @@ std::string toJson(const LatencySummary& summary, int indent) {
   putSummary(j, "frame_us", summary.frame_us);
   putSummary(j, "period_error_us", summary.period_error_us);
   putSummary(j, "pose_to_visible_frames", summary.pose_to_visible_frames);
+  putSummary(j, "geometry_us", summary.geometry_us);
   return j.dump(indent);
 }
 

@@ -4,9 +4,12 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 namespace incise::sim {
@@ -80,6 +83,8 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   world_.cut(t_s);
   const auto cut_end = Clock::now();
   const int visible = poseToVisible(info.frame);
+  if (geometry_) geometry_->publish(world_, info.frame);
+  const auto geometry_end = Clock::now();
 
   Snapshot& s = snapshots_.writeSlot();
   s.frame = info.frame;
@@ -97,6 +102,9 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   // A snapshot cannot hold its own publish time: it carries the previous frame's publish and frame times.
   s.profile.publish_us = last_publish_us_;
   s.profile.frame_us = last_frame_us_;
+  s.profile.geometry_us = last_geometry_us_;
+  s.deadline_misses = stats_->deadlineMisses();
+  s.frame_start_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count();
   const auto publish_start = Clock::now();
   snapshots_.publish();
   const auto end = Clock::now();
@@ -105,11 +113,21 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   FrameTiming timing;
   timing.haptic_us = microseconds(start, haptic_end);  // not from `s`: the reader owns that slot now
   timing.cut_us = microseconds(haptic_end, cut_end);
+  timing.geometry_us = last_geometry_us_ = geometry_ ? microseconds(cut_end, geometry_end) : 0.0;
   timing.frame_us = last_frame_us_ = microseconds(start, end);
   timing.period_error_us = info.period_error_us;
   timing.pose_to_visible_frames = visible;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
   stats_->record(timing);
+  if (times_)
+    times_->tryPush({info.frame, static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us),
+                     static_cast<float>(timing.cut_us), static_cast<float>(timing.geometry_us),
+                     static_cast<std::int16_t>(std::min(visible, 32767)), timing.deadline_missed});
+}
+
+void Simulation::attachGeometry(GeometryStream* stream) {
+  geometry_ = stream;
+  if (stream) stream->attach(world_);
 }
 
 bool Simulation::takeSnapshot(Snapshot& out) noexcept {
@@ -142,12 +160,22 @@ struct ReplayRun {
   int cpus;
   std::atomic<std::size_t> fed{0};
 
-  // Every pose fed and taken (or dropped), no cutting work carried, and the settle time reached.
-  bool finished(const FrameInfo& info) const noexcept {
+  std::atomic<bool> stop{false};  // stop_after_s reached or stop_requested (set by the replay's thread)
+  std::int64_t last_frame = -1;
+
+  // Every pose fed and taken (or dropped), no cutting work carried, and the settle time reached; or told
+  // to stop.
+  bool finished(const FrameInfo& info) noexcept {
+    last_frame = info.frame;
+    if (sim.frameTime(info.frame) >= stop_s) stop.store(true, std::memory_order_relaxed);
+    if (stop.load(std::memory_order_relaxed)) return true;
     return fed.load(std::memory_order_acquire) == trace.size() &&
            sim.posesTaken() + sim.posesDropped() == static_cast<std::int64_t>(trace.size()) &&
            !world.cutter().pending() && sim.frameTime(info.frame) >= end_s;
   }
+  double stop_s = std::numeric_limits<double>::infinity();
+  std::atomic<std::int64_t> paused_frames{0};
+  double wall_period_s = 1e-3;
 };
 
 void replayFast(ReplayRun& run) {
@@ -163,20 +191,34 @@ void replayFast(ReplayRun& run) {
           run.options.observer(snapshot);
           ++run.report.snapshots_read;
         }
+        if (run.options.geometry_reader) run.options.geometry_reader();
+        if (run.options.stop_requested && run.options.stop_requested()) run.stop.store(true);
         if (run.finished(info)) run.loop.requestStop();
       },
       std::numeric_limits<std::int64_t>::max());
 }
 
+// When the feeder releases pose i: at its time from the start at the replay's speed, later by every frame
+// a pause skipped.
+Clock::time_point releaseTime(const ReplayRun& run, Clock::time_point start, std::size_t i) {
+  const double wall_s = (run.trace[i].time_s - run.trace.front().time_s) / run.options.speed +
+                        static_cast<double>(run.paused_frames.load()) * run.wall_period_s;
+  return start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall_s));
+}
+
 void replayRealTime(ReplayRun& run) {
   std::atomic<bool> done{false};
   const auto start = Clock::now() + std::chrono::milliseconds(5);
-  const double t0_s = run.trace.front().time_s;
+  const auto paused = [&] { return run.options.pause && run.options.pause->load(std::memory_order_relaxed); };
   std::thread feeder([&] {  // the "device": releases each pose at its time
     pinToOtherCpus(run.pin, run.cpus);
-    for (std::size_t i = 0; i < run.trace.size(); ++i) {
-      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                std::chrono::duration<double>(run.trace[i].time_s - t0_s)));
+    for (std::size_t i = 0; i < run.trace.size() && !done.load(std::memory_order_acquire); ++i) {
+      while (!done.load(std::memory_order_acquire)) {  // re-read the pause offset until the pose is due
+        const auto now = Clock::now(), due = releaseTime(run, start, i);
+        if (!paused() && now >= due) break;
+        std::this_thread::sleep_until(paused() ? now + std::chrono::milliseconds(1)
+                                               : std::min(due, now + std::chrono::milliseconds(2)));
+      }
       while (!run.sim.pushPose(run.trace[i]) && !done.load()) std::this_thread::yield();
       run.fed.store(i + 1, std::memory_order_release);
     }
@@ -196,10 +238,21 @@ void replayRealTime(ReplayRun& run) {
   });
   std::this_thread::sleep_until(start);
   run.loop.start([&](const FrameInfo& info) {
-    run.sim.frame(info);
-    if (run.finished(info)) run.loop.requestStop();
+    if (paused()) {  // the simulated time stands still: the frame is not run
+      run.paused_frames.fetch_add(1);
+      if (run.stop.load(std::memory_order_relaxed)) run.loop.requestStop();
+      return;
+    }
+    FrameInfo frame = info;  // frames count on from before the pause: the same times as without it
+    frame.frame -= run.paused_frames.load(std::memory_order_relaxed);
+    frame.t_s = static_cast<double>(frame.frame) * frame.dt_s;
+    run.sim.frame(frame);
+    if (run.finished(frame)) run.loop.requestStop();
   });
-  while (run.loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  while (run.loop.running()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (run.options.stop_requested && run.options.stop_requested()) run.stop.store(true);
+  }
   run.loop.stop();
   done.store(true, std::memory_order_release);
   feeder.join();
@@ -214,8 +267,12 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   if (options.period_us <= 0 || !(options.settle_s >= 0.0))
     throw std::invalid_argument("replay: bad period or settle time");
   Simulation sim(world, sink, options.period_us, trace.front().time_s, options.stats);
+  if (!(options.speed >= 0.01 && options.speed <= 100.0))
+    throw std::invalid_argument("replay: speed " + std::to_string(options.speed) + " is outside [0.01, 100]");
   FixedRateLoopOptions loop_options;
-  loop_options.period_us = options.period_us;
+  loop_options.period_us = std::max<std::int64_t>(
+      1, static_cast<std::int64_t>(std::llround(static_cast<double>(options.period_us) / options.speed)));
+  sim.setDeadlinePeriodUs(static_cast<double>(loop_options.period_us));
   loop_options.realtime_priority = options.realtime_priority;
   loop_options.spin_us = options.spin_us;
   const int cpus = static_cast<int>(std::thread::hardware_concurrency());
@@ -224,6 +281,10 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   FixedRateLoop loop(loop_options);
   ReplayReport report;
   ReplayRun run{world, trace, options, sim, loop, report, trace.back().time_s + options.settle_s, pin, cpus};
+  run.stop_s = trace.front().time_s + options.stop_after_s;
+  run.wall_period_s = static_cast<double>(loop_options.period_us) * 1e-6;
+  sim.attachGeometry(options.geometry);
+  sim.attachTimes(options.times);
 
   const auto wall_start = Clock::now();
   if (options.pace == ReplayPace::Fast)
@@ -238,6 +299,13 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   report.poses_dropped = sim.posesDropped();
   report.simulated_s = static_cast<double>(report.frames) * static_cast<double>(options.period_us) * 1e-6;
   report.incisions = world.incisions();
+  report.stopped_early = run.stop.load();
+  if (options.geometry) {  // the loop has stopped: this thread is the stream's writer now
+    const auto reader = options.pace == ReplayPace::Fast ? options.geometry_reader : std::function<void()>{};
+    report.geometry_flushed = options.geometry->flush(world, std::max<std::int64_t>(run.last_frame, 0),
+                                                      std::chrono::milliseconds(options.flush_timeout_ms), reader);
+    report.geometry = options.geometry->counters();
+  }
   return report;
 }
 

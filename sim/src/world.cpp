@@ -61,6 +61,10 @@ World& World::operator=(World&&) noexcept = default;
 
 int World::incisions() const noexcept { return cutter_->stats().incisions; }
 
+void World::recordMeshChanges(bool on) { cutter_->recordChanges(on); }
+const cutting::MeshChanges& World::meshChanges() const noexcept { return cutter_->changes(); }
+void World::clearMeshChanges() noexcept { cutter_->clearChanges(); }
+
 void World::followTets(cutting::TetBudget budget) noexcept {
   if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, budget);
 }
@@ -72,6 +76,7 @@ void World::contact(const devices::PoseSample& pose, HapticState& state) noexcep
   const double probe_m = std::min(options_.tool.blade_length_m, options_.cutter.incision.depth_m + 0.002);
   const Eigen::Vector3d handle = pose.tip_m - probe_m * axis;
   state.tip_m = pose.tip_m;
+  state.orientation = pose.orientation;
   state.contact = false;
   state.cutting = false;
   std::optional<cutting::SurfacePoint> hit;

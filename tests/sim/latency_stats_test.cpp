@@ -16,6 +16,7 @@ FrameTiming uniform(double value, bool missed = false) {
   t.cut_us = value;
   t.frame_us = value;
   t.period_error_us = value;
+  t.geometry_us = value;
   t.pose_to_visible_frames = static_cast<int>(value);
   t.deadline_missed = missed;
   return t;
@@ -118,7 +119,8 @@ TEST_CASE("latency_stats: toJson writes the counters and every quantity's statis
   CHECK(j.at("frames") == 1000);
   CHECK(j.at("frames_stored") == 1000);
   CHECK(j.at("deadline_misses") == 1);
-  for (const char* name : {"haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames"}) {
+  for (const char* name :
+       {"haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames", "geometry_us"}) {
     INFO(name);
     const nlohmann::json& q = j.at(name);
     CHECK(q.at("count") == 1000);

@@ -96,6 +96,14 @@ class SurfaceCutter {
   // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
   bool pending() const noexcept { return incision_ && !failed_ && next_column_ < incision_->finalColumns(); }
   const Incision* incision() const noexcept { return incision_.get(); }
+  // The change journal (MeshChanges): off by default. On, every later change is appended (amortised
+  // growth; room for kReservedChanges entries each is reserved when turned on); the consumer reads
+  // changes() and calls clearChanges() (keeps the capacity). Turning it off clears it. Never throws
+  // except std::bad_alloc from recordChanges(true).
+  void recordChanges(bool on);
+  const MeshChanges& changes() const noexcept { return changes_; }
+  void clearChanges() noexcept { changes_.clear(); }
+  static constexpr size_t kReservedChanges = 1 << 16;
   const CutStats& stats() const noexcept { return stats_; }
   const SurfaceMesh& surface() const noexcept { return mesh_; }
   // Per-vertex data of the current incision: parameters (u, v, w) and rest position, if bound.
@@ -182,6 +190,14 @@ class SurfaceCutter {
   mutable std::vector<std::uint32_t> face_stamp_;  // intersect(): the query that last tested each face
   mutable std::uint32_t face_query_ = 0;
   CutStats stats_;
+  MeshChanges changes_;
+  bool record_changes_ = false;
+  void vertexChanged(TriMesh::VertexHandle v) {
+    if (record_changes_) changes_.vertices.push_back(v.idx());
+  }
+  void faceChanged(TriMesh::FaceHandle f) {
+    if (record_changes_) changes_.faces.push_back(f.idx());
+  }
   Eigen::Vector3d last_accepted_m_ = Eigen::Vector3d::Zero();  // the current incision's last accepted sample
   bool failed_ = false;
   bool unlimited_ = false;  // process() ignores the budget (finishing a previous incision's work)

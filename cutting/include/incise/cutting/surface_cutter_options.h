@@ -49,6 +49,19 @@ struct IncisionFigures {
                                  // its start to its tip once one of them is duplicated; 0 while none is
 };
 
+// The mesh elements a cutter changed, for a reader that mirrors the mesh (sim's GeometryStream): indices
+// (OpenMesh handle indices) of every vertex added or moved and of every face added, changed (its vertices
+// or kind) or deleted, in the order of the changes; an index may repeat. Filled only while recording is on
+// (SurfaceCutter::recordChanges); the consumer clears it. Vertices are never deleted by the cutter.
+struct MeshChanges {
+  std::vector<int> vertices;
+  std::vector<int> faces;
+  void clear() noexcept {
+    vertices.clear();
+    faces.clear();
+  }
+};
+
 struct CutStats {
   int incisions = 0;
   int seam_vertices = 0;  // of the current incision's chain

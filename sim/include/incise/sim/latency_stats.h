@@ -26,6 +26,7 @@ struct FrameTiming {
   double cut_us = 0.0;
   double frame_us = 0.0;
   double period_error_us = 0.0;  // how late the frame started vs its deadline
+  double geometry_us = 0.0;      // the geometry stream's publish (0 without a stream)
   int pose_to_visible_frames = -1;
   bool deadline_missed = false;
 };
@@ -48,9 +49,10 @@ struct LatencySummary {
   SampleSummary frame_us;
   SampleSummary period_error_us;
   SampleSummary pose_to_visible_frames;  // frames with a value >= 0 only
-  std::int64_t frames = 0;               // every record() call
-  std::int64_t frames_stored = 0;        // min(frames, capacity)
-  std::int64_t deadline_misses = 0;      // every recorded frame with deadline_missed
+  SampleSummary geometry_us;
+  std::int64_t frames = 0;           // every record() call
+  std::int64_t frames_stored = 0;    // min(frames, capacity)
+  std::int64_t deadline_misses = 0;  // every recorded frame with deadline_missed
 };
 
 class LatencyStats {
@@ -79,13 +81,14 @@ class LatencyStats {
   std::vector<FrameTiming> samples_;  // reserved to capacity_, never grown past it
   std::int64_t frames_ = 0;
   std::int64_t deadline_misses_ = 0;
-  // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible.
-  std::array<double, 5> max_{};
-  std::array<std::int64_t, 5> max_count_{};
+  // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible, geometry.
+  std::array<double, 6> max_{};
+  std::array<std::int64_t, 6> max_count_{};
 };
 
 // {"frames", "frames_stored", "deadline_misses", then per quantity {"count", "p50", "p99", "p999", "max",
-// "mean"} under "haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames"}, keys in that
+// "mean"} under "haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames",
+// "geometry_us"}, keys in that
 // order, indented by `indent` spaces (-1: one line).
 std::string toJson(const LatencySummary& summary, int indent = 2);
 

@@ -5,7 +5,9 @@
 //
 // A frame, in order (Simulation::frame): 1. drain every queued pose (oldest first) into a fixed array;
 // 2. World::updateTool -> haptic force -> ForceSink (timed: haptic_us); 3. World::cut at the frame's time
-// (timed: cut_us); 4. publish the Snapshot (timed: publish_us); 5. record the frame in LatencyStats. Frame
+// (timed: cut_us); 4. when a GeometryStream is attached, the frame's mesh changes into it (timed:
+// geometry_us; geometry_stream.h), then publish the Snapshot (timed: publish_us); 5. record the frame in
+// LatencyStats. Frame
 // k's time is t0 + k * period: simulated, never read from a clock, so the cut is the same whichever frame
 // saw which pose. Pose-to-visible latency: frames from the frame whose poses made new lattice columns
 // final to the frame whose snapshot shows them cut.
@@ -19,6 +21,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <span>
 
 #include <Eigen/Core>
@@ -26,6 +29,7 @@
 #include "incise/devices/pose_sample.h"
 #include "incise/devices/pose_source.h"
 #include "incise/sim/fixed_rate_loop.h"
+#include "incise/sim/geometry_stream.h"
 #include "incise/sim/latency_stats.h"
 #include "incise/sim/pose_queue.h"
 #include "incise/sim/triple_buffer.h"
@@ -43,9 +47,20 @@ class ForceSink {
 struct StepProfile {
   double haptic_us = 0.0, cut_us = 0.0;
   double publish_us = 0.0, frame_us = 0.0;  // of the previous frame (a snapshot cannot time its own publish)
+  double geometry_us = 0.0;                 // of the previous frame: the geometry stream's publish
   int poses = 0;                            // poses taken this frame
   int queue_backlog = 0;  // poses still queued after draining: a frame takes at most kMaxPosesPerFrame
 };
+
+// One frame's timings for a reader that wants every frame (a HUD): Simulation pushes one per frame into a
+// FrameTimesQueue when one is attached (a full queue drops it; the reader sees the gap in `frame`).
+struct FrameTimes {
+  std::int64_t frame = -1;
+  float frame_us = 0.0f, haptic_us = 0.0f, cut_us = 0.0f, geometry_us = 0.0f;
+  std::int16_t pose_to_visible_frames = -1;  // as FrameTiming's
+  bool deadline_missed = false;
+};
+using FrameTimesQueue = SpscQueue<FrameTimes, 8192>;  // 8 s at 1 kHz, 256 KiB
 
 // What a reader sees of a frame: small and fixed-size, copied whole into the triple buffer.
 struct Snapshot {
@@ -58,6 +73,8 @@ struct Snapshot {
   int edges_split = 0;    // totals over all incisions
   int seam_vertices_opened = 0;
   StepProfile profile;
+  std::int64_t deadline_misses = 0;  // frames so far that missed their deadline
+  std::int64_t frame_start_ns = 0;   // steady_clock time this frame began (a reader's latency on screen)
 };
 
 // Also a devices::PoseSink: a live source (devices::HidPoseSource) pushes into the pose queue directly.
@@ -74,6 +91,15 @@ class Simulation final : public devices::PoseSink {
   bool push(const devices::PoseSample& pose) noexcept override { return pushPose(pose); }
   void frame(const FrameInfo& info) noexcept;  // sim thread
   bool takeSnapshot(Snapshot& out) noexcept;   // reader thread: true when newer than the last
+  // Before the first frame: publish the mesh's changes into `stream` every frame (attach() is done here:
+  // allocates). nullptr detaches. The stream must outlive the simulation's frames.
+  void attachGeometry(GeometryStream* stream);
+  // Before the first frame: push every frame's timings into `queue` (one reader thread pops them). nullptr
+  // detaches. The queue must outlive the simulation's frames.
+  void attachTimes(FrameTimesQueue* queue) noexcept { times_ = queue; }
+  // The wall-clock period a frame's deadline is measured against (default: the simulated period; a replay
+  // at another speed sets its own).
+  void setDeadlinePeriodUs(double period_us) noexcept { period_us_ = period_us; }
   double frameTime(std::int64_t frame) const noexcept { return t0_s_ + static_cast<double>(frame) * dt_s_; }
 
   const LatencyStats& stats() const noexcept { return *stats_; }
@@ -104,7 +130,9 @@ class Simulation final : public devices::PoseSink {
   std::array<Pending, 256> pending_{};
   std::size_t pending_head_ = 0, pending_size_ = 0;
   int last_final_ = 0, last_incisions_ = 0;
-  double last_publish_us_ = 0.0, last_frame_us_ = 0.0;
+  double last_publish_us_ = 0.0, last_frame_us_ = 0.0, last_geometry_us_ = 0.0;
+  GeometryStream* geometry_ = nullptr;
+  FrameTimesQueue* times_ = nullptr;
 };
 
 // Fast: the frames run back to back on the caller's thread, as fast as possible (same frames, same dt).
@@ -121,6 +149,27 @@ struct ReplayOptions {
   // Called on the replay's thread after each frame in fast mode, or from a reader thread about every 2 ms
   // in real time, with the newest snapshot (e.g. a viewer or a recorder). May be empty.
   std::function<void(const Snapshot&)> observer;
+  // The mesh's changes for a reader on another thread (attached before the first frame); after the last
+  // frame the stream is flushed (up to flush_timeout_ms, waiting for its reader) so that the reader ends
+  // with the final mesh exactly. nullptr: none.
+  GeometryStream* geometry = nullptr;
+  FrameTimesQueue* times = nullptr;  // every frame's timings for a reader on another thread (a HUD)
+  std::int64_t flush_timeout_ms = 5000;
+  // Fast pace only: the stream's reader on the replay's own thread (e.g. pulls it into a GeometryMirror),
+  // called after each frame and while flushing. May be empty (the reader is on another thread).
+  std::function<void()> geometry_reader;
+  // End the replay once a frame's time reaches this (simulated seconds from the first pose's time), even if
+  // poses remain: a picture of the state at that time. Infinity: the whole trace plus settle_s.
+  double stop_after_s = std::numeric_limits<double>::infinity();
+  // Polled by the replay's thread (real time) or after each frame (fast): true ends the replay early (a
+  // viewer's window closed). The outputs are those of the frames run. May be empty.
+  std::function<bool()> stop_requested;
+  // Real time only. While *pause is true no frame runs (the simulated time stands still) and no pose is
+  // released; afterwards every pose comes that much later, so the frames see the same poses. nullptr: none.
+  const std::atomic<bool>* pause = nullptr;
+  // Real time only: wall-clock speed (the loop's period is period_us / speed, poses come at their times /
+  // speed); the simulated frames, and so the outputs, are the same. In [0.01, 100].
+  double speed = 1.0;
   LatencyStats* stats = nullptr;  // gather the frames here too (e.g. several replays into one benchmark)
 };
 
@@ -131,7 +180,10 @@ struct ReplayReport {
   std::int64_t poses = 0, poses_dropped = 0;
   double simulated_s = 0.0, wall_s = 0.0;
   int incisions = 0;
-  int snapshots_read = 0;  // by the reader thread (real time) or observer calls (fast)
+  int snapshots_read = 0;         // by the reader thread (real time) or observer calls (fast)
+  bool stopped_early = false;     // stop_after_s or stop_requested ended it before the trace's end
+  bool geometry_flushed = false;  // the geometry stream's reader got the final mesh exactly
+  GeometryCounters geometry;      // the stream's counters (zero without one)
 };
 
 // Replays a trace through `world` and returns the statistics; the world is left as the replay made it

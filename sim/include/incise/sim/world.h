@@ -32,6 +32,7 @@
 #include <span>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "incise/cutting/surface_cutter_options.h"
 #include "incise/cutting/tet_cutter_options.h"
@@ -85,8 +86,9 @@ struct HapticState {
   Eigen::Vector3d contact_m = Eigen::Vector3d::Zero();  // where the blade enters the surface
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
-  int poses = 0;           // poses used this frame
-  int poses_rejected = 0;  // non-finite or not after the previous one in time
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // the tool's (blade along local -z)
+  int poses = 0;                                                    // poses used this frame
+  int poses_rejected = 0;                                           // non-finite or not after the previous one in time
 };
 
 struct StepResult {
@@ -119,6 +121,11 @@ class World {
   int incisions() const noexcept;
   // The tissue's tets and their cutter; nullptr unless options.tets.enabled.
   const cutting::TetCutter* tets() const noexcept { return tets_.get(); }
+  // The surface cutter's change journal (cutting::MeshChanges), for a reader of the geometry
+  // (GeometryStream): off by default; recordMeshChanges(true) reserves its room (load time, allocates).
+  void recordMeshChanges(bool on);
+  const cutting::MeshChanges& meshChanges() const noexcept;
+  void clearMeshChanges() noexcept;
 
  private:
   void contact(const devices::PoseSample& pose, HapticState& state) noexcept;

@@ -1,0 +1,44 @@
+// Pictures of a run's state for the commands (render, replay --png): the world's mesh copied into a mirror
+// (sim::copyGeometry), drawn off-screen by the viewer (viewer/picture.h) and written as PNG (through a .tmp
+// file, renamed). The default camera frames the stroke: the tips of the scenario's poses that hold the cut
+// button (all of them when cutting needs no button). Bad options and a missing display / EGL / OpenGL 3.3
+// are reported by failWith (exit 2).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "incise/sim/simulation.h"
+#include "incise/viewer/camera.h"
+#include "scenario_run.h"
+
+namespace incise::apps {
+
+// Exits with 2 (failWith) unless `png` ends in .png; `option` names the option in the message.
+void checkPngPath(const char* command, const char* option, const std::string& png);
+
+// Exits with 2 (failWith) when no off-screen OpenGL 3.3 context can be had (no display and no EGL, an old
+// driver): checked before a run, so that the run is not done for nothing.
+void checkPictureContext(const char* command);
+
+// The points the default camera frames: the tips of the poses that cut.
+std::vector<Eigen::Vector3d> strokePoints(const LoadedScenario& run);
+
+struct PictureArgs {
+  viewer::ImageSize size{1280, 800};
+  std::optional<viewer::CameraOption> camera;
+  bool tool = true;
+  bool wireframe = false;
+  std::optional<sim::Snapshot> last;  // the tool, contact and force drawn (none: no tool)
+};
+
+// Renders the world as it is and writes `png`; prints "wrote ..." with the camera used.
+void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png,
+                  const PictureArgs& args);
+// The end state with the default picture options (replay --png).
+void writeEndPicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png);
+
+}  // namespace incise::apps

@@ -1,0 +1,95 @@
+#include "incise/sim/geometry_mirror.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "incise/sim/world.h"
+
+namespace incise::sim {
+
+std::size_t GeometryMirror::pull(GeometryStream& stream, std::size_t max_records) {
+  if (!requested_) {
+    requested_ = true;
+    stream.requestReset();
+  }
+  return stream.read([this](const GeometryRecord& r) { apply(r); }, max_records);
+}
+
+void GeometryMirror::touch(std::vector<std::uint8_t>& flags, std::vector<std::uint32_t>& list, std::uint32_t index) {
+  if (rebuilt_) return;  // everything is new anyway
+  if (index >= flags.size()) flags.resize(std::max<std::size_t>(index + 1, 2 * flags.size()), 0);
+  if (flags[index]) return;
+  flags[index] = 1;
+  list.push_back(index);
+}
+
+void GeometryMirror::apply(const GeometryRecord& r) {
+  if (r.type == GeometryRecordType::Reset) {
+    if (!requested_) return;
+    started_ = true;
+    ++resets_;
+    positions_m_.assign(r.info.vertices, {0.0, 0.0, 0.0});
+    vertex_kind_.assign(r.info.vertices, 0);
+    faces_.assign(r.info.faces, {-1, -1, -1});
+    face_kind_.assign(r.info.faces, kDeletedFace);
+    flags_ = 0;
+    frame_ = r.info.frame;
+    clearChanges();
+    rebuilt_ = true;
+    return;
+  }
+  if (!started_) return;
+  switch (r.type) {
+    case GeometryRecordType::Vertex:
+      if (r.index >= positions_m_.size()) {
+        positions_m_.resize(r.index + 1, {0.0, 0.0, 0.0});
+        vertex_kind_.resize(r.index + 1, 0);
+      }
+      positions_m_[r.index] = {r.position_m[0], r.position_m[1], r.position_m[2]};
+      vertex_kind_[r.index] = r.kind;
+      touch(vertex_changed_, changed_vertices_, r.index);
+      break;
+    case GeometryRecordType::Face:
+      if (r.index >= faces_.size()) {
+        faces_.resize(r.index + 1, {-1, -1, -1});
+        face_kind_.resize(r.index + 1, kDeletedFace);
+      }
+      faces_[r.index] = {r.vertices[0], r.vertices[1], r.vertices[2]};
+      face_kind_[r.index] = r.kind;
+      touch(face_changed_, changed_faces_, r.index);
+      break;
+    case GeometryRecordType::Frame:
+      frame_ = r.info.frame;
+      flags_ = r.info.flags;
+      backlog_ = r.info.backlog;
+      break;
+    default:
+      break;
+  }
+}
+
+void GeometryMirror::clearChanges() noexcept {
+  for (const std::uint32_t v : changed_vertices_) vertex_changed_[v] = 0;
+  for (const std::uint32_t f : changed_faces_) face_changed_[f] = 0;
+  changed_vertices_.clear();
+  changed_faces_.clear();
+  rebuilt_ = false;
+}
+
+std::size_t GeometryMirror::liveFaces() const noexcept {
+  return static_cast<std::size_t>(
+      std::count_if(face_kind_.begin(), face_kind_.end(), [](std::uint8_t k) { return k != kDeletedFace; }));
+}
+
+void copyGeometry(World& world, std::int64_t frame, GeometryMirror& mirror) {
+  GeometryStreamOptions options;
+  options.records_per_frame = static_cast<int>(options.ring_records / 2);
+  GeometryStream stream(options);
+  stream.attach(world);
+  mirror.restart();
+  mirror.pull(stream);  // asks for the full copy
+  stream.flush(world, frame, std::chrono::hours(1), [&] { mirror.pull(stream); });
+  world.recordMeshChanges(false);
+}
+
+}  // namespace incise::sim

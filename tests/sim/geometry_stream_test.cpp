@@ -1,0 +1,256 @@
+// The geometry stream (sim/src/geometry_stream.cpp) and its reader's copy (sim/src/geometry_mirror.cpp):
+// a mirror rebuilt from the stream equals the replay's final mesh bit for bit — fast, in real time with
+// the reader on another thread, with a reader that falls behind, and with one that re-syncs mid-run.
+#include "incise/sim/geometry_stream.h"
+#include "incise/sim/geometry_mirror.h"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <thread>
+
+#include "incise/cutting/mesh_hash.h"
+#include "incise/cutting/surface_cutter.h"
+#include "incise/cutting/surface_mesh.h"
+#include "incise/devices/trace_csv.h"
+#include "incise/sim/scenario.h"
+#include "incise/sim/simulation.h"
+
+using namespace incise;
+
+namespace {
+
+struct Loaded {
+  sim::Scenario scenario;
+  std::unique_ptr<sim::World> world;
+  std::vector<devices::PoseSample> poses;
+};
+
+Loaded load(const char* name) {
+  Loaded l;
+  l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
+  l.world = std::make_unique<sim::World>(sim::loadTissue(l.scenario), l.scenario.world);
+  l.poses = devices::TraceReader::readAll(l.scenario.trace);
+  return l;
+}
+
+sim::ReplayOptions options(const Loaded& l, sim::ReplayPace pace, sim::GeometryStream& stream) {
+  sim::ReplayOptions o;
+  o.pace = pace;
+  o.period_us = l.scenario.periodUs();
+  o.settle_s = l.scenario.settle_s;
+  o.geometry = &stream;
+  return o;
+}
+
+// The mirror as a SurfaceMesh (live faces in index order), for the geometry hash replay reports.
+cutting::SurfaceMesh rebuild(const sim::GeometryMirror& mirror) {
+  cutting::SurfaceMesh mesh;
+  for (std::size_t v = 0; v < mirror.positions_m().size(); ++v) {
+    const auto& p = mirror.positions_m()[v];
+    mesh.addVertex({p[0], p[1], p[2]}, static_cast<cutting::VertexKind>(mirror.vertexKind()[v]));
+  }
+  for (std::size_t f = 0; f < mirror.faces().size(); ++f) {
+    if (mirror.faceKind()[f] == sim::kDeletedFace) continue;
+    const auto& t = mirror.faces()[f];
+    mesh.addFace(cutting::TriMesh::VertexHandle(t[0]), cutting::TriMesh::VertexHandle(t[1]),
+                 cutting::TriMesh::VertexHandle(t[2]), static_cast<cutting::FaceKind>(mirror.faceKind()[f]));
+  }
+  return mesh;
+}
+
+// Every vertex position bit for bit, every face's vertices (in OpenMesh's order) and kind, deleted faces.
+void requireSameMesh(const sim::GeometryMirror& mirror, const cutting::SurfaceMesh& tissue) {
+  const cutting::TriMesh& m = tissue.mesh();
+  REQUIRE(mirror.exact());
+  REQUIRE(mirror.positions_m().size() == m.n_vertices());
+  REQUIRE(mirror.faces().size() == m.n_faces());
+  std::size_t differing = 0;
+  for (const auto v : m.all_vertices()) {
+    const auto& p = m.point(v);
+    const auto& q = mirror.positions_m()[static_cast<std::size_t>(v.idx())];
+    if (std::memcmp(p.data(), q.data(), sizeof q) != 0 ||
+        mirror.vertexKind()[static_cast<std::size_t>(v.idx())] != static_cast<std::uint8_t>(tissue.kind(v)))
+      ++differing;
+  }
+  for (const auto f : m.all_faces()) {
+    const auto i = static_cast<std::size_t>(f.idx());
+    if (m.status(f).deleted()) {
+      differing += mirror.faceKind()[i] != sim::kDeletedFace;
+      continue;
+    }
+    int k = 0;
+    for (auto v = m.cfv_iter(f); v.is_valid(); ++v)
+      differing += mirror.faces()[i][static_cast<std::size_t>(k++)] != v->idx();
+    differing += mirror.faceKind()[i] != static_cast<std::uint8_t>(tissue.kind(f));
+  }
+  CHECK(differing == 0);
+  CHECK(cutting::geometryHash(rebuild(mirror)) == cutting::geometryHash(tissue));
+}
+
+// Faces name only vertices the copy has: what a reader sees at a frame's end is a mesh, not a torn state.
+bool facesValid(const sim::GeometryMirror& mirror) {
+  const auto n = static_cast<std::int32_t>(mirror.positions_m().size());
+  for (std::size_t f = 0; f < mirror.faces().size(); ++f) {
+    if (mirror.faceKind()[f] == sim::kDeletedFace) continue;
+    for (const std::int32_t v : mirror.faces()[f])
+      if (v < 0 || v >= n) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("geometry_stream: a mirror pulled after every fast frame ends as the replay's mesh, bit for bit", "[sim]") {
+  Loaded l = load("bunny-straight");
+  sim::GeometryStream stream;
+  sim::GeometryMirror mirror;
+  sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
+  std::int64_t changed_frames = 0;
+  o.geometry_reader = [&] {
+    mirror.pull(stream);
+    if (!mirror.changedVertices().empty()) ++changed_frames;
+    mirror.clearChanges();
+  };
+  const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
+  REQUIRE(report.geometry_flushed);
+  REQUIRE(l.world->cutter().stats().vertices_duplicated > 50);
+  CHECK(mirror.frame() == report.frames - 1);
+  CHECK(changed_frames > 100);  // the cut reaches the reader as it grows, not only at the end
+  CHECK(report.geometry.resets == 1);
+  requireSameMesh(mirror, l.world->tissue());
+}
+
+TEST_CASE("geometry_stream: a reader that falls behind stalls the stream, loses nothing and ends exact", "[sim]") {
+  Loaded l = load("bunny-straight");
+  sim::GeometryStreamOptions small;
+  small.ring_records = 4096;
+  small.records_per_frame = 512;
+  sim::GeometryStream stream(small);
+  sim::GeometryMirror mirror;
+  sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
+  int calls = 0;
+  bool always_valid = true;
+  o.geometry_reader = [&] {
+    if (++calls % 40 != 0) return;  // reads every 40 frames only: the ring fills up in between
+    mirror.pull(stream);
+    always_valid = always_valid && facesValid(mirror);
+  };
+  const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
+  REQUIRE(report.geometry_flushed);
+  CHECK(report.geometry.stalled_frames > 100);
+  CHECK(always_valid);
+  requireSameMesh(mirror, l.world->tissue());
+}
+
+TEST_CASE("geometry_stream: a reader that drops its copy mid-run re-syncs and ends exact", "[sim]") {
+  Loaded l = load("bunny-straight");
+  sim::GeometryStream stream;
+  sim::GeometryMirror mirror;
+  sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
+  int calls = 0;
+  o.geometry_reader = [&] {
+    if (++calls == 700) mirror.restart();  // mid-stroke: the cut is growing
+    mirror.pull(stream);
+  };
+  const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
+  REQUIRE(report.geometry_flushed);
+  CHECK(report.geometry.resets == 2);
+  CHECK(mirror.resets() == 2);
+  requireSameMesh(mirror, l.world->tissue());
+}
+
+TEST_CASE("geometry_stream: without a reader the stream sends nothing and the replay is unchanged", "[sim]") {
+  Loaded with = load("bunny-straight");
+  Loaded without = load("bunny-straight");
+  sim::GeometryStream stream;
+  sim::ReplayOptions o = options(with, sim::ReplayPace::Fast, stream);
+  o.flush_timeout_ms = 10;
+  const sim::ReplayReport a = sim::replay(*with.world, with.poses, o);
+  o.geometry = nullptr;
+  const sim::ReplayReport b = sim::replay(*without.world, without.poses, o);
+  CHECK_FALSE(a.geometry_flushed);
+  CHECK(a.geometry.records == 0);
+  CHECK(a.frames == b.frames);
+  CHECK(cutting::geometryHash(with.world->tissue()) == cutting::geometryHash(without.world->tissue()));
+}
+
+TEST_CASE("geometry_stream: bad options are refused with the value", "[sim]") {
+  sim::GeometryStreamOptions o;
+  o.ring_records = 1000;
+  CHECK_THROWS_WITH(sim::GeometryStream(o), Catch::Contains("ring_records = 1000"));
+  o.ring_records = 1024;
+  o.records_per_frame = 0;
+  CHECK_THROWS_WITH(sim::GeometryStream(o), Catch::Contains("records_per_frame = 0"));
+}
+
+TEST_CASE("geometry_stream: a reader thread follows a real-time replay and rebuilds its final mesh bit for bit",
+          "[sim][threads]") {
+  Loaded l = load("bunny-straight");
+  sim::GeometryStream stream;
+  sim::ReplayOptions o = options(l, sim::ReplayPace::RealTime, stream);
+  auto times = std::make_unique<sim::FrameTimesQueue>();  // every frame's timings, for the same reader (a HUD)
+  o.times = times.get();
+  std::atomic<bool> done{false};
+  sim::GeometryMirror mirror;
+  bool always_valid = true, times_in_order = true;
+  int pulls_with_changes = 0;
+  std::int64_t next_time = 0, timed_geometry = 0;
+  const auto popTimes = [&] {
+    sim::FrameTimes t;
+    while (times->tryPop(t)) {
+      times_in_order = times_in_order && t.frame == next_time++;
+      timed_geometry += t.geometry_us > 0.0f;
+    }
+  };
+  std::thread reader([&] {  // a viewer's thread: pulls at its own pace, never waited for
+    while (!done.load(std::memory_order_acquire)) {
+      if (mirror.pull(stream) > 0 && !mirror.changedVertices().empty()) ++pulls_with_changes;
+      mirror.clearChanges();
+      always_valid = always_valid && facesValid(mirror);
+      popTimes();
+      std::this_thread::sleep_for(std::chrono::milliseconds(3));
+    }
+    mirror.pull(stream);  // what flush() wrote last
+    popTimes();
+  });
+  const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
+  done.store(true, std::memory_order_release);
+  reader.join();
+  REQUIRE(report.geometry_flushed);
+  CHECK(always_valid);
+  CHECK(pulls_with_changes > 20);
+  CHECK(mirror.frame() == report.frames - 1);
+  CHECK(times_in_order);
+  CHECK(next_time == report.frames);  // every frame's timings, once, in order
+  CHECK(timed_geometry > report.frames / 2);
+  requireSameMesh(mirror, l.world->tissue());
+}
+
+TEST_CASE("geometry_stream: a mirror seeded before the run follows without any sweep and ends exact", "[sim]") {
+  Loaded l = load("bunny-straight");
+  sim::GeometryStreamOptions small;
+  small.records_per_frame = 64;  // far less than the mesh: a sweep would take hundreds of frames
+  sim::GeometryStream stream(small);
+  sim::GeometryMirror mirror;
+  stream.seed(*l.world, mirror);
+  REQUIRE(mirror.exact());
+  REQUIRE(mirror.complete());
+  sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
+  std::int64_t max_backlog = 0, frames_complete = 0, frames = 0;
+  o.geometry_reader = [&] {
+    mirror.pull(stream);
+    ++frames;
+    frames_complete += mirror.complete();
+    max_backlog = std::max<std::int64_t>(max_backlog, mirror.backlog());
+  };
+  const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
+  REQUIRE(report.geometry_flushed);
+  CHECK(report.geometry.resets == 0);
+  CHECK(frames_complete == frames);  // drawable from the first frame on
+  CHECK(max_backlog > 64);           // more changes than budget: they waited in line, none was lost
+  requireSameMesh(mirror, l.world->tissue());
+}

@@ -1,0 +1,76 @@
+// The viewer's copy of the tissue (viewer/src/surface_model.cpp): kept up to date from the mirror's changes
+// as the cut grows, it ends the same as one built at once from the final mesh.
+#include "incise/viewer/surface_model.h"
+
+#include <catch2/catch.hpp>
+
+#include "incise/cutting/surface_mesh.h"
+#include "viewer_fixture.h"
+
+using namespace incise;
+
+TEST_CASE("surface_model: updated after every pull, it ends as a model built from the final mesh", "[viewer]") {
+  viewer::SurfaceModel followed;
+  std::size_t updates_with_changes = 0, max_dirty = 0;
+  const auto run =
+      test::followRun("bunny-straight", std::numeric_limits<double>::infinity(), [&](test::FollowedRun& r) {
+        if (!followed.update(r.mirror)) return;
+        if (!followed.dirty().all && !followed.dirty().vertices.empty()) ++updates_with_changes;
+        if (!followed.dirty().all) max_dirty = std::max(max_dirty, followed.dirty().vertices.size());
+        followed.clearDirty();
+      });
+  REQUIRE(run->mirror.exact());
+  viewer::SurfaceModel fresh;
+  sim::GeometryMirror copy;
+  sim::copyGeometry(*run->world, 0, copy);
+  REQUIRE(fresh.update(copy));
+  CHECK(fresh.dirty().all);
+  CHECK(updates_with_changes > 100);
+  CHECK(max_dirty < fresh.vertexCount() / 4);  // only what changed, never the whole mesh
+  REQUIRE(followed.vertexCount() == fresh.vertexCount());
+  REQUIRE(followed.faceCount() == fresh.faceCount());
+  CHECK(followed.positions() == fresh.positions());
+  CHECK(followed.indices() == fresh.indices());
+  CHECK(followed.faceKinds() == fresh.faceKinds());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < fresh.normals().size(); ++i)
+    differing += std::abs(followed.normals()[i] - fresh.normals()[i]) > 1e-5f;  // sums in another order
+  CHECK(differing == 0);
+  const cutting::MeshSummary summary = cutting::summarize(run->world->tissue());
+  CHECK(fresh.liveFaces() == static_cast<std::size_t>(summary.faces));
+  CHECK(fresh.wallFaces() == static_cast<std::size_t>(summary.wall_faces));
+  CHECK(followed.wallFaces() == fresh.wallFaces());
+}
+
+TEST_CASE("surface_model: skin normals point out of the tissue and leave the walls out", "[viewer]") {
+  const auto run = test::followRun("bunny-straight");
+  viewer::SurfaceModel model;
+  REQUIRE(model.update(run->mirror));
+  const cutting::TriMesh& m = run->world->tissue().mesh();
+  std::size_t checked = 0, outward = 0, zero_on_wall_only = 0;
+  cutting::TriMesh mesh = m;
+  mesh.update_face_normals();
+  for (const auto v : m.vertices()) {
+    const auto i = static_cast<std::size_t>(v.idx());
+    const Eigen::Vector3f n(&model.normals()[3 * i]);
+    bool skin = false;
+    for (auto f = m.cvf_iter(v); f.is_valid(); ++f)
+      skin = skin || run->world->tissue().kind(*f) != cutting::FaceKind::Wall;
+    if (!skin) {
+      zero_on_wall_only += n.norm() == 0.0f;
+      continue;
+    }
+    ++checked;
+    // Against OpenMesh's own vertex normal of the uncut parts: the same direction.
+    if (run->world->tissue().kind(v) == cutting::VertexKind::Original) {
+      const auto on = mesh.calc_vertex_normal(v);
+      outward += n.cast<double>().dot(Eigen::Vector3d(on[0], on[1], on[2])) > 0.99;
+    } else {
+      ++outward;
+    }
+  }
+  CHECK(checked > 300);
+  CHECK(zero_on_wall_only > 50);  // the walls' inner vertices: drawn flat, no smooth normal
+  CHECK(outward == checked);
+  CHECK(model.wallFaces() > 100);
+}

@@ -1,0 +1,60 @@
+// What the viewer tests share: a shipped scenario replayed fast with a GeometryMirror following it through
+// the geometry stream, stopped at a time or run to its end.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "incise/cutting/surface_mesh.h"
+#include "incise/devices/trace_csv.h"
+#include "incise/sim/geometry_mirror.h"
+#include "incise/sim/scenario.h"
+#include "incise/sim/simulation.h"
+
+namespace incise::test {
+
+struct FollowedRun {
+  sim::Scenario scenario;
+  std::unique_ptr<sim::World> world;
+  std::vector<devices::PoseSample> poses;
+  sim::GeometryStream stream;
+  sim::GeometryMirror mirror;
+  sim::ReplayReport report;
+
+  // The tips of the poses that cut (what the default camera frames and the pixel tests project).
+  std::vector<Eigen::Vector3d> stroke() const {
+    std::vector<Eigen::Vector3d> out;
+    const int button = scenario.world.tool.cut_button;
+    for (const auto& p : poses)
+      if (button < 0 || ((p.buttons >> button) & 1u)) out.push_back(p.tip_m);
+    return out;
+  }
+};
+
+// `each_pull` runs after every pull (the mirror's changes still there), before they are cleared.
+inline std::unique_ptr<FollowedRun> followRun(const std::string& name,
+                                              double stop_after_s = std::numeric_limits<double>::infinity(),
+                                              const std::function<void(FollowedRun&)>& each_pull = {}) {
+  auto run = std::make_unique<FollowedRun>();
+  run->scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
+  run->world = std::make_unique<sim::World>(sim::loadTissue(run->scenario), run->scenario.world);
+  run->poses = devices::TraceReader::readAll(run->scenario.trace);
+  sim::ReplayOptions o;
+  o.period_us = run->scenario.periodUs();
+  o.settle_s = run->scenario.settle_s;
+  o.stop_after_s = stop_after_s;
+  o.geometry = &run->stream;
+  FollowedRun* r = run.get();
+  o.geometry_reader = [r, each_pull] {
+    r->mirror.pull(r->stream);
+    if (each_pull) each_pull(*r);
+    r->mirror.clearChanges();
+  };
+  run->report = sim::replay(*run->world, run->poses, o);
+  return run;
+}
+
+}  // namespace incise::test

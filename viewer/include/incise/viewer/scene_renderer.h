@@ -1,0 +1,69 @@
+// Draws the scene with OpenGL 3.3 core: the tissue (SurfaceModel: smooth-shaded skin, the wound's walls
+// flat-shaded in their own colour, optionally as a wireframe), the scalpel from the tool's pose, the contact
+// point and the force vector; and renders it into an off-screen framebuffer to read the pixels back.
+//
+// The tissue's buffers are updated from SurfaceModel::dirty(): runs of changed vertices and faces are
+// uploaded (glBufferSubData), a whole buffer only after a reset or when it must grow. The face kinds are a
+// buffer texture read by gl_PrimitiveID, so one draw call colours walls and skin apart.
+// Colours (linear RGB, also what the pixel tests look for): kSkinColour, kWallColour, kBackground.
+// Threads: the thread whose context is current (GlContext). Cost: upload O(changed elements), draw O(F) on
+// the GPU. Failure: ViewerError for a shader that does not compile or link (with the driver's log) and an
+// incomplete framebuffer; otherwise nothing throws but std::bad_alloc.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "incise/viewer/camera.h"
+#include "incise/viewer/surface_model.h"
+
+namespace incise::viewer {
+
+inline constexpr std::array<float, 3> kSkinColour = {0.93f, 0.72f, 0.62f};
+inline constexpr std::array<float, 3> kWallColour = {0.80f, 0.08f, 0.10f};
+inline constexpr std::array<float, 3> kBackground = {0.13f, 0.14f, 0.17f};
+
+// The tool as drawn: the blade points along the tool's local -z from the handle to the tip (the pose's
+// position), its edge facing local +x (as sim::World uses it).
+struct ToolView {
+  bool show = true;
+  Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  double blade_length_m = 0.03;
+  bool contact = false;
+  Eigen::Vector3d contact_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_N = Eigen::Vector3d::Zero();
+  double metres_per_newton = 0.004;  // the force vector's drawn length
+};
+
+struct DrawOptions {
+  bool wireframe = false;
+};
+
+class SceneRenderer {
+ public:
+  SceneRenderer();  // a current GL 3.3 core context is needed
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  // Uploads what changed in `model` since its last clearDirty(), then clears it.
+  void upload(SurfaceModel& model);
+  // Clears and draws into the bound framebuffer's `width` x `height` viewport.
+  void draw(const Camera& camera, int width, int height, const ToolView& tool, const DrawOptions& options);
+  // Draws into an off-screen framebuffer of that size and returns its pixels: RGB, 8 bits each, rows top
+  // to bottom. The window's framebuffer is bound again afterwards.
+  std::vector<std::uint8_t> renderPixels(const Camera& camera, int width, int height, const ToolView& tool,
+                                         const DrawOptions& options);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace incise::viewer

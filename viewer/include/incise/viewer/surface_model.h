@@ -1,0 +1,74 @@
+// The tissue as the viewer draws it, kept up to date from a GeometryMirror (sim/geometry_mirror.h): float
+// positions, smooth normals and one triangle per face index (a deleted face is the degenerate 0, 0, 0),
+// with the face kinds that colour the wound's walls apart from the skin. Only what changed is redone: a
+// moved vertex re-normalises the vertices of its faces, a changed face those of its old and new vertices.
+//
+// Normals are area-weighted averages over the vertex's skin faces (Original and Split): the walls are drawn
+// flat (their normal from the triangle itself), so a lip vertex shared by skin and wall keeps the skin's
+// smooth shading. A vertex with no skin face has a zero normal.
+// Shapes: positions() and normals() 3 floats per vertex (metres; unit vectors), indices() 3 per face,
+// faceKinds() 1 per face (cutting::FaceKind, or sim::kDeletedFace). Threads: one (the viewer's). Cost:
+// update() O(V + F) after a reset, else O(changed elements x their neighbourhoods); allocates as the mesh
+// grows. Failure: nothing throws but std::bad_alloc.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "incise/sim/geometry_mirror.h"
+
+namespace incise::viewer {
+
+class SurfaceModel {
+ public:
+  // Takes the mirror's changes (call after GeometryMirror::pull and before its clearChanges()). Does nothing
+  // and returns false while the mirror is not complete (a partial mesh is not drawn).
+  bool update(const sim::GeometryMirror& mirror);
+
+  const std::vector<float>& positions() const noexcept { return positions_; }
+  const std::vector<float>& normals() const noexcept { return normals_; }
+  const std::vector<std::uint32_t>& indices() const noexcept { return indices_; }
+  const std::vector<std::uint8_t>& faceKinds() const noexcept { return kinds_; }
+  std::size_t vertexCount() const noexcept { return positions_.size() / 3; }
+  std::size_t faceCount() const noexcept { return kinds_.size(); }
+  std::size_t liveFaces() const noexcept { return live_faces_; }
+  std::size_t wallFaces() const noexcept { return wall_faces_; }
+  bool ready() const noexcept { return ready_; }
+
+  // What changed since the last takeDirty(): everything (all), or sorted vertex indices whose position or
+  // normal changed and sorted face indices whose triangle or kind changed. For the GPU upload.
+  struct Dirty {
+    bool all = false;
+    std::vector<std::uint32_t> vertices, faces;
+  };
+  const Dirty& dirty() const noexcept { return dirty_; }
+  void clearDirty();
+
+  // The skin normal of the vertex nearest `p_m` (zero without vertices). O(V).
+  Eigen::Vector3d normalNear(const Eigen::Vector3d& p_m) const;
+  // The bounding box of the live vertices. O(V).
+  Eigen::AlignedBox3d bounds() const;
+
+ private:
+  void rebuild(const sim::GeometryMirror& mirror);
+  void setFace(std::uint32_t f, const std::array<std::int32_t, 3>& t, std::uint8_t kind);
+  void recomputeNormal(std::uint32_t v);
+  void markNormal(std::uint32_t v);
+
+  std::vector<double> positions_m_;  // the mirror's doubles, for the normals' cross products
+  std::vector<float> positions_, normals_;
+  std::vector<std::uint32_t> indices_;
+  std::vector<std::uint8_t> kinds_;
+  std::vector<std::vector<std::uint32_t>> vertex_faces_;
+  std::vector<std::uint8_t> normal_dirty_, vertex_dirty_, face_dirty_;
+  std::vector<std::uint32_t> normal_list_;
+  Dirty dirty_;
+  std::size_t live_faces_ = 0, wall_faces_ = 0;
+  bool ready_ = false;
+};
+
+}  // namespace incise::viewer

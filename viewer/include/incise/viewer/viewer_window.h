@@ -1,0 +1,75 @@
+// The interactive viewer (incise view): a GLFW window on the main thread that follows a running
+// simulation at display rate — the tissue from the geometry stream (GeometryMirror -> SurfaceModel ->
+// SceneRenderer), the tool, contact and force from the newest snapshot — with an orbit / pan / zoom camera
+// and a Dear ImGui HUD (HudModel's numbers, the pose source and its state, a frame-time plot).
+//
+// Mouse: left drag orbits, right or middle drag (or shift + left) pans, the wheel zooms. Keys: Space or P
+// pause, R restart, W wireframe, S screenshot (PNG), C or Home reset the camera, Esc or Q close.
+// Threads: the main thread (GLFW's rule), which is the geometry stream's reader; it never waits for the
+// sim thread. Cost per display frame: the records since the last frame, the changed vertices' normals and
+// uploads, one draw of the mesh. Failure: the constructor throws ViewerError (no display, no OpenGL 3.3
+// core, shader errors); frame() reports a failed screenshot in the HUD and carries on.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "incise/sim/geometry_mirror.h"
+#include "incise/sim/geometry_stream.h"
+#include "incise/sim/simulation.h"
+#include "incise/viewer/camera.h"
+#include "incise/viewer/hud_model.h"
+
+namespace incise::viewer {
+
+struct ViewerWindowOptions {
+  std::string title = "incise view";
+  ImageSize size;
+  std::filesystem::path screenshot_dir = ".";  // screenshots go to screenshot_dir/incise-view-N.png
+  std::optional<CameraOption> camera;          // else the stroke is framed
+};
+
+// What one run shows: where its data comes from. The window reads, never writes, these.
+struct ViewerFeed {
+  sim::GeometryStream* geometry = nullptr;
+  std::function<bool(sim::Snapshot&)> take_snapshot;  // the newest snapshot, true when there was one
+  sim::FrameTimesQueue* times = nullptr;              // every frame's timings (popped here)
+  const PoseSourceMonitor* source = nullptr;
+  double period_us = 1000.0, cut_budget_us = 300.0, blade_length_m = 0.03;
+  std::span<const Eigen::Vector3d> stroke_points_m;  // framed by the default camera
+  std::string scenario;
+};
+
+// What the user asked for during a frame.
+struct ViewerRequests {
+  bool close = false, restart = false, pause_toggled = false;
+};
+
+class ViewerWindow {
+ public:
+  explicit ViewerWindow(const ViewerWindowOptions& options);
+  ~ViewerWindow();
+  ViewerWindow(const ViewerWindow&) = delete;
+  ViewerWindow& operator=(const ViewerWindow&) = delete;
+
+  // Starts following a (new) run with a fresh HUD: from `seeded` (GeometryStream::seed, before the run), or
+  // with a fresh copy that asks the stream for a full re-sync.
+  void follow(const ViewerFeed& feed, sim::GeometryMirror seeded = {});
+  // One display frame: pull, update, draw, HUD, swap; then the user's requests.
+  ViewerRequests frame();  // after follow()
+  // The HUD's numbers now (for the benchmark and the report).
+  HudFigures figures() const;
+  std::int64_t displayFrames() const noexcept;
+  std::string glDescription() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace incise::viewer

@@ -1,0 +1,253 @@
+#include "incise/viewer/viewer_window.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include "hud_panel.h"
+#include "incise/sim/geometry_mirror.h"
+#include "incise/viewer/gl_context.h"
+#include "incise/viewer/picture.h"
+#include "incise/viewer/png_file.h"
+#include "incise/viewer/scene_renderer.h"
+#include "incise/viewer/surface_model.h"
+
+namespace incise::viewer {
+
+namespace {
+
+std::int64_t nowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// Keys and the wheel arrive through GLFW callbacks (chained by ImGui's backend): kept until frame() reads.
+struct Input {
+  double scroll = 0.0;
+  bool pause = false, restart = false, wireframe = false, screenshot = false, reset = false, close = false;
+};
+
+void onKey(GLFWwindow* window, int key, int, int action, int) {
+  if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
+  auto* in = static_cast<Input*>(glfwGetWindowUserPointer(window));
+  switch (key) {
+    case GLFW_KEY_SPACE:
+    case GLFW_KEY_P:
+      in->pause = true;
+      break;
+    case GLFW_KEY_R:
+      in->restart = true;
+      break;
+    case GLFW_KEY_W:
+      in->wireframe = true;
+      break;
+    case GLFW_KEY_S:
+    case GLFW_KEY_F12:
+      in->screenshot = true;
+      break;
+    case GLFW_KEY_C:
+    case GLFW_KEY_HOME:
+      in->reset = true;
+      break;
+    case GLFW_KEY_ESCAPE:
+    case GLFW_KEY_Q:
+      in->close = true;
+      break;
+    default:
+      break;
+  }
+}
+
+void onScroll(GLFWwindow* window, double, double dy) {
+  if (ImGui::GetIO().WantCaptureMouse) return;
+  static_cast<Input*>(glfwGetWindowUserPointer(window))->scroll += dy;
+}
+
+}  // namespace
+
+struct ViewerWindow::Impl {
+  ViewerWindowOptions options;
+  GlContext context;
+  GLFWwindow* window;
+  std::unique_ptr<SceneRenderer> renderer;
+  sim::GeometryMirror mirror;
+  SurfaceModel model;
+  std::unique_ptr<HudModel> hud;
+  ViewerFeed feed;
+  sim::Snapshot snapshot;
+  Camera camera;
+  bool framed = false, wireframe = false;
+  Input input;
+  double last_x = 0.0, last_y = 0.0;
+  int screenshots = 0;
+  std::int64_t display_frames = 0, last_figures_ns = 0;
+  HudFigures figures;
+  std::vector<float> plot;
+  std::string status;
+
+  explicit Impl(const ViewerWindowOptions& o)
+      : options(o),
+        context(ContextKind::Window, o.size.width, o.size.height, o.title),
+        window(static_cast<GLFWwindow*>(context.window())) {
+    glfwSetWindowUserPointer(window, &input);
+    glfwSetKeyCallback(window, onKey);
+    glfwSetScrollCallback(window, onScroll);
+    glfwSwapInterval(1);
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left behind
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains to the callbacks above
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+    renderer = std::make_unique<SceneRenderer>();
+  }
+  ~Impl() {
+    renderer.reset();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+
+  void mouse(int height);
+  void follow();
+  ToolView tool() const;
+  void screenshot(int width, int height);
+  void hudFrame();
+};
+
+void ViewerWindow::Impl::mouse(int height) {
+  double x = 0.0, y = 0.0;
+  glfwGetCursorPos(window, &x, &y);
+  const double dx = x - last_x, dy = y - last_y;
+  last_x = x, last_y = y;
+  if (ImGui::GetIO().WantCaptureMouse) return;
+  const bool left = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  const bool shift = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS;
+  const bool pan = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+                   glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS || (left && shift);
+  if (pan)
+    camera.pan(dx, dy, height);
+  else if (left)
+    camera.orbit(dx, dy, height);
+  if (input.scroll != 0.0) camera.zoom(input.scroll), input.scroll = 0.0;
+}
+
+void ViewerWindow::Impl::follow() {
+  if (feed.geometry) mirror.pull(*feed.geometry);
+  model.update(mirror);
+  mirror.clearChanges();
+  renderer->upload(model);
+  sim::Snapshot s;
+  while (feed.take_snapshot && feed.take_snapshot(s)) {
+    snapshot = s;
+    hud->add(s);
+  }
+  sim::FrameTimes t;
+  while (feed.times && feed.times->tryPop(t)) hud->add(t);
+  if (!framed && model.ready()) {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window, &w, &h);
+    camera = defaultCamera(model, feed.stroke_points_m, static_cast<double>(w) / std::max(h, 1), options.camera);
+    framed = true;
+  }
+}
+
+ToolView ViewerWindow::Impl::tool() const {
+  ToolView t;
+  t.show = snapshot.frame >= 0;
+  t.tip_m = snapshot.haptic.tip_m;
+  t.orientation = snapshot.haptic.orientation;
+  t.blade_length_m = feed.blade_length_m;
+  t.contact = snapshot.haptic.contact;
+  t.contact_m = snapshot.haptic.contact_m;
+  t.force_N = snapshot.haptic.force_N;
+  return t;
+}
+
+void ViewerWindow::Impl::screenshot(int width, int height) {
+  const std::filesystem::path path = options.screenshot_dir / ("incise-view-" + std::to_string(++screenshots) + ".png");
+  try {
+    DrawOptions draw;
+    draw.wireframe = wireframe;
+    writePng(path, {width, height, renderer->renderPixels(camera, width, height, tool(), draw)});
+    status = "wrote " + path.string();
+  } catch (const std::exception& e) {
+    status = std::string("screenshot failed: ") + e.what();
+  }
+}
+
+void ViewerWindow::Impl::hudFrame() {
+  const std::int64_t now = nowNs();
+  if (now - last_figures_ns > 250'000'000) {  // a few times a second: the percentiles sort the window
+    figures = hud->figures();
+    plot = hud->plot(240);
+    last_figures_ns = now;
+  }
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+  detail::HudText text;
+  text.scenario = feed.scenario;
+  text.gl = context.description();
+  text.status = status;
+  text.wireframe = wireframe;
+  text.triangles = model.liveFaces();
+  text.wall_triangles = model.wallFaces();
+  text.display_frames = display_frames;
+  const PoseSourceStatus source = feed.source ? feed.source->status(snapshot) : PoseSourceStatus{"none", "-"};
+  text.paused = source.state == "paused";
+  detail::drawHudPanel(figures, source, plot, text);
+  ImGui::Render();
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+ViewerWindow::ViewerWindow(const ViewerWindowOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+ViewerWindow::~ViewerWindow() = default;
+
+void ViewerWindow::follow(const ViewerFeed& feed, sim::GeometryMirror seeded) {
+  impl_->feed = feed;
+  impl_->mirror = std::move(seeded);  // a default one asks the new stream for a full copy at the first pull
+  impl_->model = SurfaceModel();
+  impl_->hud = std::make_unique<HudModel>(feed.period_us, feed.cut_budget_us);
+  impl_->snapshot = sim::Snapshot();
+  impl_->framed = false;
+}
+
+ViewerRequests ViewerWindow::frame() {
+  Impl& m = *impl_;
+  glfwPollEvents();
+  int width = 0, height = 0;
+  glfwGetFramebufferSize(m.window, &width, &height);
+  m.mouse(height);
+  m.follow();
+  ViewerRequests requests;
+  requests.close = m.input.close || glfwWindowShouldClose(m.window);
+  requests.restart = std::exchange(m.input.restart, false);
+  requests.pause_toggled = std::exchange(m.input.pause, false);
+  if (std::exchange(m.input.wireframe, false)) m.wireframe = !m.wireframe;
+  if (std::exchange(m.input.reset, false)) m.camera.reset();
+  if (width > 0 && height > 0) {
+    if (std::exchange(m.input.screenshot, false)) m.screenshot(width, height);
+    DrawOptions draw;
+    draw.wireframe = m.wireframe;
+    m.renderer->draw(m.camera, width, height, m.tool(), draw);
+    m.hudFrame();
+  }
+  glfwSwapBuffers(m.window);
+  glFinish();  // the frame is on screen (llvmpipe draws at the flush): the latency below is honest
+  ++m.display_frames;
+  m.hud->displayed(m.snapshot.frame_start_ns, nowNs());
+  return requests;
+}
+
+HudFigures ViewerWindow::figures() const { return impl_->hud ? impl_->hud->figures() : HudFigures{}; }
+std::int64_t ViewerWindow::displayFrames() const noexcept { return impl_->display_frames; }
+std::string ViewerWindow::glDescription() const { return impl_->context.description(); }
+
+}  // namespace incise::viewer
