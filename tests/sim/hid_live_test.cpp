@@ -5,6 +5,7 @@
 // must stop cleanly. Runs under ThreadSanitizer too ([threads]).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 #include <vector>
@@ -137,7 +138,12 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   CHECK(queued_s - lifted->time_s < 0.001);  // stamped at the failed read, queued right after
   const double lifted_frame_t_s = lifted_frame.t_s;
   REQUIRE(cut_after > first_lifted);                                                  // resumed after the replug
-  CHECK(frames[static_cast<std::size_t>(cut_after)].t_s - lifted_frame_t_s >= 0.15);  // not before the replug
+  // Not before the replug: the first cutting pose after the lifted one arrived when the device was back (its
+  // stamp, not a frame's simulated time, which falls behind the clock when a loaded machine skips deadlines).
+  const auto resumed = std::find_if(lifted, poses.end(), [](const auto& p) { return p.buttons == 1u; });
+  REQUIRE(resumed != poses.end());
+  CHECK(resumed->time_s - lifted->time_s >= 0.15);
+  CHECK(lifted_frame_t_s > 0.0);
   CHECK(source.connects() == 2);
   CHECK(world.incisions() == 2);
   CHECK(cutting::checkManifold(world.tissue().mesh()).closed_two_manifold);
