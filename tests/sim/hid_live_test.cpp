@@ -137,7 +137,7 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   CHECK(lifted_frame.haptic.force_N.norm() == 0.0);
   CHECK(queued_s - lifted->time_s < 0.001);  // stamped at the failed read, queued right after
   const double lifted_frame_t_s = lifted_frame.t_s;
-  REQUIRE(cut_after > first_lifted);                                                  // resumed after the replug
+  REQUIRE(cut_after > first_lifted);  // resumed after the replug
   // Not before the replug: the first cutting pose after the lifted one arrived when the device was back (its
   // stamp, not a frame's simulated time, which falls behind the clock when a loaded machine skips deadlines).
   const auto resumed = std::find_if(lifted, poses.end(), [](const auto& p) { return p.buttons == 1u; });
