@@ -103,6 +103,14 @@ void TetCutter::rebuild(TetMesh mesh) {
   stencil_basis_.clear();
   dirty_.clear();
   reserveHeadroom();
+  changes_.clear();  // the old indices are void
+  ++changes_.rebuilds;
+}
+
+void TetCutter::recordChanges(bool on) {
+  record_changes_ = on;
+  changes_.clear();
+  if (on) changes_.nodes.reserve(kReservedChanges), changes_.base_tets.reserve(kReservedChanges);
 }
 
 void TetCutter::reserveHeadroom() {
@@ -355,6 +363,7 @@ int TetCutter::addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw
   d.origin = id;
   nodes_.push_back(d);
   setSide(id, side);
+  nodeChanged(id);
   return id;
 }
 
@@ -443,6 +452,7 @@ void TetCutter::subdivide(int t, TetStep& step) {
   }
   child_count_[static_cast<size_t>(t)] = static_cast<std::uint8_t>(r.count);
   tet_count_ += r.count - old_count;
+  baseTetChanged(t);
   if (tet_state_[static_cast<size_t>(t)] == 0) tet_state_[static_cast<size_t>(t)] = 1;
   ++step.tets_subdivided;
 }
@@ -460,6 +470,7 @@ void TetCutter::redeform(const Incision& in, TetStep& step) {
                                       &stencil_basis_[2 * s * static_cast<size_t>(in.stencilSize())]);
     }
     deformed_m_[static_cast<size_t>(n)] = x;
+    nodeChanged(n);
     ++step.nodes_moved;
   };
   const int order = in.options().order;

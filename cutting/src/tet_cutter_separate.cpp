@@ -94,6 +94,7 @@ void TetCutter::separate(int x) {
     for (int& n : children_[static_cast<size_t>(elems[k])].nodes)
       if (canonical(n) == x) n = to_copy ? copy : x;
   }
+  for (const int t : scratch_) baseTetChanged(t);
 }
 
 }  // namespace incise::cutting

@@ -62,8 +62,10 @@ void GeometryMirror::apply(const GeometryRecord& r) {
       frame_ = r.info.frame;
       flags_ = r.info.flags;
       backlog_ = r.info.backlog;
+      tets_.frame(r.info.flags);
       break;
     default:
+      tets_.apply(r);
       break;
   }
 }

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/tet_cutter.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/world.h"
 
@@ -16,6 +17,9 @@ namespace {
 // Room beyond the mesh for the elements a few incisions add (the surface cutter reserves 200,000 new
 // vertices per incision, topped up between incisions).
 constexpr std::size_t kHeadroomVertices = 400000, kHeadroomFaces = 800000;
+// The tet cutter's: nodes and base tets a few incisions add (it reserves 20,000 new nodes per incision;
+// a new incision's base tets are the previous mesh's tets).
+constexpr std::size_t kHeadroomTetNodes = 100000;
 
 }  // namespace
 
@@ -63,6 +67,12 @@ void GeometryStream::attach(World& world) {
   const cutting::TriMesh& m = world.tissue().mesh();
   vertices_.reserve(m.n_vertices() + m.n_vertices() / 2 + kHeadroomVertices);
   faces_.reserve(m.n_faces() + m.n_faces() / 2 + kHeadroomFaces);
+  if (const cutting::TetCutter* tets = world.tets()) {
+    tets_.present = true;
+    tets_.nodes.reserve(static_cast<std::size_t>(tets->nodeCount()) * 3 / 2 + kHeadroomTetNodes);
+    tets_.bases.reserve(static_cast<std::size_t>(tets->tetCount()) * 3 / 2 + kHeadroomTetNodes);
+    tets_.rebuilds_seen = tets->changes().rebuilds;
+  }
   world.recordMeshChanges(true);
 }
 
@@ -71,6 +81,14 @@ void GeometryStream::seed(World& world, GeometryMirror& mirror) {
   const std::size_t n = world.tissue().mesh().n_vertices();
   if (vertices_.flag.size() < n) vertices_.reserve(n);
   for (std::size_t v = 0; v < n; ++v) vertices_.flag[v] |= kSent;
+  if (const cutting::TetCutter* tets = world.tets()) {
+    const auto nodes = static_cast<std::size_t>(tets->nodeCount());
+    if (tets_.nodes.flag.size() < nodes) tets_.nodes.reserve(nodes);
+    for (std::size_t i = 0; i < nodes; ++i) tets_.nodes.flag[i] |= kSent;
+    tets_.rebuilds_seen = tets->changes().rebuilds;
+    tets_.reset_pending = tets_.sweeping = false;
+    tets_.swept = true;
+  }
   reset_requests_.store(1, std::memory_order_release);
   resets_done_ = 1;
   sweeping_ = false;
@@ -86,6 +104,7 @@ void GeometryStream::take(World& world) noexcept {
   } catch (...) {  // out of memory growing the flags: a reader re-syncs everything
     requestReset();
   }
+  takeTets(world);
   world.clearMeshChanges();
 }
 
@@ -128,6 +147,7 @@ void GeometryStream::startReset(std::int64_t frame, std::uint32_t n_vertices, st
   sweep_vertex_ = sweep_face_ = 0;
   sweep_vertices_ = n_vertices, sweep_faces_ = n_faces;
   for (std::uint8_t& f : vertices_.flag) f &= static_cast<std::uint8_t>(~kSent);  // the reader starts over
+  tets_.reset_pending = tets_.present;  // the tet part starts over too, right after
   ++counters_.resets;
 }
 
@@ -187,21 +207,28 @@ int GeometryStream::write(World& world, std::int64_t frame, std::size_t room) no
     startReset(frame, n_vertices, n_faces);
     --room;
   }
+  if (tets_.reset_pending) {
+    startTetReset(world, frame);
+    --room;
+  }
   const std::size_t budget = std::min(room - 1, static_cast<std::size_t>(budget_));  // one for the Frame record
   // Faces get a quarter of the budget while vertices keep coming (the wound's opening moves many every
   // frame): neither starves.
   const bool faces_waiting =
       !faces_.empty() || (sweeping_ && sweep_vertex_ == sweep_vertices_ && sweep_face_ < sweep_faces_);
-  const std::size_t vertex_budget = faces_waiting ? budget - budget / 4 : budget;
+  // The tet part gets a third while the surface has work waiting, and whatever the surface leaves.
+  const std::size_t surface_budget = tetBacklog() > 0 ? budget - budget / 3 : budget;
+  const std::size_t vertex_budget = faces_waiting ? surface_budget - surface_budget / 4 : surface_budget;
   const std::size_t vertices = writeVertices(world, vertex_budget);
-  writeFaces(world, budget - vertices);
+  const std::size_t faces = writeFaces(world, surface_budget - vertices);
+  writeTets(world, budget - vertices - faces);
   if (sweeping_ && sweep_vertex_ == sweep_vertices_ && sweep_face_ == sweep_faces_) sweeping_ = false, swept_ = true;
   const std::size_t waiting = backlog();
   GeometryRecord& r = next();
   r.type = GeometryRecordType::Frame;
   r.index = 0;
-  const std::uint8_t flags =
-      static_cast<std::uint8_t>((swept_ ? kFrameComplete : 0) | (swept_ && waiting == 0 ? kFrameExact : 0));
+  const std::uint8_t flags = static_cast<std::uint8_t>((swept_ ? kFrameComplete : 0) |
+                                                       (swept_ && waiting == 0 ? kFrameExact : 0) | tetFlags());
   r.info = {frame, n_vertices, n_faces, static_cast<std::uint32_t>(waiting), flags};
   head_.store(head_local_, std::memory_order_release);  // the whole frame at once
   return static_cast<int>(head_local_ - first);
@@ -210,14 +237,17 @@ int GeometryStream::write(World& world, std::int64_t frame, std::size_t room) no
 GeometryPublish GeometryStream::publish(World& world, std::int64_t frame) noexcept {
   GeometryPublish out;
   out.marked = static_cast<int>(world.meshChanges().vertices.size() + world.meshChanges().faces.size());
+  if (const cutting::TetCutter* tets = world.tets())
+    out.marked += static_cast<int>(tets->changes().nodes.size() + tets->changes().base_tets.size());
   take(world);
   ++counters_.frames;
   const std::uint32_t requests = reset_requests_.load(std::memory_order_acquire);
   if (requests == 0) return out;  // no reader yet: keep marking, send nothing
   const std::size_t used = static_cast<std::size_t>(head_local_ - tail_.load(std::memory_order_acquire));
   const std::size_t room = ring_.size() - used;
-  const std::size_t waiting = backlog() + (requests != resets_done_ ? static_cast<std::size_t>(budget_) : 0);
-  if (room < std::min(waiting, static_cast<std::size_t>(budget_)) + 2) {  // the reader is behind: wait for it
+  const std::size_t waiting =
+      backlog() + tetBacklog() + (requests != resets_done_ ? static_cast<std::size_t>(budget_) : 0);
+  if (room < std::min(waiting, static_cast<std::size_t>(budget_)) + 3) {  // the reader is behind: wait for it
     out.stalled = true;
     ++counters_.stalled_frames;
     return out;
@@ -233,7 +263,9 @@ bool GeometryStream::flush(World& world, std::int64_t frame, std::chrono::millis
   while (std::chrono::steady_clock::now() < deadline) {
     const GeometryPublish p = publish(world, frame);
     if (reader) reader();
-    if (!p.stalled && reset_requests_.load(std::memory_order_acquire) != 0 && swept_ && backlog() == 0) return true;
+    const bool tets_done = !tets_.present || (tets_.swept && tetBacklog() == 0);
+    if (!p.stalled && reset_requests_.load(std::memory_order_acquire) != 0 && swept_ && backlog() == 0 && tets_done)
+      return true;
     if (!reader && (p.stalled || reset_requests_.load(std::memory_order_acquire) == 0))
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }

@@ -61,9 +61,15 @@ World& World::operator=(World&&) noexcept = default;
 
 int World::incisions() const noexcept { return cutter_->stats().incisions; }
 
-void World::recordMeshChanges(bool on) { cutter_->recordChanges(on); }
+void World::recordMeshChanges(bool on) {
+  cutter_->recordChanges(on);
+  if (tets_) tets_->recordChanges(on);
+}
 const cutting::MeshChanges& World::meshChanges() const noexcept { return cutter_->changes(); }
-void World::clearMeshChanges() noexcept { cutter_->clearChanges(); }
+void World::clearMeshChanges() noexcept {
+  cutter_->clearChanges();
+  if (tets_) tets_->clearChanges();
+}
 
 void World::followTets(cutting::TetBudget budget) noexcept {
   if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, budget);

@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -15,6 +17,8 @@
 #include "incise/cutting/mesh_hash.h"
 #include "incise/cutting/surface_cutter.h"
 #include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/tet_cutter.h"
+#include "incise/cutting/tet_mesh.h"
 #include "incise/devices/trace_csv.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
@@ -253,4 +257,96 @@ TEST_CASE("geometry_stream: a mirror seeded before the run follows without any s
   CHECK(frames_complete == frames);  // drawable from the first frame on
   CHECK(max_backlog > 64);           // more changes than budget: they waited in line, none was lost
   requireSameMesh(mirror, l.world->tissue());
+}
+
+namespace {
+
+// A triangle by its corners' positions, starting at the lexicographically smallest corner (orientation
+// kept), so that two meshes numbered differently compare.
+using Corners = std::array<std::array<double, 3>, 3>;
+std::vector<Corners> canonical(const std::vector<std::array<double, 3>>& positions_m,
+                               const std::vector<std::array<int, 3>>& faces) {
+  std::vector<Corners> out;
+  out.reserve(faces.size());
+  for (const auto& f : faces) {
+    Corners c = {positions_m[static_cast<std::size_t>(f[0])], positions_m[static_cast<std::size_t>(f[1])],
+                 positions_m[static_cast<std::size_t>(f[2])]};
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    out.push_back(c);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The mirror's tet boundary against the tet cutter's (compacted) mesh's boundary, positions bit for bit.
+void requireSameTetBoundary(const sim::GeometryMirror& mirror, const cutting::TetCutter& tets) {
+  REQUIRE(mirror.tets().exact());
+  const cutting::TetView view = tets.view();
+  CHECK(mirror.tets().tetCount() == view.mesh.tets.size());
+  std::vector<std::array<double, 3>> nodes;
+  for (const Eigen::Vector3d& x : view.mesh.nodes_m) nodes.push_back({x[0], x[1], x[2]});
+  std::vector<std::array<int, 3>> mirrored;
+  for (const auto& f : mirror.tets().boundary()) mirrored.push_back({f[0], f[1], f[2]});
+  const std::vector<Corners> expected = canonical(nodes, cutting::boundaryFaces(view.mesh));
+  const std::vector<Corners> got = canonical(mirror.tets().positions_m(), mirrored);
+  REQUIRE(got.size() == expected.size());
+  CHECK(std::memcmp(got.data(), expected.data(), got.size() * sizeof(Corners)) == 0);
+}
+
+}  // namespace
+
+TEST_CASE("geometry_stream: a reader thread follows a real-time tet replay and rebuilds its tet boundary bit for bit",
+          "[sim][threads][tets]") {
+  Loaded l = load("bunny-tets");
+  REQUIRE(l.world->tets());
+  sim::GeometryStream stream;
+  sim::ReplayOptions o = options(l, sim::ReplayPace::RealTime, stream);
+  std::atomic<bool> done{false};
+  sim::GeometryMirror mirror;
+  std::uint64_t versions_seen = 0, last_version = 0;
+  std::thread reader([&] {  // a viewer's thread
+    while (!done.load(std::memory_order_acquire)) {
+      mirror.pull(stream);
+      mirror.clearChanges();
+      if (mirror.tets().version() != last_version) last_version = mirror.tets().version(), ++versions_seen;
+      std::this_thread::sleep_for(std::chrono::milliseconds(3));
+    }
+    mirror.pull(stream);
+  });
+  const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
+  done.store(true, std::memory_order_release);
+  reader.join();
+  REQUIRE(report.geometry_flushed);
+  CHECK(versions_seen > 20);  // the tets changed under the reader's eyes, not only at the end
+  CHECK(mirror.tets().resets() == 1);
+  CHECK(l.world->tets()->stats().tets_cut > 0);
+  requireSameMesh(mirror, l.world->tissue());
+  requireSameTetBoundary(mirror, *l.world->tets());
+}
+
+TEST_CASE("geometry_stream: a second incision renumbers the tets; the reader's tet part re-syncs and ends exact",
+          "[sim][tets]") {
+  Loaded l = load("bunny-tets");
+  l.poses = devices::TraceReader::readAll(std::string(INCISE_SCENARIOS_DIR) + "/traces/bunny-crossing.csv");
+  sim::GeometryStream stream;
+  sim::GeometryMirror mirror;
+  stream.seed(*l.world, mirror);
+  REQUIRE(mirror.tets().exact());
+  const std::size_t boundary_at_start = mirror.tets().boundary().size();
+  REQUIRE(boundary_at_start > 1000);
+  sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
+  std::int64_t frames = 0, frames_tets_complete = 0;
+  o.geometry_reader = [&] {
+    mirror.pull(stream);
+    ++frames;
+    frames_tets_complete += mirror.tets().complete();
+  };
+  const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
+  REQUIRE(report.geometry_flushed);
+  CHECK(l.world->incisions() >= 2);
+  CHECK(mirror.tets().resets() == l.world->incisions());       // the seed's, then one per renumbering
+  CHECK(frames_tets_complete < frames);                        // the re-sync took frames: not drawable meanwhile
+  CHECK(mirror.tets().boundary().size() > boundary_at_start);  // the wounds' walls
+  requireSameMesh(mirror, l.world->tissue());
+  requireSameTetBoundary(mirror, *l.world->tets());
 }

@@ -2,6 +2,8 @@
 // touches the tissue's mesh compiles without it. This file includes every sim header and nothing else;
 // the check is at compile time.
 #include "incise/sim/fixed_rate_loop.h"
+#include "incise/sim/geometry_mirror.h"
+#include "incise/sim/geometry_stream.h"
 #include "incise/sim/latency_stats.h"
 #include "incise/sim/pose_queue.h"
 #include "incise/sim/scenario.h"
@@ -9,6 +11,7 @@
 #include "incise/sim/simulation.h"
 #include "incise/sim/spsc_queue.h"
 #include "incise/sim/stroke_poses.h"
+#include "incise/sim/tet_mirror.h"
 #include "incise/sim/triple_buffer.h"
 #include "incise/sim/world.h"
 

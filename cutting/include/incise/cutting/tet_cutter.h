@@ -39,6 +39,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,25 @@ struct TetView {
   int inverted_tets = 0;                                                 // tets with non-positive volume in this mesh
 };
 
+// One piece of a base tet in the cutter's working mesh (raw(): node indices into its node arrays, which
+// keep unused nodes; compact with view()).
+struct TetChild {
+  std::array<int, 4> nodes;  // positively oriented at rest
+  std::int8_t side;          // as TetView::side
+  std::uint8_t cut_faces;    // bit i: the face opposite nodes[i] lies on the cut
+};
+
+// The tet cutter's change journal, for a reader that follows the working mesh (sim's GeometryStream):
+// nodes whose deformed position changed or that are new, base tets whose children changed (each index as
+// often as it changed, oldest first). `rebuilds` counts the renumberings (a new incision makes the settled
+// mesh the new base: every index before it is void, the reader starts over).
+struct TetChanges {
+  std::vector<int> nodes;
+  std::vector<int> base_tets;
+  int rebuilds = 0;
+  void clear() noexcept { nodes.clear(), base_tets.clear(); }
+};
+
 class TetCutter {
  public:
   // Load time: checks that `tissue` is conforming (checkConforming) and builds its adjacency and grid.
@@ -82,6 +102,24 @@ class TetCutter {
   double snapToleranceM() const noexcept { return snap_m_; }
   // Tets in the current mesh (O(1)).
   int tetCount() const noexcept { return tet_count_; }
+
+  // The working mesh as it is, uncompacted (O(1) each; for a reader that follows it through changes()):
+  // base tets (0 .. baseTetCount()), each with its children; nodes (0 .. nodeCount(), some unused) at their
+  // deformed positions in metres.
+  int baseTetCount() const noexcept { return static_cast<int>(base_tets_.size()); }
+  std::span<const TetChild> children(int base_tet) const noexcept {
+    return {children_.data() + child_first_[static_cast<size_t>(base_tet)],
+            child_count_[static_cast<size_t>(base_tet)]};
+  }
+  int nodeCount() const noexcept { return static_cast<int>(deformed_m_.size()); }
+  const Eigen::Vector3d& nodePosition(int node) const noexcept { return deformed_m_[static_cast<size_t>(node)]; }
+  // The change journal: off by default; on, follow() appends every change (room for kReservedChanges
+  // entries each is reserved when turned on, amortised growth beyond); the reader calls clearChanges()
+  // (keeps the capacity). Turning it off clears it. Never throws except std::bad_alloc from recordChanges(true).
+  void recordChanges(bool on);
+  const TetChanges& changes() const noexcept { return changes_; }
+  void clearChanges() noexcept { changes_.clear(); }
+  static constexpr size_t kReservedChanges = 1 << 16;
 
  private:
   enum class NodeState : std::uint8_t { Unknown, Waiting, Bound, Outside, EdgePoint, Copy, Steiner };
@@ -152,11 +190,7 @@ class TetCutter {
   // Every node (base nodes first) and the current children of every base tet.
   std::vector<Eigen::Vector3d> rest_m_, deformed_m_;
   std::vector<Node> nodes_;
-  struct Child {
-    std::array<int, 4> nodes;
-    std::int8_t side;        // as TetView::side
-    std::uint8_t cut_faces;  // bit i: the face opposite nodes[i] lies on the cut
-  };
+  using Child = TetChild;
   std::vector<Child> children_;  // a base tet's children: [child_first_[t], + child_count_[t])
   std::vector<int> child_first_;
   std::vector<std::uint8_t> child_count_;
@@ -171,6 +205,14 @@ class TetCutter {
   std::uint32_t stamp_ = 0;
   TetCutStats stats_;
   bool failed_ = false;
+  TetChanges changes_;
+  bool record_changes_ = false;
+  void nodeChanged(int node) {
+    if (record_changes_) changes_.nodes.push_back(node);
+  }
+  void baseTetChanged(int base_tet) {
+    if (record_changes_) changes_.base_tets.push_back(base_tet);
+  }
 };
 
 }  // namespace incise::cutting

@@ -1,4 +1,4 @@
-// A reader's copy of the tissue surface, rebuilt from a GeometryStream (geometry_stream.h): positions,
+// A reader's copy of the tissue surface (and, with a tet tissue, of its tets: tets()), rebuilt from a GeometryStream (geometry_stream.h): positions,
 // faces and kinds as plain arrays, indexed as the sim's mesh is, and the elements each pull() changed, so
 // that a viewer updates only those (its GPU buffers, its smooth normals).
 //
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "incise/sim/geometry_stream.h"
+#include "incise/sim/tet_mirror.h"
 
 namespace incise::sim {
 
@@ -42,6 +43,8 @@ class GeometryMirror {
   std::uint32_t backlog() const noexcept { return backlog_; }
   std::int64_t resets() const noexcept { return resets_; }
   std::size_t liveFaces() const noexcept;  // faces not deleted; O(F)
+  // The tet tissue's working mesh and boundary (empty, !present(), without one).
+  const TetMirror& tets() const noexcept { return tets_; }
 
   // What changed since the last clearChanges(): everything after a Reset (rebuilt()), else these lists
   // (each index once).
@@ -62,6 +65,7 @@ class GeometryMirror {
   std::int64_t frame_ = -1, resets_ = 0;
   std::uint8_t flags_ = 0;
   std::uint32_t backlog_ = 0;
+  TetMirror tets_;
 };
 
 // The world's mesh as it is now, into `mirror` (which ends exact), through a stream of its own written and

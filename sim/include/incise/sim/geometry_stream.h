@@ -29,6 +29,16 @@
 // then equals the mesh bit for bit. Faces only ever name vertices the reader has, so every state a reader
 // applies up to a Frame record is a valid mesh.
 //
+// With a tet tissue (World::tets()) the stream also carries the tet cutter's working mesh, so that a reader
+// can follow the tet mesh's boundary (TetMirror, tet_mirror.h): TetNode records (a node's deformed
+// position) and Tet records (one per child of a base tet; all of a base tet's children in the same frame,
+// slot 0 first, once the reader has their nodes), from the tet cutter's journal (cutting::TetChanges)
+// through two more dirty queues, within the same per-frame budget (a third of it while the surface has
+// work waiting, and what the surface leaves). A TetReset record (the node and base-tet counts) starts a
+// sweep of the tet part alone: after every Reset, and whenever the tet cutter renumbers its mesh (a new
+// incision makes the settled mesh the new base). Frame flags kFrameTetsComplete / kFrameTetsExact say the
+// same of the tet part as kFrameComplete / kFrameExact of the surface.
+//
 // Shapes: indices are OpenMesh handle indices of the tissue (vertices are never deleted; a deleted face
 // keeps its index, kind kDeletedFace). Units: metres. Threads: attach(), publish() and flush() from the
 // writer thread (the sim thread; seed() before and flush() after the loop); requestReset() and read() from one
@@ -48,22 +58,40 @@ namespace incise::sim {
 class World;
 class GeometryMirror;
 
-enum class GeometryRecordType : std::uint8_t { Reset = 1, Vertex = 2, Face = 3, Frame = 4 };
+enum class GeometryRecordType : std::uint8_t {
+  Reset = 1,
+  Vertex = 2,
+  Face = 3,
+  Frame = 4,
+  TetReset = 5,
+  TetNode = 6,
+  Tet = 7
+};
 inline constexpr std::uint8_t kDeletedFace = 0xff;
 
 // Frame record flags: every element has been sent since the last Reset; and nothing is waiting either.
-inline constexpr std::uint8_t kFrameComplete = 1, kFrameExact = 2;
+// The same for the tet part since its last TetReset (never set without a tet tissue).
+inline constexpr std::uint8_t kFrameComplete = 1, kFrameExact = 2, kFrameTetsComplete = 4, kFrameTetsExact = 8;
 
 struct GeometryFrameInfo {
   std::int64_t frame;      // the sim frame (Reset: the frame the reset started in)
   std::uint32_t vertices;  // the mesh's vertex and face counts (deleted faces included)
   std::uint32_t faces;
   std::uint32_t backlog;  // Frame: elements still to send (dirty or not yet swept)
-  std::uint8_t flags;     // Frame: kFrameComplete | kFrameExact
+  std::uint8_t flags;     // Frame: kFrameComplete | kFrameExact | kFrameTetsComplete | kFrameTetsExact
+};
+
+// A Tet record's body: one child of base tet `index` (slot `kind` of `count`), as cutting::TetChild.
+struct GeometryTet {
+  std::int32_t nodes[4];
+  std::uint8_t count;
+  std::int8_t side;
 };
 
 // 32 bytes. Vertex: index, kind (cutting::VertexKind), position_m. Face: index, kind (cutting::FaceKind or
 // kDeletedFace), vertices (counter-clockwise from outside, in OpenMesh's order from the face's halfedge).
+// TetReset: info (vertices = tet nodes, faces = base tets). TetNode: index, position_m. Tet: index (the base
+// tet), kind (the slot), tet.
 struct GeometryRecord {
   GeometryRecordType type;
   std::uint8_t kind;
@@ -73,6 +101,7 @@ struct GeometryRecord {
     double position_m[3];
     std::int32_t vertices[3];
     GeometryFrameInfo info;
+    GeometryTet tet;
   };
 };
 static_assert(sizeof(GeometryRecord) == 32);
@@ -140,6 +169,7 @@ class GeometryStream {
     void mark(std::size_t index, std::int64_t& regrowths);
     std::uint32_t pop() noexcept;
     bool empty() const noexcept { return count == 0; }
+    void clear() noexcept;  // forget the queue and every flag (O(elements))
   };
   void take(World& world) noexcept;
   int write(World& world, std::int64_t frame, std::size_t room) noexcept;
@@ -151,6 +181,14 @@ class GeometryStream {
   void emitVertex(const World& world, std::uint32_t v) noexcept;
   void emitFace(const World& world, std::uint32_t f) noexcept;
   GeometryRecord& next() noexcept { return ring_[(head_local_++) & mask_]; }
+  // The tet part (geometry_stream_tets.cpp).
+  void takeTets(const World& world) noexcept;
+  void startTetReset(const World& world, std::int64_t frame) noexcept;
+  std::size_t writeTets(const World& world, std::size_t budget) noexcept;
+  std::size_t writeTetNodes(const World& world, std::size_t budget) noexcept;
+  bool sendTets(const World& world, std::uint32_t base, std::size_t& budget) noexcept;
+  std::size_t tetBacklog() const noexcept;
+  std::uint8_t tetFlags() const noexcept;
 
   std::vector<GeometryRecord> ring_;
   std::uint64_t mask_;
@@ -164,6 +202,13 @@ class GeometryStream {
   Dirty vertices_, faces_;
   bool sweeping_ = false, swept_ = false;
   std::uint32_t sweep_vertex_ = 0, sweep_face_ = 0, sweep_vertices_ = 0, sweep_faces_ = 0;
+  struct TetPart {         // the tet part's queues and sweep (kSent in nodes.flag: nodes the reader has)
+    bool present = false;  // the world has a tet tissue
+    Dirty nodes, bases;
+    int rebuilds_seen = 0;
+    bool reset_pending = false, sweeping = false, swept = false;
+    std::uint32_t sweep_node = 0, sweep_base = 0, sweep_nodes = 0, sweep_bases = 0;
+  } tets_;
   GeometryCounters counters_;
 };
 

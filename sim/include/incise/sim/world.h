@@ -121,8 +121,9 @@ class World {
   int incisions() const noexcept;
   // The tissue's tets and their cutter; nullptr unless options.tets.enabled.
   const cutting::TetCutter* tets() const noexcept { return tets_.get(); }
-  // The surface cutter's change journal (cutting::MeshChanges), for a reader of the geometry
-  // (GeometryStream): off by default; recordMeshChanges(true) reserves its room (load time, allocates).
+  // The cutters' change journals (the surface's cutting::MeshChanges here, the tets' in tets()->changes()),
+  // for a reader of the geometry (GeometryStream): off by default; recordMeshChanges(true) reserves their
+  // room (load time, allocates); clearMeshChanges() clears both.
   void recordMeshChanges(bool on);
   const cutting::MeshChanges& meshChanges() const noexcept;
   void clearMeshChanges() noexcept;
