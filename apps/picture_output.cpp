@@ -39,6 +39,7 @@ void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, 
   options.size = args.size;
   options.camera = args.camera;
   options.draw.wireframe = args.wireframe;
+  options.tets = args.tets;
   options.tool.show = args.tool && args.last.has_value();
   if (args.last) {
     const sim::HapticState& h = args.last->haptic;

@@ -32,6 +32,7 @@ struct PictureArgs {
   std::optional<viewer::CameraOption> camera;
   bool tool = true;
   bool wireframe = false;
+  bool tets = false;                  // the tet mesh's boundary instead of the surface
   std::optional<sim::Snapshot> last;  // the tool, contact and force drawn (none: no tool)
 };
 

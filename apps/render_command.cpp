@@ -1,5 +1,5 @@
 // `incise render SCENARIO --out FILE.png [--at S] [--size WxH] [--camera AZ,EL[,DIST]] [--no-tool]
-// [--wireframe]`: a picture of the scenario's state at S seconds after its first pose (default: the end of
+// [--wireframe] [--tets]`: a picture of the scenario's state at S seconds after its first pose (default: the end of
 // the replay), without a window — the same frames as `replay --fast` up to S, then the mesh drawn
 // off-screen (a hidden window under Xvfb or any display, else EGL on Mesa) and written as PNG through a
 // .tmp file. The camera frames the incision unless --camera says otherwise. Exit 2 for bad options, a bad
@@ -25,7 +25,7 @@ struct RenderArgs {
   std::string size = "1280x800";
   std::string camera;
   bool no_tool = false;
-  bool wireframe = false;
+  bool wireframe = false, tets = false;
 };
 
 int runRender(const RenderArgs& a) {
@@ -45,6 +45,8 @@ int runRender(const RenderArgs& a) {
   } catch (const std::exception& e) {
     failWith("render", e.what());
   }
+  if (a.tets && !run.scenario.world.tets.enabled)
+    failWith("render", "--tets: " + a.scenario + " has no tet tissue (\"tets\" in its \"tissue\")");
   sim::ReplayOptions options;
   options.pace = sim::ReplayPace::Fast;
   options.period_us = run.scenario.periodUs();
@@ -55,6 +57,7 @@ int runRender(const RenderArgs& a) {
   const sim::ReplayReport report = sim::replay(*run.world, run.poses, options);
   picture.tool = !a.no_tool;
   picture.wireframe = a.wireframe;
+  picture.tets = a.tets;
   picture.last = last;
   std::printf("incise render %s: state at t = %.3f s after the first pose (frame %lld, %d incision(s))\n",
               run.scenario.name.c_str(), last.t_s - run.poses.front().time_s, static_cast<long long>(last.frame),
@@ -76,6 +79,7 @@ void addRenderCommand(CLI::App& app) {
                   "AZ,EL[,DIST]: azimuth and elevation in degrees, distance in metres (default: frame the incision)");
   cmd->add_flag("--no-tool", args->no_tool, "leave the scalpel, contact point and force out");
   cmd->add_flag("--wireframe", args->wireframe, "draw the triangles' edges");
+  cmd->add_flag("--tets", args->tets, "draw the tet mesh's boundary (a scenario with tets) instead of the surface");
   cmd->callback([args] {
     const int code = runRender(*args);
     if (code != 0) std::exit(code);

@@ -3,7 +3,8 @@
 //    the bunny Loop-subdivided 3 times (235,136 triangles) and 4 times (940,544), the straight 5 cm stroke
 //    replayed as fast as possible with a GeometryMirror pulling after every frame, the mirror seeded before
 //    the run (as incise view does) or asking for its copy at the first frame (a sweep of the whole mesh
-//    within the per-frame budget); target p99 <= 20 us on ~1M triangles;
+//    within the per-frame budget); target p99 <= 20 us on ~1M triangles; and the tet bunny (bunny-tets: the
+//    surface and the tets' working mesh through the same budget);
 //  - "realtime" (needs a display: run it under xvfb-run, e.g. `taskset -c 0 xvfb-run -a ...` so that Xvfb
 //    keeps off the sim's core too): the shipped scenario (the bunny subdivided twice) replayed in real
 //    time at 1 kHz without the viewer, then with the viewer attached and drawing (a GLFW window, the
@@ -24,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "incise/cutting/surface_mesh.h"
+#include "incise/cutting/tet_cutter.h"
 #include "incise/devices/trace_csv.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
@@ -44,11 +46,12 @@ struct Loaded {
   std::size_t triangles = 0;
 };
 
-// bunny-straight.json with its tissue subdivided `subdivide` times (the trace is the same 5 cm stroke).
-Loaded load(int subdivide) {
+// A shipped scenario (default: bunny-straight.json) with its tissue subdivided `subdivide` times (< 0: as
+// the scenario says). bunny-straight and bunny-tets replay the same 5 cm stroke.
+Loaded load(int subdivide, const char* scenario = "bunny-straight") {
   Loaded l;
-  l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/bunny-straight.json");
-  l.scenario.subdivide = subdivide;
+  l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + scenario + ".json");
+  if (subdivide >= 0) l.scenario.subdivide = subdivide;
   cutting::SurfaceMesh tissue = sim::loadTissue(l.scenario);
   l.triangles = tissue.mesh().n_faces();
   l.world = std::make_unique<sim::World>(std::move(tissue), l.scenario.world);
@@ -62,8 +65,8 @@ nlohmann::json summary(const sim::SampleSummary& s) {
 
 // `seeded`: the reader's copy made before the run (as incise view does); else the reader asks for it at the
 // first frame and the sim thread sweeps the whole mesh within its per-frame budget.
-nlohmann::json geometryCost(int subdivide, bool seeded) {
-  Loaded l = load(subdivide);
+nlohmann::json geometryCost(int subdivide, bool seeded, const char* scenario = "bunny-straight") {
+  Loaded l = load(subdivide, scenario);
   sim::GeometryStream stream;
   sim::GeometryMirror mirror;
   if (seeded) stream.seed(*l.world, mirror);
@@ -81,7 +84,9 @@ nlohmann::json geometryCost(int subdivide, bool seeded) {
   };
   const sim::ReplayReport report = sim::replay(*l.world, l.poses, o);
   const sim::LatencySummary s = stats.summary();
-  return {{"triangles", l.triangles},
+  return {{"scenario", scenario},
+          {"triangles", l.triangles},
+          {"tets", l.world->tets() ? l.world->tets()->tetCount() : 0},
           {"seeded_before_the_run", seeded},
           {"records_per_frame", sim::GeometryStreamOptions{}.records_per_frame},
           {"frames", s.frames},
@@ -93,6 +98,7 @@ nlohmann::json geometryCost(int subdivide, bool seeded) {
           {"stalled_frames", report.geometry.stalled_frames},
           {"regrowths", report.geometry.regrowths},
           {"reader_exact_at_end", mirror.exact()},
+          {"reader_tets_exact_at_end", mirror.tets().exact()},
           {"meets_target", s.geometry_us.p99 <= 20.0}};
 }
 
@@ -244,6 +250,8 @@ int main(int argc, char** argv) {
   report["geometry"] = nlohmann::json::array();
   for (const int subdivide : {3, 4})
     for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(subdivide, seeded));
+  // The tet bunny: the surface and the tet cutter's working mesh through the same budget.
+  for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(-1, seeded, "bunny-tets"));
   if (!geometry_only) {
     try {
       report["realtime"] = realTimePairs(seconds);

@@ -74,7 +74,8 @@ bool GeometryStream::sendTets(const World& world, std::uint32_t base, std::size_
   if (std::max<std::size_t>(children.size(), 1) > budget) return false;
   for (const cutting::TetChild& c : children)
     for (const int n : c.nodes)
-      if (static_cast<std::size_t>(n) >= tets_.nodes.flag.size() || !(tets_.nodes.flag[static_cast<std::size_t>(n)] & kSent))
+      if (static_cast<std::size_t>(n) >= tets_.nodes.flag.size() ||
+          !(tets_.nodes.flag[static_cast<std::size_t>(n)] & kSent))
         return false;
   for (std::size_t slot = 0; slot < children.size(); ++slot) {
     GeometryRecord& r = next();
@@ -84,13 +85,14 @@ bool GeometryStream::sendTets(const World& world, std::uint32_t base, std::size_
     for (int i = 0; i < 4; ++i) r.tet.nodes[i] = children[slot].nodes[static_cast<std::size_t>(i)];
     r.tet.count = static_cast<std::uint8_t>(children.size());
     r.tet.side = children[slot].side;
+    r.tet.cut_faces = children[slot].cut_faces;
   }
   if (children.empty()) {  // no piece left: the reader drops the base tet's children
     GeometryRecord& r = next();
     r.type = GeometryRecordType::Tet;
     r.kind = 0;
     r.index = base;
-    r.tet = {{-1, -1, -1, -1}, 0, 0};
+    r.tet = {{-1, -1, -1, -1}, 0, 0, 0};
   }
   budget -= std::max<std::size_t>(children.size(), 1);
   return true;

@@ -32,11 +32,13 @@ void TetMirror::addFaces(const Child& child, int sign) {
     std::sort(s.begin(), s.end());
     const FaceKey key{s[0], s[1], s[2]};
     // f is a rotation of s (even) or of s with its last two swapped (odd).
-    const bool even = (f[0] == s[0] && f[1] == s[1]) || (f[1] == s[0] && f[2] == s[1]) || (f[2] == s[0] && f[0] == s[1]);
+    const bool even =
+        (f[0] == s[0] && f[1] == s[1]) || (f[1] == s[0] && f[2] == s[1]) || (f[2] == s[0] && f[0] == s[1]);
     if (sign > 0) {
       FaceUse& use = faces_[key];
       ++use.count;
       use.parity += even ? 1 : -1;
+      use.cut = (child.cut_faces >> i & 1u) != 0;
     } else if (const auto it = faces_.find(key); it != faces_.end()) {
       it->second.parity -= even ? 1 : -1;
       if (--it->second.count <= 0) faces_.erase(it);
@@ -54,7 +56,7 @@ void TetMirror::setChildren(std::uint32_t base, const GeometryRecord& r) {
     children.clear();
   }
   if (r.tet.count == 0) return;
-  const Child child{{r.tet.nodes[0], r.tet.nodes[1], r.tet.nodes[2], r.tet.nodes[3]}, r.tet.side};
+  const Child child{{r.tet.nodes[0], r.tet.nodes[1], r.tet.nodes[2], r.tet.nodes[3]}, r.tet.side, r.tet.cut_faces};
   for (const std::int32_t n : child.nodes)
     if (n < 0 || static_cast<std::size_t>(n) >= positions_m_.size()) return;  // never sent so: ignore
   children.push_back(child);
@@ -82,13 +84,21 @@ void TetMirror::apply(const GeometryRecord& r) {
   ++version_;
 }
 
-std::vector<std::array<std::int32_t, 3>> TetMirror::boundary() const {
-  std::vector<std::array<std::int32_t, 3>> out;
+std::vector<std::array<std::int32_t, 3>> TetMirror::boundary(std::vector<std::uint8_t>* on_cut) const {
+  std::vector<std::pair<std::array<std::int32_t, 3>, bool>> found;
   for (const auto& [key, use] : faces_)
     if (use.count == 1)
-      out.push_back(use.parity > 0 ? std::array<std::int32_t, 3>{key.a, key.b, key.c}
-                                   : std::array<std::int32_t, 3>{key.a, key.c, key.b});
-  std::sort(out.begin(), out.end());  // a stable order (the map's is not)
+      found.push_back({use.parity > 0 ? std::array<std::int32_t, 3>{key.a, key.b, key.c}
+                                      : std::array<std::int32_t, 3>{key.a, key.c, key.b},
+                       use.cut});
+  std::sort(found.begin(), found.end());  // a stable order (the map's is not)
+  std::vector<std::array<std::int32_t, 3>> out;
+  out.reserve(found.size());
+  if (on_cut) on_cut->clear();
+  for (const auto& [face, cut] : found) {
+    out.push_back(face);
+    if (on_cut) on_cut->push_back(cut ? 1 : 0);
+  }
   return out;
 }
 

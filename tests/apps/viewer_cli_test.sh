@@ -31,6 +31,11 @@ check "... a PNG of its own" bash -c "is_png() { [ \"\$(head -c 8 \"\$1\" | od -
 check "render without any display goes through EGL" env -u DISPLAY -u WAYLAND_DISPLAY "$incise" render "$straight" --out "$work/egl.png" --size 320x200
 check "... the same picture as through the display" cmp -s "$work/egl.png" "$work/end.png"
 
+check "render --tets draws the tet mesh's boundary" "$incise" render "$scenarios/bunny-tets.json" --tets --out "$work/tets.png" --size 320x200
+check "... a PNG" is_png "$work/tets.png"
+check "render --tets without tets is refused, naming the option" \
+  expect_exit 2 "\-\-tets: .*has no tet tissue" -- "$incise" render "$straight" --tets --out "$work/bad-tets.png"
+
 # The viewer must not change the replay's bytes.
 check "replay --fast" "$incise" replay "$straight" --fast --out "$work/plain"
 check "replay --fast --png" "$incise" replay "$straight" --fast --out "$work/png" --png "$work/png/end.png"

@@ -1,5 +1,5 @@
 // Pictures that are looked at (viewer/src/picture.cpp, scene_renderer.cpp): the bunny before and after its
-// cut, with the same camera. The wall colour appears near the stroke's projection and nowhere far from it,
+// cut, with the same camera (its surface, and a tet bunny's tet boundary). The wall colour appears near the stroke's projection and nowhere far from it,
 // along most of the stroke; away from the stroke both pictures agree. Tagged [pixels]: they need OpenGL 3.3
 // (CTest runs them under xvfb-run, and once more through EGL without a display).
 #include "incise/viewer/picture.h"
@@ -36,17 +36,18 @@ double distanceTo(const std::vector<Eigen::Vector2d>& line, double x, double y) 
   return best;
 }
 
-}  // namespace
-
-TEST_CASE("picture: the cut shows its walls along the stroke only; elsewhere before and after agree",
-          "[viewer][pixels]") {
-  const auto before = test::followRun("bunny-straight", 0.05);  // the tool has not touched the tissue yet
-  const auto after = test::followRun("bunny-straight");
+// The scenario `name` before its cut and at its end, with the same camera (the surface, or the tets'
+// boundary): the wall colour near the stroke's projection only, along most of it; elsewhere the two agree.
+// Returns the picture after the cut.
+viewer::RgbImage requireWallsAlongStroke(const char* name, bool tets) {
+  const auto before = test::followRun(name, 0.05);  // the tool has not touched the tissue yet
+  const auto after = test::followRun(name);
   REQUIRE(before->world->incisions() == 0);
   REQUIRE(after->world->incisions() == 1);
   viewer::PictureOptions options;
   options.size = {kWidth, kHeight};
   options.tool.show = false;
+  options.tets = tets;
   const std::vector<Eigen::Vector3d> stroke = after->stroke();
   viewer::Camera camera;
   const viewer::RgbImage b = viewer::renderPicture(before->mirror, stroke, options, &camera);
@@ -82,8 +83,9 @@ TEST_CASE("picture: the cut shows its walls along the stroke only; elsewhere bef
   CHECK(wall_far == 0);
   UNSCOPED_INFO("wall pixels at most " << wall_max_px << " px from the stroke");
   if (const char* keep = std::getenv("INCISE_KEEP_PICTURES")) {  // for a person to look at
-    viewer::writePng(std::filesystem::path(keep) / "before.png", b);
-    viewer::writePng(std::filesystem::path(keep) / "after.png", a);
+    const std::string prefix = std::string(name) + (tets ? "-tets-" : "-");
+    viewer::writePng(std::filesystem::path(keep) / (prefix + "before.png"), b);
+    viewer::writePng(std::filesystem::path(keep) / (prefix + "after.png"), a);
   }
   CHECK(far > static_cast<std::size_t>(kWidth * kHeight / 3));
   CHECK(far_differing == 0);
@@ -98,7 +100,14 @@ TEST_CASE("picture: the cut shows its walls along the stroke only; elsewhere bef
     covered += near;
   }
   CHECK(covered >= samples * 8 / 10);
+  return a;
+}
 
+}  // namespace
+
+TEST_CASE("picture: the cut shows its walls along the stroke only; elsewhere before and after agree",
+          "[viewer][pixels]") {
+  const viewer::RgbImage a = requireWallsAlongStroke("bunny-straight", false);
   test::TempDir dir;
   viewer::writePng(dir.path() / "after.png", a);
   const viewer::RgbImage back = viewer::readPng(dir.path() / "after.png");
@@ -106,6 +115,10 @@ TEST_CASE("picture: the cut shows its walls along the stroke only; elsewhere bef
   CHECK(back.height == kHeight);
   CHECK(back.rgb == a.rgb);
   CHECK_FALSE(std::filesystem::exists(dir.path() / "after.png.tmp"));
+}
+
+TEST_CASE("picture: the tets' boundary shows the wound's walls along the stroke only", "[viewer][pixels][tets]") {
+  requireWallsAlongStroke("bunny-tets", true);
 }
 
 TEST_CASE("picture: the scalpel, contact point and force vector are drawn where the tool is", "[viewer][pixels]") {

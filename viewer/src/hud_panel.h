@@ -10,7 +10,7 @@ namespace incise::viewer::detail {
 
 struct HudText {
   std::string scenario, gl, status;
-  bool paused = false, wireframe = false;
+  bool paused = false, wireframe = false, tets = false;
   std::size_t triangles = 0, wall_triangles = 0;
   std::int64_t display_frames = 0;
 };

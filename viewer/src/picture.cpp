@@ -27,7 +27,12 @@ RgbImage renderPicture(const sim::GeometryMirror& mirror, std::span<const Eigen:
   GlContext context(ContextKind::Offscreen, options.size.width, options.size.height, "incise render");
   SceneRenderer renderer;
   SurfaceModel model;
-  model.update(mirror);
+  if (options.tets && !mirror.tets().complete())
+    throw ViewerError("renderPicture: the scenario has no tet tissue (\"tets\" in its tissue) to draw");
+  if (options.tets)
+    model.update(mirror.tets());
+  else
+    model.update(mirror);
   renderer.upload(model);
   const double aspect = static_cast<double>(options.size.width) / options.size.height;
   const Camera camera =

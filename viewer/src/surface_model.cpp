@@ -26,7 +26,7 @@ void addUnique(std::vector<std::uint8_t>& flags, std::vector<std::uint32_t>& lis
 bool SurfaceModel::update(const sim::GeometryMirror& mirror) {
   if (!mirror.complete()) return false;
   if (mirror.rebuilt() || !ready_) {
-    rebuild(mirror);
+    rebuild(mirror.positions_m(), mirror.faces(), mirror.faceKind());
     return true;
   }
   const auto& p = mirror.positions_m();
@@ -59,9 +59,20 @@ bool SurfaceModel::update(const sim::GeometryMirror& mirror) {
   return true;
 }
 
-void SurfaceModel::rebuild(const sim::GeometryMirror& mirror) {
-  const auto& p = mirror.positions_m();
-  const std::size_t n = p.size(), m = mirror.faces().size();
+bool SurfaceModel::update(const sim::TetMirror& tets) {
+  if (!tets.complete() || (ready_ && tets.version() == tets_version_)) return false;
+  tets_version_ = tets.version();
+  std::vector<std::uint8_t> kinds;
+  const std::vector<std::array<std::int32_t, 3>> faces = tets.boundary(&kinds);
+  for (std::uint8_t& k : kinds) k = k ? kWallKind : 0;  // cutting::FaceKind::Wall / Original
+  rebuild(tets.positions_m(), faces, kinds);
+  return true;
+}
+
+void SurfaceModel::rebuild(const std::vector<std::array<double, 3>>& p,
+                           const std::vector<std::array<std::int32_t, 3>>& faces,
+                           const std::vector<std::uint8_t>& kind) {
+  const std::size_t n = p.size(), m = faces.size();
   ready_ = false;
   positions_m_.assign(3 * n, 0.0);
   positions_.assign(3 * n, 0.0f);
@@ -72,7 +83,7 @@ void SurfaceModel::rebuild(const sim::GeometryMirror& mirror) {
   kinds_.assign(m, sim::kDeletedFace);
   vertex_faces_.assign(n, {});
   live_faces_ = wall_faces_ = 0;
-  for (std::size_t f = 0; f < m; ++f) setFace(static_cast<std::uint32_t>(f), mirror.faces()[f], mirror.faceKind()[f]);
+  for (std::size_t f = 0; f < m; ++f) setFace(static_cast<std::uint32_t>(f), faces[f], kind[f]);
   for (std::uint32_t v = 0; v < n; ++v) recomputeNormal(v);
   normal_dirty_.assign(n, 0);
   normal_list_.clear();

@@ -30,7 +30,8 @@ std::int64_t nowNs() {
 // Keys and the wheel arrive through GLFW callbacks (chained by ImGui's backend): kept until frame() reads.
 struct Input {
   double scroll = 0.0;
-  bool pause = false, restart = false, wireframe = false, screenshot = false, reset = false, close = false;
+  bool pause = false, restart = false, wireframe = false, screenshot = false, reset = false, close = false,
+       tets = false;
 };
 
 void onKey(GLFWwindow* window, int key, int, int action, int) {
@@ -46,6 +47,9 @@ void onKey(GLFWwindow* window, int key, int, int action, int) {
       break;
     case GLFW_KEY_W:
       in->wireframe = true;
+      break;
+    case GLFW_KEY_T:
+      in->tets = true;
       break;
     case GLFW_KEY_S:
     case GLFW_KEY_F12:
@@ -77,7 +81,9 @@ struct ViewerWindow::Impl {
   GLFWwindow* window;
   std::unique_ptr<SceneRenderer> renderer;
   sim::GeometryMirror mirror;
-  SurfaceModel model;
+  SurfaceModel model, tet_model;  // the surface; the tets' boundary (rebuilt whole, a few times a second)
+  bool show_tets = false;
+  std::int64_t last_tets_ns = 0;
   std::unique_ptr<HudModel> hud;
   ViewerFeed feed;
   sim::Snapshot snapshot;
@@ -116,6 +122,7 @@ struct ViewerWindow::Impl {
 
   void mouse(int height);
   void follow();
+  void toggleTets();
   ToolView tool() const;
   void screenshot(int width, int height);
   void hudFrame();
@@ -142,7 +149,13 @@ void ViewerWindow::Impl::follow() {
   if (feed.geometry) mirror.pull(*feed.geometry);
   model.update(mirror);
   mirror.clearChanges();
-  renderer->upload(model);
+  if (show_tets) {
+    const std::int64_t now = nowNs();
+    if (now - last_tets_ns > 200'000'000 && tet_model.update(mirror.tets())) last_tets_ns = now;
+    renderer->upload(tet_model);
+  } else {
+    renderer->upload(model);
+  }
   sim::Snapshot s;
   while (feed.take_snapshot && feed.take_snapshot(s)) {
     snapshot = s;
@@ -156,6 +169,17 @@ void ViewerWindow::Impl::follow() {
     camera = defaultCamera(model, feed.stroke_points_m, static_cast<double>(w) / std::max(h, 1), options.camera);
     framed = true;
   }
+}
+
+// T: the tets' boundary instead of the surface, and back (a scenario without tets: says so).
+void ViewerWindow::Impl::toggleTets() {
+  if (!show_tets && !mirror.tets().present()) {
+    status = "no tets in this scenario (\"tets\" in its tissue)";
+    return;
+  }
+  show_tets = !show_tets;
+  (show_tets ? tet_model : model).markAllDirty();  // the renderer drew the other one meanwhile
+  last_tets_ns = 0;
 }
 
 ToolView ViewerWindow::Impl::tool() const {
@@ -197,8 +221,10 @@ void ViewerWindow::Impl::hudFrame() {
   text.gl = context.description();
   text.status = status;
   text.wireframe = wireframe;
-  text.triangles = model.liveFaces();
-  text.wall_triangles = model.wallFaces();
+  text.tets = show_tets;
+  const SurfaceModel& shown = show_tets ? tet_model : model;
+  text.triangles = shown.liveFaces();
+  text.wall_triangles = shown.wallFaces();
   text.display_frames = display_frames;
   const PoseSourceStatus source = feed.source ? feed.source->status(snapshot) : PoseSourceStatus{"none", "-"};
   text.paused = source.state == "paused";
@@ -214,6 +240,8 @@ void ViewerWindow::follow(const ViewerFeed& feed, sim::GeometryMirror seeded) {
   impl_->feed = feed;
   impl_->mirror = std::move(seeded);  // a default one asks the new stream for a full copy at the first pull
   impl_->model = SurfaceModel();
+  impl_->tet_model = SurfaceModel();
+  impl_->show_tets = false;
   impl_->hud = std::make_unique<HudModel>(feed.period_us, feed.cut_budget_us);
   impl_->snapshot = sim::Snapshot();
   impl_->framed = false;
@@ -231,6 +259,7 @@ ViewerRequests ViewerWindow::frame() {
   requests.restart = std::exchange(m.input.restart, false);
   requests.pause_toggled = std::exchange(m.input.pause, false);
   if (std::exchange(m.input.wireframe, false)) m.wireframe = !m.wireframe;
+  if (std::exchange(m.input.tets, false)) m.toggleTets();
   if (std::exchange(m.input.reset, false)) m.camera.reset();
   if (width > 0 && height > 0) {
     if (std::exchange(m.input.screenshot, false)) m.screenshot(width, height);

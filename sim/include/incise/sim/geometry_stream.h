@@ -86,6 +86,7 @@ struct GeometryTet {
   std::int32_t nodes[4];
   std::uint8_t count;
   std::int8_t side;
+  std::uint8_t cut_faces;  // bit i: the face opposite nodes[i] lies on the cut
 };
 
 // 32 bytes. Vertex: index, kind (cutting::VertexKind), position_m. Face: index, kind (cutting::FaceKind or

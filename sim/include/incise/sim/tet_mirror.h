@@ -38,12 +38,15 @@ class TetMirror {
 
   const std::vector<std::array<double, 3>>& positions_m() const noexcept { return positions_m_; }
   std::size_t tetCount() const noexcept { return tets_; }
-  std::vector<std::array<std::int32_t, 3>> boundary() const;
+  // The boundary's triangles and, when `on_cut` is given, 1 for each that lies on a cut (a wound's wall), 0
+  // for the original surface's; sorted by their nodes.
+  std::vector<std::array<std::int32_t, 3>> boundary(std::vector<std::uint8_t>* on_cut = nullptr) const;
 
  private:
   struct Child {
     std::array<std::int32_t, 4> nodes;
     std::int8_t side;
+    std::uint8_t cut_faces;
   };
   struct FaceKey {
     std::int32_t a, b, c;  // sorted
@@ -53,9 +56,10 @@ class TetMirror {
     std::size_t operator()(const FaceKey& k) const noexcept;
   };
   struct FaceUse {
-    int count = 0;   // tets holding the face
-    int parity = 0;  // the sum over them of +1 when the face's outward triple is a rotation of the sorted
-                     // key, else -1 (two tets on opposite sides cancel; one alone gives its orientation)
+    int count = 0;     // tets holding the face
+    int parity = 0;    // the sum over them of +1 when the face's outward triple is a rotation of the sorted
+                       // key, else -1 (two tets on opposite sides cancel; one alone gives its orientation)
+    bool cut = false;  // on the cut (as the tet that added it last says)
   };
   void reset(std::uint32_t nodes, std::uint32_t bases);
   void setChildren(std::uint32_t base, const GeometryRecord& record);

@@ -30,6 +30,7 @@ struct PictureOptions {
   std::optional<Camera> exact_camera;  // overrides the two above (tests: the same camera for two pictures)
   ToolView tool;                       // tool.show = false leaves the scalpel out
   DrawOptions draw;
+  bool tets = false;  // the tet mesh's boundary instead of the surface (ViewerError without a tet tissue)
 };
 
 // Needs mirror.complete(). The camera used is returned through `used` when given.

@@ -1,4 +1,5 @@
-// The tissue as the viewer draws it, kept up to date from a GeometryMirror (sim/geometry_mirror.h): float
+// The tissue as the viewer draws it, kept up to date from a GeometryMirror (sim/geometry_mirror.h), or a
+// tet tissue's boundary from its TetMirror (sim/tet_mirror.h): float
 // positions, smooth normals and one triangle per face index (a deleted face is the degenerate 0, 0, 0),
 // with the face kinds that colour the wound's walls apart from the skin. Only what changed is redone: a
 // moved vertex re-normalises the vertices of its faces, a changed face those of its old and new vertices.
@@ -28,6 +29,12 @@ class SurfaceModel {
   // Takes the mirror's changes (call after GeometryMirror::pull and before its clearChanges()). Does nothing
   // and returns false while the mirror is not complete (a partial mesh is not drawn).
   bool update(const sim::GeometryMirror& mirror);
+  // The tet mesh's boundary instead (sim::TetMirror: its cut faces drawn as walls), rebuilt whole when the
+  // tets changed since the last call (O(boundary), so a viewer calls it a few times a second at most).
+  // Does nothing and returns false while the tets are not complete or have not changed.
+  bool update(const sim::TetMirror& tets);
+  // Everything is to be uploaded again (a renderer that drew another model meanwhile).
+  void markAllDirty() noexcept { dirty_.all = true; }
 
   const std::vector<float>& positions() const noexcept { return positions_; }
   const std::vector<float>& normals() const noexcept { return normals_; }
@@ -54,7 +61,8 @@ class SurfaceModel {
   Eigen::AlignedBox3d bounds() const;
 
  private:
-  void rebuild(const sim::GeometryMirror& mirror);
+  void rebuild(const std::vector<std::array<double, 3>>& positions_m,
+               const std::vector<std::array<std::int32_t, 3>>& faces, const std::vector<std::uint8_t>& kinds);
   void setFace(std::uint32_t f, const std::array<std::int32_t, 3>& t, std::uint8_t kind);
   void recomputeNormal(std::uint32_t v);
   void markNormal(std::uint32_t v);
@@ -69,6 +77,7 @@ class SurfaceModel {
   Dirty dirty_;
   std::size_t live_faces_ = 0, wall_faces_ = 0;
   bool ready_ = false;
+  std::uint64_t tets_version_ = 0;
 };
 
 }  // namespace incise::viewer

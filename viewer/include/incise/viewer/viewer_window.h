@@ -4,7 +4,8 @@
 // and a Dear ImGui HUD (HudModel's numbers, the pose source and its state, a frame-time plot).
 //
 // Mouse: left drag orbits, right or middle drag (or shift + left) pans, the wheel zooms. Keys: Space or P
-// pause, R restart, W wireframe, S screenshot (PNG), C or Home reset the camera, Esc or Q close.
+// pause, R restart, W wireframe, T the tets' boundary instead of the surface (a tet tissue), S screenshot
+// (PNG), C or Home reset the camera, Esc or Q close.
 // Threads: the main thread (GLFW's rule), which is the geometry stream's reader; it never waits for the
 // sim thread. Cost per display frame: the records since the last frame, the changed vertices' normals and
 // uploads, one draw of the mesh. Failure: the constructor throws ViewerError (no display, no OpenGL 3.3
