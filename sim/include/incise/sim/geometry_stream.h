@@ -109,7 +109,7 @@ static_assert(sizeof(GeometryRecord) == 32);
 
 struct GeometryStreamOptions {
   std::size_t ring_records = std::size_t{1} << 16;  // a power of two; 2 MiB at the default (128 full frames)
-  int records_per_frame = 192;                      // the writer's budget per frame (Frame record apart)
+  int records_per_frame = 128;                      // the writer's budget per frame (Frame record apart)
 };
 
 // Per-publish figures (the sim thread's cost is timed by the caller) and the stream's counters.
