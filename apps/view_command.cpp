@@ -6,8 +6,6 @@
 // The sim thread is pinned to the last CPU (spinning the last 200 us before each deadline, as `incise bench`),
 // the window and Mesa's llvmpipe threads to the others. No display: a message naming `incise render` and
 // `xvfb-run`, exit 2.
-#include <pthread.h>
-#include <sched.h>
 
 #include <atomic>
 #include <cstdio>
@@ -15,6 +13,7 @@
 
 #include "commands.h"
 #include "data_dir.h"
+#include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/geometry_stream.h"
 #include "incise/sim/simulation.h"
 #include "incise/sim/triple_buffer.h"
@@ -46,17 +45,6 @@ std::string sourceDescription(const sim::Scenario& s) {
     default:
       return "generated strokes (" + std::to_string(s.strokes.size()) + ")";
   }
-}
-
-// The window's thread (and llvmpipe's rasterizer threads, created with the context) keeps off the last
-// CPU, where the replay pins the sim thread.
-void keepOffLastCpu() {
-  const int cpus = static_cast<int>(std::thread::hardware_concurrency());
-  if (cpus < 2) return;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  for (int c = 0; c < cpus - 1; ++c) CPU_SET(c, &set);
-  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
 }
 
 // One run: the replay on its own thread (which runs the sim thread, the feeder and the snapshot reader),
@@ -145,7 +133,7 @@ int runView(const ViewArgs& a) {
   std::filesystem::create_directories(a.out, error);
   if (error) failWith("view", "cannot create output directory " + a.out + ": " + error.message());
   window_options.screenshot_dir = a.out;
-  keepOffLastCpu();  // before the window: llvmpipe's threads inherit this thread's CPUs
+  sim::keepOffLastCpu();  // before the window: llvmpipe's threads inherit this thread's CPUs (the sim's is the last)
   std::unique_ptr<viewer::ViewerWindow> window;
   try {
     window = std::make_unique<viewer::ViewerWindow>(window_options);

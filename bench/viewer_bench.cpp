@@ -13,8 +13,6 @@
 //    its frame rate under llvmpipe (aim >= 30 fps) and latency. Deadline misses are split into our own overruns (a frame longer than the period)
 //    and late wake-ups (the VM not running the loop on time: the period error).
 //   incise_bench_viewer [--seconds S] [--geometry-only]
-#include <pthread.h>
-#include <sched.h>
 
 #include <atomic>
 #include <cstdio>
@@ -27,6 +25,7 @@
 #include "incise/cutting/surface_mesh.h"
 #include "incise/cutting/tet_cutter.h"
 #include "incise/devices/trace_csv.h"
+#include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
@@ -100,16 +99,6 @@ nlohmann::json geometryCost(int subdivide, bool seeded, const char* scenario = "
           {"reader_exact_at_end", mirror.exact()},
           {"reader_tets_exact_at_end", mirror.tets().exact()},
           {"meets_target", s.geometry_us.p99 <= 20.0}};
-}
-
-// The main thread (the window and llvmpipe's threads, which inherit its mask) keeps off the sim's core.
-void pinAwayFromLastCpu() {
-  const int cpus = static_cast<int>(std::thread::hardware_concurrency());
-  if (cpus < 2) return;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  for (int c = 0; c < cpus - 1; ++c) CPU_SET(c, &set);
-  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
 }
 
 struct RealTimeResult {
@@ -209,7 +198,7 @@ nlohmann::json realTime(int subdivide, viewer::ViewerWindow* window, double seco
 // 58,784 triangles: the loop keeps its period there, so the viewer's effect is not lost in the loop's own
 // overruns), twice in this order; then the viewer's frame rate and latency on the 235k bunny.
 nlohmann::json realTimePairs(double seconds) {
-  pinAwayFromLastCpu();
+  sim::keepOffLastCpu();  // the window and llvmpipe's threads inherit this thread's mask
   viewer::ViewerWindowOptions options;
   options.size = {1280, 800};
   options.title = "incise bench";

@@ -178,4 +178,15 @@ LoopCounters FixedRateLoop::counters() const noexcept {
                       max_period_error_us_.load(std::memory_order_relaxed)};
 }
 
+int lastCpu() noexcept { return std::max(0, static_cast<int>(std::thread::hardware_concurrency()) - 1); }
+
+void keepOffLastCpu() noexcept {
+  const int cpus = static_cast<int>(std::thread::hardware_concurrency());
+  if (cpus < 2) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (int c = 0; c < cpus - 1; ++c) CPU_SET(c, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof set, &set);  // best effort
+}
+
 }  // namespace incise::sim

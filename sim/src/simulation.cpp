@@ -277,7 +277,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   loop_options.spin_us = options.spin_us;
   const int cpus = static_cast<int>(std::thread::hardware_concurrency());
   const bool pin = options.pin_threads && cpus >= 2;
-  if (pin) loop_options.cpu = cpus - 1;
+  if (pin) loop_options.cpu = lastCpu();
   FixedRateLoop loop(loop_options);
   ReplayReport report;
   ReplayRun run{world, trace, options, sim, loop, report, trace.back().time_s + options.settle_s, pin, cpus};

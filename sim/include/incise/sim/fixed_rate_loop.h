@@ -46,6 +46,11 @@ struct FixedRateLoopOptions {
   int cpu = -1;                    // pin the loop thread to this CPU (best effort); -1: let the OS choose
 };
 
+// The calling thread keeps off the last CPU, where a loop with cpu = lastCpu() runs (best effort; nothing
+// on a single CPU). Call it before creating threads that should inherit the mask (a window's GL threads).
+int lastCpu() noexcept;
+void keepOffLastCpu() noexcept;
+
 enum class RealtimeStatus : std::uint8_t {
   NotRequested,  // realtime_priority = false, or the loop has not started
   Granted,       // the loop thread runs SCHED_FIFO
