@@ -141,6 +141,14 @@ std::optional<Eigen::Vector2d> Camera::project(const Eigen::Vector3d& x_m, int w
   return Eigen::Vector2d((ndc_x + 1.0) * 0.5 * width, (1.0 - ndc_y) * 0.5 * height);
 }
 
+Eigen::Vector3d Camera::rayThrough(double x_px, double y_px, int width, int height) const {
+  const double aspect = double(width) / std::max(height, 1);
+  const double f = 1.0 / std::tan(radians(0.5 * pose_.fov_y_deg));
+  const double ndc_x = 2.0 * x_px / std::max(width, 1) - 1.0, ndc_y = 1.0 - 2.0 * y_px / std::max(height, 1);
+  const Eigen::Vector3d z = pose_.eye_dir, x = pose_.up.cross(z).normalized(), y = z.cross(x);  // as view()
+  return (-z + (ndc_x * aspect / f) * x + (ndc_y / f) * y).normalized();
+}
+
 void Camera::orbit(double dx_px, double dy_px, int height) {
   // A turntable about the framing's up axis: the horizon stays level.
   const double per_px = kPi / std::max(height, 1);  // a window's height turns the eye half round

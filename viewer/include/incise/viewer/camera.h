@@ -59,6 +59,9 @@ class Camera {
   Eigen::Vector3d eye_m() const { return pose_.target_m + pose_.distance_m * pose_.eye_dir; }
   // Where a point lands in a width x height picture (pixels, origin top left); nullopt behind the eye.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& x_m, int width, int height) const;
+  // The ray from the eye through pixel (x_px, y_px) of a width x height picture (origin top left): the
+  // inverse of project(). Returns the unit direction; the ray starts at eye_m().
+  Eigen::Vector3d rayThrough(double x_px, double y_px, int width, int height) const;
 
   // Mouse gestures, in pixels of a window `height` pixels high: orbit turns the eye about the target
   // (horizontal about `up`, vertical about the right axis, clamped short of the poles), pan moves the
