@@ -33,7 +33,8 @@ double rayTriangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eig
 
 MouseScalpel::MouseScalpel(const MouseScalpelOptions& options) : options_(options), depth_m_(options.depth_m) {
   const auto bad = [](const char* name, double value) {
-    throw std::invalid_argument(std::string("MouseScalpel: ") + name + " = " + std::to_string(value) + " is out of range");
+    throw std::invalid_argument(std::string("MouseScalpel: ") + name + " = " + std::to_string(value) +
+                                " is out of range");
   };
   if (!(options.max_depth_m > 0.0)) bad("max_depth_m", options.max_depth_m);
   if (!(options.depth_m >= 0.0 && options.depth_m <= options.max_depth_m)) bad("depth_m", options.depth_m);
@@ -116,7 +117,8 @@ std::optional<devices::PoseSample> MouseScalpel::pose(const Camera& camera, cons
   pose.orientation = orientation(hit->point_m);
   hit_m_ = hit->point_m;
   has_hit_ = true;
-  pose.tip_m = m.left ? Eigen::Vector3d(hit_m_ - depth_m_ * normal_) : Eigen::Vector3d(hit_m_ + options_.hover_m * normal_);
+  pose.tip_m =
+      m.left ? Eigen::Vector3d(hit_m_ - depth_m_ * normal_) : Eigen::Vector3d(hit_m_ + options_.hover_m * normal_);
   if (m.left) pose.buttons = 1u << options_.cut_button;
   return pose;
 }

@@ -27,12 +27,12 @@
 namespace incise::viewer {
 
 struct MouseScalpelOptions {
-  double depth_m = 0.003;          // below the surface with the button held, at the start
-  double depth_step_m = 0.0005;    // per wheel notch (up: deeper)
-  double max_depth_m = 0.02;       // the wheel's range is [0, max_depth_m]
-  double hover_m = 0.004;          // above the surface with the button up
-  double groove_reach_m = 0.006;   // how far from the last skin hit the tangent plane stands in for it
-  int cut_button = 0;              // the button bit the poses carry while the left button is held
+  double depth_m = 0.003;         // below the surface with the button held, at the start
+  double depth_step_m = 0.0005;   // per wheel notch (up: deeper)
+  double max_depth_m = 0.02;      // the wheel's range is [0, max_depth_m]
+  double hover_m = 0.004;         // above the surface with the button up
+  double groove_reach_m = 0.006;  // how far from the last skin hit the tangent plane stands in for it
+  int cut_button = 0;             // the button bit the poses carry while the left button is held
 };
 
 // One cursor reading: position in a width x height window, the left button, the time (the session's clock).
@@ -62,7 +62,8 @@ class MouseScalpel {
   struct Hit {
     Eigen::Vector3d point_m, normal;
   };
-  std::optional<Hit> cast(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& dir, const SurfaceModel& tissue) const;
+  std::optional<Hit> cast(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& dir,
+                          const SurfaceModel& tissue) const;
   Eigen::Quaterniond orientation(const Eigen::Vector3d& point_m);
 
   MouseScalpelOptions options_;
