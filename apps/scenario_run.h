@@ -24,6 +24,13 @@ LoadedScenario loadScenarioRun(const std::string& path);
 // The poses of a scenario's pose source (a recorded trace, or generated strokes over the tissue).
 std::vector<devices::PoseSample> scenarioPoses(const sim::Scenario& scenario, const cutting::SurfaceMesh& tissue);
 
+// The tissue's fingerprint as a trace's recorders write it in a comment ("tissue: <16 hex digits>", the
+// geometry hash of the uncut tissue, cutting/mesh_hash.h), and the one a trace's comments carry ("" if none:
+// traces made before issue 13, or imported).
+std::string tissueHashText(const cutting::SurfaceMesh& tissue);
+inline constexpr const char* kTissueComment = "tissue: ";
+std::string traceTissueHash(const std::vector<std::string>& comments);
+
 // Prints "incise <command>: <message>" to stderr and exits with code 2 (bad input or I/O).
 [[noreturn]] void failWith(const char* command, const std::string& message);
 
