@@ -3,6 +3,7 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -72,7 +73,8 @@ std::string script(const sim::Score& s, const std::filesystem::path& bins, const
   }
   g += "set title 'tip speed'\nset xlabel 'time (s)'\nset ylabel 'mm/s'\nplot " + quoted(frames) +
        " using 1:2 with lines lc rgb '#1060c0' notitle\n";
-  g += "set title 'force'\nset ylabel 'N'\nplot " + quoted(frames) +
+  g += "set title 'force'\nset ylabel 'N'\nset yrange [0:" +
+       formatNumber(1.2 * std::max(s.peak_force_N, s.force_threshold_N) + 0.1) + "]\nplot " + quoted(frames) +
        " using 1:3 with lines lc rgb '#c04010' notitle, " + formatNumber(s.force_threshold_N) +
        " with lines dt 2 lc rgb 'black' title 'threshold'\n";
   return g + "unset multiplot\nset output\n";
