@@ -51,7 +51,11 @@ void writeData(const sim::Score& score, const std::filesystem::path& bins, const
   if (!b || !f) throw std::runtime_error("cannot write the plot data beside " + bins.string());
 }
 
-std::string quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+std::string quoted(const std::filesystem::path& p) {
+  std::string q(1, '\'');  // built in steps: GCC 12's -Wrestrict misfires on "'" + s + "'"
+  q.append(p.string()).push_back('\'');
+  return q;
+}
 
 std::string script(const sim::Score& s, const std::filesystem::path& bins, const std::filesystem::path& frames,
                    const std::filesystem::path& out) {
