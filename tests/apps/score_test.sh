@@ -27,6 +27,24 @@ check "a scenario without a plan scores the motion only" bash -c "'$incise' scor
 import json, sys; d = json.loads(sys.stdin.read())
 assert d['plan'] is None and d['economy_reference'] == 'straight_line' and d['session']['path_length_m'] > 0.05\""
 
+# A JIGSAWS trace (imported; its arm moves in the air above the bunny, never touching it) on a scenario
+# without a plan: the motion measures of the whole session.
+python3 -c "
+import math
+for k in range(90):
+    a = 2 * math.pi * k / 90
+    arm = [0.02 * math.cos(a), 0.12, 0.02 * math.sin(a), 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, -0.1]
+    print('   ' + '   '.join('%.6f' % v for v in (arm * 5)[:76]))" > "$work/Suturing_C001.txt"
+check "a JIGSAWS file imports" "$incise" import jigsaws "$work/Suturing_C001.txt" --arm psm-left --out "$work/jig.csv"
+printf '{ "tissue": { "mesh": "%s/meshes/bunny.obj", "scale": 0.01 }, "pose_source": { "kind": "trace", "path": "jig.csv" } }' "$scenarios" > "$work/jig.json"
+check "... and scores on the motion measures (no plan, no contact)" bash -c "'$incise' score '$work/jig.json' '$work/jig.csv' 2> '$work/jig.err' | head -1 | python3 -c \"
+import json, math, sys; d = json.loads(sys.stdin.read()); m = d['session']
+assert d['plan'] is None and d['strokes_count'] == 0 and d['economy_reference'] == 'straight_line', d
+assert abs(m['path_length_m'] - 2 * math.pi * 0.02 * 89 / 90) < 0.002, m  # the circle, 89 of 90 steps
+assert abs(m['time_s'] - 89 / 30) < 0.04 and m['economy'] < 0.1, m         # back almost where it began
+assert m['sparc'] < 0 and m['log_dimensionless_jerk'] is not None, m\""
+check "... with a warning that the trace carries no tissue hash" grep -q "carries no tissue hash" "$work/jig.err"
+
 # Bad input: exit 2, the file named, nothing written.
 head -5 "$scenarios/traces/pad-straight.csv" > "$work/empty.csv"
 check "an empty trace is refused" expect_exit 2 "empty.csv: the trace is empty" -- "$incise" score "$scenarios/pad-straight.json" "$work/empty.csv" --out "$work/bad1.jsonl"
