@@ -3,7 +3,8 @@
 // JSON line per trace on stdout, then a summary line; --out writes the same lines to a file (through a .tmp,
 // renamed). --plots DIR: per trace, DIR/<trace stem>.png (gnuplot: lateral and depth error along the plan
 // with the tolerance bands, speed and force over time); --picture also DIR/<trace stem>-top.png, the cut
-// seen from above through the headless renderer (the plan is not drawn into it).
+// seen from above through the headless renderer, the plan and its lateral band drawn over it (in 2D, after
+// rendering: not part of the 3D scene).
 // Every trace is read and checked before any is scored: an empty trace, one recorded on another tissue (its
 // "# tissue:" comment against the scenario's tissue hash), a plan that does not project -> a message naming
 // the file, exit 2, nothing written.
@@ -101,6 +102,21 @@ void checkOutputs(const ScoreArgs& a) {
   if (a.picture) checkPictureContext("score");
 }
 
+// The plan's centre line (green) and the edges of its lateral band (yellow), for the picture from above.
+std::vector<OverlayLine> planOverlay(const sim::Scenario& scenario, const cutting::SurfaceMesh& tissue) {
+  const sim::Plan plan =
+      sim::projectPlan(scenario.plan, tissue, scenario.world.cutter.incision.spacing_m, scenario.file);
+  OverlayLine centre, left, right;
+  left.rgb = right.rgb = {240, 210, 40};
+  left.width_px = right.width_px = 1;
+  for (const sim::PlanStation& s : plan.stations) {
+    centre.points_m.push_back(s.point_m);
+    left.points_m.push_back(s.point_m + plan.lateral_tolerance_m * s.across);
+    right.points_m.push_back(s.point_m - plan.lateral_tolerance_m * s.across);
+  }
+  return {left, right, centre};
+}
+
 // One trace: scored (the cut left in run.world for the picture), its plots written.
 nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const cutting::SurfaceMesh& tissue,
                                 Session& s) {
@@ -113,6 +129,7 @@ nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const c
       PictureArgs picture;
       picture.camera = viewer::CameraOption{0.0, 89.0, std::nullopt};
       picture.tool = false;
+      if (run.scenario.plan.given) picture.overlay = planOverlay(run.scenario, tissue);
       writePicture("score", run, score.frames - 1, plotPath(a, s.file, "-top").string(), picture);
     }
   }
