@@ -70,6 +70,7 @@ import json; lines = [json.loads(l) for l in open('$work/folder/scores.jsonl')]
 assert [l['trace'].split('/')[-1] for l in lines[:3]] == ['a.csv', 'b.csv', 'c.csv'], lines
 assert lines[3]['summary']['traces'] == 3 and len(lines) == 4"
 check "... the same figures as incise score on one trace" bash -c "diff <(head -1 '$work/folder/scores.jsonl' | sed 's/^{\"trace\":\"[^\"]*\",//') <(head -1 '$work/pad-straight.jsonl' | sed 's/^{\"trace\":\"[^\"]*\",//')"
+check "... and the same summary as incise score over the same traces" bash -c "diff <(tail -1 '$work/folder/scores.jsonl') <('$incise' score '$scenarios/pad-straight.json' '$work/folder/a.csv' '$work/folder/b.csv' '$work/folder/sub/c.csv' | tail -1)"
 cp "$work/empty.csv" "$work/folder/d.csv"
 check "score_all.sh stops on a bad trace, exit 2, writes nothing" bash -c "rm '$work/folder/scores.jsonl'; INCISE='$incise' '$root/scripts/score_all.sh' '$work/folder' '$scenarios/pad-straight.json' 2> /dev/null; [ \$? -ne 0 ] && [ ! -e '$work/folder/scores.jsonl' ]"
 finish "score"
