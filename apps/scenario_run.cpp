@@ -46,6 +46,9 @@ LoadedScenario loadScenarioRun(const std::string& path) {
   LoadedScenario run;
   run.scenario = sim::loadScenario(path);
   cutting::SurfaceMesh tissue = sim::loadTissue(run.scenario);
+  if (run.scenario.plan.given)
+    run.plan =
+        sim::projectPlan(run.scenario.plan, tissue, run.scenario.world.cutter.incision.spacing_m, run.scenario.file);
   run.poses = scenarioPoses(run.scenario, tissue);
   run.world = std::make_unique<sim::World>(std::move(tissue), run.scenario.world);
   return run;

@@ -2,10 +2,12 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "incise/devices/pose_sample.h"
+#include "incise/sim/plan.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/world.h"
 
@@ -15,9 +17,10 @@ struct LoadedScenario {
   sim::Scenario scenario;
   std::unique_ptr<sim::World> world;
   std::vector<devices::PoseSample> poses;
+  std::optional<sim::Plan> plan;  // the scenario's plan projected onto the tissue (none without a plan)
 };
 
-// Loads everything a run needs; throws (ScenarioError, MeshError, TraceError, invalid_argument) with a
+// Loads everything a run needs (a plan is projected onto the tissue: every command refuses a bad one); throws (ScenarioError, MeshError, TraceError, invalid_argument) with a
 // message that names the file (and line) at fault.
 LoadedScenario loadScenarioRun(const std::string& path);
 

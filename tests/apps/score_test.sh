@@ -57,6 +57,7 @@ python3 -c "
 import json; s = json.load(open('$scenarios/pad-straight.json')); s['plan']['points_m'][1] = [0.3, 0.0, 0.0]
 s['pose_source']['path'] = '$scenarios/traces/pad-straight.csv'; json.dump(s, open('$work/off.json', 'w'))"
 check "a plan point off the tissue is refused naming it" expect_exit 2 "off.json: plan.points_m\[1\]: .* does not project onto the tissue" -- "$incise" score "$work/off.json" "$scenarios/traces/pad-straight.csv" --out "$work/bad4.jsonl"
+check "... and so is it by incise replay (plans are projected at load)" expect_exit 2 "off.json: plan.points_m\[1\]" -- "$incise" replay "$work/off.json" --out "$work/bad5"
 check "... and nothing is written (plan)" bash -c "! ls '$work' | grep -q bad"
 
 # scripts/score_all.sh: a folder of traces with GNU parallel.

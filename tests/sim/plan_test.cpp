@@ -65,3 +65,18 @@ TEST_CASE("plan: bad plans are refused naming the file and the point", "[score]"
   CHECK_THAT(refusal("plan-one", R"({"points_m": [[0, 0, 0]]})"), Contains("plan.points_m") && Contains("at least 2"));
   CHECK_THAT(refusal("plan-nan", R"({"points_m": [[0, 0, 0], [0, "x", 0]]})"), Contains("plan.points_m[1]"));
 }
+
+TEST_CASE("plan: a pad tissue is made, not read; a mesh and a shape together are refused", "[score]") {
+  const auto pad = incise::test::scenarioDir().scenario(
+      "pad-only", R"({"tissue": {"shape": "pad"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})");
+  const incise::sim::Scenario s = incise::sim::loadScenario(pad);
+  CHECK(incise::sim::loadTissue(s).mesh().n_faces() == 44000);  // the default pad: 10 x 10 x 2 cm, 1 mm grid
+  CHECK_FALSE(s.plan.given);
+  const auto both = incise::test::scenarioDir().scenario(
+      "pad-both",
+      R"({"tissue": {"shape": "pad", "mesh": "meshes/bunny.obj"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})");
+  CHECK_THROWS_WITH(incise::sim::loadScenario(both), Contains("pad-both.json") && Contains("either mesh or shape"));
+  const auto other = incise::test::scenarioDir().scenario(
+      "pad-other", R"({"tissue": {"shape": "cube"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})");
+  CHECK_THROWS_WITH(incise::sim::loadScenario(other), Contains("tissue.shape") && Contains("pad"));
+}

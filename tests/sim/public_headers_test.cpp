@@ -3,10 +3,13 @@
 // the check is at compile time.
 #include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/latency_stats.h"
+#include "incise/sim/plan.h"
 #include "incise/sim/pose_queue.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/scenario_error.h"
+#include "incise/sim/score.h"
 #include "incise/sim/simulation.h"
+#include "incise/sim/smoothness.h"
 #include "incise/sim/spsc_queue.h"
 #include "incise/sim/stroke_poses.h"
 #include "incise/sim/triple_buffer.h"
