@@ -27,6 +27,9 @@ check "a scenario without a plan scores the motion only" bash -c "'$incise' scor
 import json, sys; d = json.loads(sys.stdin.read())
 assert d['plan'] is None and d['economy_reference'] == 'straight_line' and d['session']['path_length_m'] > 0.05\""
 
+check "progress on a terminal (util-linux script), a bar over the traces" bash -c "script -qec \"'$incise' score '$scenarios/pad-straight.json' '$scenarios/traces/pad-straight.csv' '$scenarios/traces/pad-s-curve.csv'\" /dev/null | tr '\\r' '\\n' | grep -q '^score pad-straight \\[#\\{40\\}\\] 100%'"
+check "... and none into a file" bash -c "'$incise' score '$scenarios/pad-straight.json' '$scenarios/traces/pad-straight.csv' > /dev/null 2> '$work/progress.err' && ! grep -q '\\[#' '$work/progress.err'"
+
 # A JIGSAWS trace (imported; its arm moves in the air above the bunny, never touching it) on a scenario
 # without a plan: the motion measures of the whole session.
 python3 -c "
