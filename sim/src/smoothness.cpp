@@ -50,10 +50,12 @@ double logDimensionlessJerk(std::span<const double> speed, double dt_s) {
 // normalised by that cut-off (Balasubramanian et al. 2015, Eq. 5-6).
 double spectralArcLength(std::span<const double> speed, double dt_s, const SparcOptions& o) {
   if (!usable(speed, dt_s)) return kNaN;
-  const int bits = static_cast<int>(std::ceil(std::log2(static_cast<double>(speed.size())))) + o.pad_level;
-  const std::size_t n = std::size_t{1} << std::clamp(bits, 4, 24);
+  // Padded to 2^(ceil(log2 n) + pad_level) points, at most 2^22 (64 MiB of spectrum: a 70 minute session at
+  // 1 kHz pads less), never fewer than the samples.
+  const int need = static_cast<int>(std::ceil(std::log2(static_cast<double>(speed.size()))));
+  const std::size_t n = std::size_t{1} << std::max(need, std::clamp(need + o.pad_level, 4, 22));
   std::vector<double> padded(n, 0.0);
-  std::copy(speed.begin(), speed.begin() + static_cast<std::ptrdiff_t>(std::min(speed.size(), n)), padded.begin());
+  std::copy(speed.begin(), speed.end(), padded.begin());
   Eigen::FFT<double> fft;
   std::vector<std::complex<double>> spectrum;
   fft.fwd(spectrum, padded);

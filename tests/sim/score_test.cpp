@@ -9,7 +9,9 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "incise/cutting/mesh_hash.h"
 #include "incise/cutting/surface_mesh.h"
+#include "incise/sim/simulation.h"
 #include "incise/sim/smoothness.h"
 #include "incise/sim/stroke_poses.h"
 
@@ -118,6 +120,21 @@ TEST_CASE("score: the same trace scores to the same bytes; the JSON has units in
     CHECK(json.contains(key));
   CHECK(json["strokes"][0].contains("sparc"));
   CHECK(json["strokes"][0].contains("log_dimensionless_jerk"));
+}
+
+TEST_CASE("score: the session is the replay's: the same cut as replay --fast, bit for bit", "[score]") {
+  const Scenario scenario = padScenario();
+  const incise::cutting::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
+  const auto poses = incise::sim::posesForStrokes(tissue, {stroke(-0.025, 0.05)}, scenario.world, 1000.0);
+  incise::sim::World scored(tissue, scenario.world), replayed(tissue, scenario.world);
+  const Score s = incise::sim::scoreReplay(scenario, tissue, scored, poses);
+  incise::sim::ReplayOptions options;
+  options.period_us = scenario.periodUs();
+  options.settle_s = scenario.settle_s;
+  const incise::sim::ReplayReport report = incise::sim::replay(replayed, poses, options);
+  CHECK(s.frames == report.frames);
+  CHECK(incise::cutting::geometryHash(scored.tissue()) == incise::cutting::geometryHash(replayed.tissue()));
+  CHECK(s.frames_seen.size() == static_cast<std::size_t>(report.frames));
 }
 
 TEST_CASE("score: force above the tissue's threshold is timed and its excess integrated", "[score]") {

@@ -10,7 +10,7 @@
 //                            V^(w) = |V(w)| / |V(0)| the Fourier magnitude spectrum of v normalised by its
 //                            DC value, wc = min(wc_max, max{w : V^(r) >= threshold for r <= w}) the adaptive
 //                            cut-off (the paper's Eq. 5-6; wc_max = 10 Hz, threshold 0.05, the spectrum
-//                            zero-padded to 2^(ceil(log2 n) + 4) points). Smoother: closer to 0 (a single
+//                            zero-padded to 2^(ceil(log2 n) + 4) points, at most 2^22 unless n is larger). Smoother: closer to 0 (a single
 //                            Gaussian bump gives about -1.4); jerky movements are more negative.
 //
 // The speed comes from positions sampled at a fixed interval dt_s (speedProfile: |p[k+1] - p[k]| / dt).
