@@ -37,7 +37,8 @@ void writeData(const sim::Score& score, const std::filesystem::path& bins, const
   for (const sim::PlanBin& bin : score.plan.bins) {
     // Uncut bins are a gap in the lines (gnuplot's blank value).
     b << formatNumber(1e3 * bin.s_m) << ' ' << (bin.cut ? formatNumber(1e3 * bin.lateral_m) : "NaN") << ' '
-      << (bin.cut ? formatNumber(1e3 * bin.depth_m) : "NaN") << '\n';
+      << (bin.cut ? formatNumber(1e3 * bin.depth_m) : "NaN") << ' '
+      << (bin.blade_seen ? formatNumber(1e3 * bin.blade_depth_m) : "NaN") << '\n';
   }
   std::ofstream f(frames);
   const sim::ScoreFrame* previous = nullptr;
@@ -67,15 +68,20 @@ std::string script(const sim::Score& s, const std::filesystem::path& bins, const
     const std::string lat = formatNumber(1e3 * s.plan.lateral_tolerance_m);
     const std::string depth = formatNumber(1e3 * s.plan.target_depth_m);
     const std::string dtol = formatNumber(1e3 * s.plan.depth_tolerance_m);
+    const std::string lat_range = formatNumber(2.5 * 1e3 * s.plan.lateral_tolerance_m);
     g += "set title 'lateral deviation along the plan'\nset xlabel 'along the plan (mm)'\nset ylabel 'mm'\n";
+    g += "set yrange [-" + lat_range + ":" + lat_range + "]\n";
     g += "plot " + quoted(bins) + " using 1:(-" + lat + "):(" + lat +
          ") with filledcurves fc rgb '#d0f0d0' title 'tolerance', " + quoted(bins) +
          " using 1:2 with lines lw 2 lc rgb '#1060c0' title 'cut'\n";
-    g += "set title 'depth along the plan'\nplot " + quoted(bins) + " using 1:(" + depth + "-" + dtol + "):(" + depth +
-         "+" + dtol + ") with filledcurves fc rgb '#d0f0d0' title 'target +/- tolerance', " + quoted(bins) +
-         " using 1:3 with lines lw 2 lc rgb '#c04010' title 'cut depth'\n";
+    g += "set title 'depth along the plan'\nset yrange [0:" +
+         formatNumber(1e3 * (1.5 * s.plan.target_depth_m + 2.0 * s.plan.depth_tolerance_m)) + "]\nplot " +
+         quoted(bins) + " using 1:(" + depth + "-" + dtol + "):(" + depth + "+" + dtol +
+         ") with filledcurves fc rgb '#d0f0d0' title 'target +/- tolerance', " + quoted(bins) +
+         " using 1:3 with lines lw 2 lc rgb '#c04010' title 'cut depth', " + quoted(bins) +
+         " using 1:4 with lines dt 2 lc rgb '#404040' title 'blade tip depth'\n";
   }
-  g += "set title 'tip speed'\nset xlabel 'time (s)'\nset ylabel 'mm/s'\nplot " + quoted(frames) +
+  g += "set title 'tip speed'\nset xlabel 'time (s)'\nset ylabel 'mm/s'\nset yrange [0:*]\nplot " + quoted(frames) +
        " using 1:2 with lines lc rgb '#1060c0' notitle\n";
   g += "set title 'force'\nset ylabel 'N'\nset yrange [0:" +
        formatNumber(1.2 * std::max(s.peak_force_N, s.force_threshold_N) + 0.1) + "]\nplot " + quoted(frames) +

@@ -153,14 +153,19 @@ Score scoreReplay(const Scenario& scenario, const cutting::SurfaceMesh& tissue, 
   replay_options.settle_s = scenario.settle_s;
   std::vector<ScoreFrame>& frames = score.frames_seen;
   replay_options.observer = [&frames](const Snapshot& s) {
-    frames.push_back({s.t_s, s.haptic.tip_m, s.haptic.force_N.norm(), s.haptic.contact, s.haptic.poses > 0});
+    const HapticState& h = s.haptic;
+    frames.push_back(
+        {s.t_s, h.tip_m, h.force_N.norm(), h.contact, h.cutting, h.poses > 0, h.penetration_m, h.contact_m});
   };
   const ReplayReport report = replay(world, trace, replay_options);
   score.frames = report.frames;
   score.poses = report.poses;
   score.incisions = report.incisions;
   for (const auto& f : world.cutter().stats().figures) score.groove_length_m += f.groove_length_m;
-  if (score.has_plan) score.plan = scoreCut(plan, world.tissue(), score.groove_length_m, options);
+  if (score.has_plan) {
+    score.plan = scoreCut(plan, world.tissue(), score.groove_length_m, options);
+    scoreBladeDepth(plan, frames, options, score.plan);
+  }
   scoreMotion(frames, options, score);
   return score;
 }

@@ -58,7 +58,39 @@ std::vector<BinSums> binWallFaces(const Plan& plan, const cutting::SurfaceMesh& 
   return sums;
 }
 
+double captureOf(const Plan& plan, const ScoreOptions& options) {
+  return options.capture_m > 0.0 ? options.capture_m : 5.0 * plan.lateral_tolerance_m;
+}
+
+// The bins' length: the plan cut into equal bins of at most one station spacing.
+double binLength(const Plan& plan) {
+  const std::size_t count = static_cast<std::size_t>(std::ceil(plan.length_m / plan.station_m - 1e-9));
+  return plan.length_m / static_cast<double>(std::max<std::size_t>(1, count));
+}
+
 }  // namespace
+
+void scoreBladeDepth(const Plan& plan, const std::vector<ScoreFrame>& frames, const ScoreOptions& options,
+                     PlanScore& score) {
+  const double bin_m = binLength(plan), capture_m = captureOf(plan, options);
+  for (const ScoreFrame& f : frames) {
+    if (!f.cutting || !f.new_pose || score.bins.empty()) continue;
+    const PlanLocation at = locate(plan, f.contact_m);
+    if (at.beyond_m > 0.5 * bin_m || std::abs(at.lateral_m) > capture_m) continue;
+    PlanBin& bin = score.bins[std::min(score.bins.size() - 1, static_cast<std::size_t>(std::max(0.0, at.s_m / bin_m)))];
+    bin.blade_depth_m = bin.blade_seen ? std::max(bin.blade_depth_m, f.penetration_m) : f.penetration_m;
+    bin.blade_seen = true;
+  }
+  int seen = 0;
+  double error_sum = 0.0;
+  for (const PlanBin& bin : score.bins) {
+    if (!bin.blade_seen) continue;
+    ++seen;
+    error_sum += std::abs(bin.blade_depth_m - plan.depth_m);
+    score.blade_depth_max_overshoot_m = std::max(score.blade_depth_max_overshoot_m, bin.blade_depth_m - plan.depth_m);
+  }
+  if (seen > 0) score.blade_depth_mean_abs_error_m = error_sum / seen;
+}
 
 PlanScore scoreCut(const Plan& plan, const cutting::SurfaceMesh& cut, double groove_length_m,
                    const ScoreOptions& options) {
@@ -67,9 +99,8 @@ PlanScore scoreCut(const Plan& plan, const cutting::SurfaceMesh& cut, double gro
   s.target_depth_m = plan.depth_m;
   s.lateral_tolerance_m = plan.lateral_tolerance_m;
   s.depth_tolerance_m = plan.depth_tolerance_m;
-  const double capture_m = options.capture_m > 0.0 ? options.capture_m : 5.0 * plan.lateral_tolerance_m;
-  const std::size_t count = static_cast<std::size_t>(std::ceil(plan.length_m / plan.station_m - 1e-9));
-  const double bin_m = plan.length_m / static_cast<double>(std::max<std::size_t>(1, count));
+  const double capture_m = captureOf(plan, options);
+  const double bin_m = binLength(plan);
   const std::vector<BinSums> sums = binWallFaces(plan, cut, bin_m, capture_m);
   int cut_bins = 0, lateral_ok = 0, depth_ok = 0;
   double lateral_abs = 0.0, lateral_sq = 0.0, depth_abs = 0.0;

@@ -36,7 +36,9 @@ Json planJson(const PlanScore& p) {
           {"length_cut_outside_band_m", number(p.length_cut_outside_band_m)},
           {"depth_mean_abs_error_m", number(p.depth_mean_abs_error_m)},
           {"depth_max_overshoot_m", number(p.depth_max_overshoot_m)},
-          {"share_within_depth_tolerance", number(p.share_within_depth_tolerance)}};
+          {"share_within_depth_tolerance", number(p.share_within_depth_tolerance)},
+          {"blade_depth_mean_abs_error_m", number(p.blade_depth_mean_abs_error_m)},
+          {"blade_depth_max_overshoot_m", number(p.blade_depth_max_overshoot_m)}};
 }
 
 }  // namespace

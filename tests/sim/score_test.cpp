@@ -73,6 +73,9 @@ TEST_CASE("score: a cut 3 mm deep against a 4 mm target is 1 mm short all along"
   CHECK(s.plan.depth_max_overshoot_m <= 0.0);
   CHECK(s.plan.share_within_depth_tolerance < 0.02);
   CHECK(s.plan.share_within_lateral_tolerance >= 0.98);  // on the line, only too shallow
+  // The generator holds the tip at 0.9 x the lattice's depth: 2.7 mm, 1.3 mm short of the target.
+  CHECK(s.plan.blade_depth_mean_abs_error_m == Approx(0.0013).margin(5e-5));
+  CHECK(s.plan.blade_depth_max_overshoot_m <= 0.0);
 
   scenario.plan.depth_m = 0.003;  // against a 3 mm target the same cut is right
   const Score right = scoreStrokes(scenario, {stroke(-0.025, 0.05)});

@@ -27,6 +27,8 @@
 //    share of the plan's length cut within the lateral tolerance; share uncut; length cut outside the band
 //    = the grooves' total length (CutStats figures) less the length cut within it. Depth: mean |depth -
 //    target| and max overshoot over the cut bins, share of the plan's length cut within the depth tolerance.
+//    Beside it, the blade's depth: per bin the deepest the tip went below the skin in the cutting frames
+//    whose entry point lies in the bin, its mean |error| against the target and its max overshoot.
 //    A session that cut nothing has share_uncut 1 and shares within tolerance 0.
 //
 // Threads: any (the replay runs on the caller's thread). Cost: the replay (as `replay --fast`) plus
@@ -64,7 +66,10 @@ struct ScoreFrame {
   Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
   double force_N = 0.0;  // |haptic force|
   bool contact = false;
-  bool new_pose = false;  // a pose arrived this frame (the tip moved to it)
+  bool cutting = false;                                 // in contact with the cut button held
+  bool new_pose = false;                                // a pose arrived this frame (the tip moved to it)
+  double penetration_m = 0.0;                           // the blade's tip below the skin, along the normal
+  Eigen::Vector3d contact_m = Eigen::Vector3d::Zero();  // where the blade enters the skin
 };
 
 struct MotionFigures {
@@ -86,8 +91,10 @@ struct StrokeScore {
 struct PlanBin {
   double s_m = 0.0;  // the bin's centre along the plan
   bool cut = false;
-  double lateral_m = 0.0;  // mean offset across the plan (cut bins)
-  double depth_m = 0.0;    // deepest wall vertex below the surface (cut bins)
+  double lateral_m = 0.0;      // mean offset across the plan (cut bins)
+  double depth_m = 0.0;        // deepest wall vertex below the surface (cut bins)
+  bool blade_seen = false;     // a cutting frame's entry point fell in this bin
+  double blade_depth_m = 0.0;  // the deepest the blade's tip went below the skin there
 };
 
 struct PlanScore {
@@ -95,6 +102,9 @@ struct PlanScore {
   double lateral_mean_abs_m = 0.0, lateral_rms_m = 0.0, lateral_max_m = 0.0;
   double share_within_lateral_tolerance = 0.0, share_uncut = 1.0, length_cut_outside_band_m = 0.0;
   double depth_mean_abs_error_m = 0.0, depth_max_overshoot_m = 0.0, share_within_depth_tolerance = 0.0;
+  // The blade's own depth (HapticState::penetration_m) where it cut, against the target: what the hand did,
+  // beside what the lattice cut (the groove's depth is the scenario's incision.depth_m wherever it cuts).
+  double blade_depth_mean_abs_error_m = 0.0, blade_depth_max_overshoot_m = 0.0;
   std::vector<PlanBin> bins;
 };
 
@@ -131,6 +141,9 @@ Score scoreReplay(const Scenario& scenario, const cutting::SurfaceMesh& tissue, 
 void scoreMotion(const std::vector<ScoreFrame>& frames, const ScoreOptions& options, Score& score);
 PlanScore scoreCut(const Plan& plan, const cutting::SurfaceMesh& cut_tissue, double groove_length_m,
                    const ScoreOptions& options);
+// The blade's depth per bin from the cutting frames (their entry points located on the plan), into `plan`.
+void scoreBladeDepth(const Plan& plan, const std::vector<ScoreFrame>& frames, const ScoreOptions& options,
+                     PlanScore& score);
 
 // The score as one line of JSON (no newline), units in every key, NaN as null; the per-frame and per-bin
 // series are left out. Same score -> same bytes.
