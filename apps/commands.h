@@ -15,5 +15,6 @@ void addHidCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addScoreCommand(CLI::App& app);
 
 }  // namespace incise::apps

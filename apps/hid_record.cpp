@@ -10,6 +10,7 @@
 
 #include "hid_commands.h"
 #include "hid_support.h"
+#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/hid_pose_source.h"
 #include "incise/devices/hid_recording.h"
 #include "incise/devices/trace_csv.h"
@@ -116,6 +117,12 @@ int runPoseRecord(const HidRecordArgs& a) {
   devices::TraceWriterOptions options;
   options.comments = {"generator: incise record --device " + a.device,
                       "scenario: " + (a.scenario.empty() ? "(default mapping)" : a.scenario)};
+  try {  // the tissue the recording was made over, for `incise score` to check against
+    if (!a.scenario.empty())
+      options.comments.push_back(kTissueComment + tissueHashText(sim::loadTissue(sim::loadScenario(a.scenario))));
+  } catch (const std::exception& e) {
+    failWith("record", e.what());
+  }
   const auto start = Clock::now();
   try {
     source.start();

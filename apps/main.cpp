@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   incise::apps::addImportCommand(app);
   incise::apps::addViewCommand(app);
   incise::apps::addRenderCommand(app);
+  incise::apps::addScoreCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,5 +1,7 @@
 #include "picture_output.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -31,6 +33,33 @@ std::vector<Eigen::Vector3d> strokePoints(const LoadedScenario& run) {
   return points;
 }
 
+namespace {
+
+// Each segment stepped a pixel at a time, a square of width_px painted at each step (segments behind the
+// eye are left out).
+void drawOverlay(viewer::RgbImage& image, const viewer::Camera& camera, const OverlayLine& line) {
+  const auto paint = [&](const Eigen::Vector2d& at) {
+    const int half = line.width_px / 2;
+    for (int dy = -half; dy <= half; ++dy) {
+      for (int dx = -half; dx <= half; ++dx) {
+        const int x = static_cast<int>(std::floor(at.x())) + dx, y = static_cast<int>(std::floor(at.y())) + dy;
+        if (x < 0 || y < 0 || x >= image.width || y >= image.height) continue;
+        const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + x);
+        for (int c = 0; c < 3; ++c) image.rgb[i + static_cast<std::size_t>(c)] = line.rgb[static_cast<std::size_t>(c)];
+      }
+    }
+  };
+  for (std::size_t k = 0; k + 1 < line.points_m.size(); ++k) {
+    const auto a = camera.project(line.points_m[k], image.width, image.height);
+    const auto b = camera.project(line.points_m[k + 1], image.width, image.height);
+    if (!a || !b) continue;
+    const int steps = std::max(1, static_cast<int>(std::ceil((*b - *a).norm())));
+    for (int s = 0; s <= steps; ++s) paint(*a + (*b - *a) * (static_cast<double>(s) / steps));
+  }
+}
+
+}  // namespace
+
 void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png,
                   const PictureArgs& args) {
   sim::GeometryMirror mirror;
@@ -53,7 +82,8 @@ void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, 
   const std::vector<Eigen::Vector3d> stroke = strokePoints(run);
   viewer::Camera camera;
   try {
-    const viewer::RgbImage image = viewer::renderPicture(mirror, stroke, options, &camera);
+    viewer::RgbImage image = viewer::renderPicture(mirror, stroke, options, &camera);
+    for (const OverlayLine& line : args.overlay) drawOverlay(image, camera, line);
     viewer::writePng(png, image);
   } catch (const std::exception& e) {
     failWith(command, e.what());

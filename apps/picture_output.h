@@ -5,6 +5,8 @@
 // are reported by failWith (exit 2).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +29,14 @@ void checkPictureContext(const char* command);
 // The points the default camera frames: the tips of the poses that cut.
 std::vector<Eigen::Vector3d> strokePoints(const LoadedScenario& run);
 
+// A polyline drawn over a picture after rendering (2D, in the picture's plane: never hidden by the mesh), e.g.
+// the plan of `incise score --picture`. Points in metres, projected by the picture's camera.
+struct OverlayLine {
+  std::vector<Eigen::Vector3d> points_m;
+  std::array<std::uint8_t, 3> rgb{40, 190, 60};
+  int width_px = 3;
+};
+
 struct PictureArgs {
   viewer::ImageSize size{1280, 800};
   std::optional<viewer::CameraOption> camera;
@@ -34,6 +44,7 @@ struct PictureArgs {
   bool wireframe = false;
   bool tets = false;                  // the tet mesh's boundary instead of the surface
   std::optional<sim::Snapshot> last;  // the tool, contact and force drawn (none: no tool)
+  std::vector<OverlayLine> overlay;
 };
 
 // Renders the world as it is and writes `png`; prints "wrote ..." with the camera used.

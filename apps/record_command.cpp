@@ -37,16 +37,20 @@ std::string sourceName(sim::Scenario::Source source) {
 int runRecord(const RecordArgs& a) {
   std::vector<devices::PoseSample> poses;
   sim::Scenario scenario;
+  std::string tissue_hash;
   try {
     scenario = sim::loadScenario(a.scenario);
-    poses = scenarioPoses(scenario, sim::loadTissue(scenario));
+    const cutting::SurfaceMesh tissue = sim::loadTissue(scenario);
+    tissue_hash = tissueHashText(tissue);
+    poses = scenarioPoses(scenario, tissue);
   } catch (const std::exception& e) {
     failWith("record", e.what());
   }
   try {
     devices::TraceWriterOptions options;
     options.comments = {"generator: incise record " + std::filesystem::path(a.scenario).filename().string(),
-                        "scenario: " + scenario.name, "source: " + sourceName(scenario.source)};
+                        "scenario: " + scenario.name, "source: " + sourceName(scenario.source),
+                        kTissueComment + tissue_hash};
     devices::TraceWriter writer(a.out, options);
     for (const auto& pose : poses) writer.write(pose);
     writer.close();

@@ -1,4 +1,5 @@
 #include "scenario_run.h"
+#include "incise/cutting/mesh_hash.h"
 #include "incise/cutting/surface_mesh.h"
 
 #include <cstdio>
@@ -45,9 +46,25 @@ LoadedScenario loadScenarioRun(const std::string& path) {
   LoadedScenario run;
   run.scenario = sim::loadScenario(path);
   cutting::SurfaceMesh tissue = sim::loadTissue(run.scenario);
+  if (run.scenario.plan.given)
+    run.plan =
+        sim::projectPlan(run.scenario.plan, tissue, run.scenario.world.cutter.incision.spacing_m, run.scenario.file);
   run.poses = scenarioPoses(run.scenario, tissue);
   run.world = std::make_unique<sim::World>(std::move(tissue), run.scenario.world);
   return run;
+}
+
+std::string tissueHashText(const cutting::SurfaceMesh& tissue) {
+  char buffer[17];
+  std::snprintf(buffer, sizeof buffer, "%016llx", static_cast<unsigned long long>(cutting::geometryHash(tissue)));
+  return buffer;
+}
+
+std::string traceTissueHash(const std::vector<std::string>& comments) {
+  const std::string prefix = kTissueComment;
+  for (const std::string& c : comments)
+    if (c.rfind(prefix, 0) == 0) return c.substr(prefix.size());
+  return "";
 }
 
 void failWith(const char* command, const std::string& message) {

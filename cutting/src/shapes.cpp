@@ -41,6 +41,13 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> frameAround(const Eigen::Vector3d& w
 }  // namespace
 
 SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions) {
+  requireAtLeast("makeBox", "divisions", divisions, 1);
+  const double nd = divisions;
+  requireFaceBudget("makeBox", 12 * nd * nd, "divisions = " + std::to_string(divisions));
+  return makeBox(box, Eigen::Vector3i::Constant(divisions));
+}
+
+SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divisions) {
   constexpr const char* who = "makeBox";
   requireFinite(who, "box min corner", box.min());
   requireFinite(who, "box max corner", box.max());
@@ -51,20 +58,21 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions) {
                     " is not finite and > 0 (box " + formatPoint(Eigen::Vector3d(box.min())) + " - " +
                     formatPoint(Eigen::Vector3d(box.max())) + ")");
     }
+    requireAtLeast(who, (std::string("divisions along ") + "xyz"[a]).c_str(), divisions[a], 1);
   }
-  requireAtLeast(who, "divisions", divisions, 1);
-  const double nd = divisions;
-  requireFaceBudget(who, 12 * nd * nd, "divisions = " + std::to_string(divisions));
-  const int n = divisions;
-  const long long m = n + 1;
+  const Eigen::Array3d n = divisions.cast<double>().array();
+  const double faces = 4.0 * (n[0] * n[1] + n[1] * n[2] + n[2] * n[0]);
+  requireFaceBudget(who, faces, "divisions = " + formatPoint(Eigen::Vector3d(n.matrix())));
+  const long long m = std::max({divisions[0], divisions[1], divisions[2]}) + 1LL;
 
-  // Surface vertices of the (n + 1)^3 lattice, numbered as they are first met; -1 inside.
+  // Surface vertices of the lattice, numbered as they are first met.
   std::unordered_map<long long, int> index;
-  index.reserve(static_cast<std::size_t>(6 * n * n + 2));
-  Builder out(who, 6LL * n * n + 2, 12LL * n * n);
+  index.reserve(static_cast<std::size_t>(faces / 2 + 2));
+  Builder out(who, static_cast<long long>(faces / 2 + 2), static_cast<long long>(faces));
   auto coordinate = [&](int a, int i) {
     // The last grid line is the max corner exactly, not min + n * step.
-    return i == n ? box.max()[a] : box.min()[a] + (box.max()[a] - box.min()[a]) * (static_cast<double>(i) / n);
+    const int na = divisions[a];
+    return i == na ? box.max()[a] : box.min()[a] + (box.max()[a] - box.min()[a]) * (static_cast<double>(i) / na);
   };
   auto vertex = [&](const std::array<int, 3>& g) {
     const long long key = (g[0] * m + g[1]) * m + g[2];
@@ -76,16 +84,16 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions) {
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3;
     const int c = (a + 2) % 3;
-    for (const int side : {0, n}) {
-      for (int j = 0; j < n; ++j) {
-        for (int k = 0; k < n; ++k) {
+    for (const int side : {0, divisions[a]}) {
+      for (int j = 0; j < divisions[b]; ++j) {
+        for (int k = 0; k < divisions[c]; ++k) {
           std::array<int, 3> g00{}, g10{}, g11{}, g01{};
           g00[a] = g10[a] = g11[a] = g01[a] = side;
           g00[b] = j, g00[c] = k;
           g10[b] = j + 1, g10[c] = k;
           g11[b] = j + 1, g11[c] = k + 1;
           g01[b] = j, g01[c] = k + 1;
-          if (side == n) {
+          if (side != 0) {
             out.quad(vertex(g00), vertex(g10), vertex(g11), vertex(g01));
           } else {
             out.quad(vertex(g00), vertex(g01), vertex(g11), vertex(g10));
@@ -95,6 +103,22 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions) {
     }
   }
   return out.finish();
+}
+
+SurfaceMesh makeSkinPad(const Eigen::Vector3d& size_m, double grid_m) {
+  constexpr const char* who = "makeSkinPad";
+  requireFinite(who, "size_m", size_m);
+  requirePositive(who, "grid_m", grid_m);
+  for (int a = 0; a < 3; ++a) requirePositive(who, (std::string("size_m.") + "xyz"[a]).c_str(), size_m[a]);
+  const auto cells = [&](double length_m, double cell_m) {
+    const double count = std::ceil(length_m / cell_m - 1e-9);
+    if (!(count <= 1e6)) fail(who, "grid_m = " + formatNumber(grid_m) + " gives more than 1e6 cells along a side");
+    return std::max(1, static_cast<int>(count));
+  };
+  const Eigen::Vector3i divisions(cells(size_m.x(), grid_m), cells(size_m.y(), 4.0 * grid_m),
+                                  cells(size_m.z(), grid_m));
+  const Eigen::Vector3d half(0.5 * size_m.x(), 0.0, 0.5 * size_m.z());
+  return makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-half.x(), -size_m.y(), -half.z()), half), divisions);
 }
 
 SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vector3d& axis_m, double radius_m,

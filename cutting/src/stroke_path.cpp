@@ -1,6 +1,7 @@
 #include "incise/cutting/stroke_path.h"
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -32,6 +33,7 @@ Stroke strokeAlongPath(const SurfaceMesh& surface, const StrokePathOptions& o) {
   checkPositive(o.rate_hz, "rate_hz");
   checkPositive(o.height_m, "height_m");
   check(std::isfinite(o.bend_m), "bend_m = " + formatNumber(o.bend_m) + " is not finite");
+  check(std::isfinite(o.wave_m), "wave_m = " + formatNumber(o.wave_m) + " is not finite");
 
   const TriMesh& mesh = surface.mesh();
   double longest_m = 0.0, mean_m = 0.0;
@@ -59,7 +61,8 @@ Stroke strokeAlongPath(const SurfaceMesh& surface, const StrokePathOptions& o) {
   for (int k = 0; k <= count; ++k) {
     const double along_m = o.speed_m_per_s * dt_s * k;
     const double x = along_m / o.length_m;  // 0 .. 1
-    const Eigen::Vector3d path = o.start_m + along_m * dir + (4.0 * o.bend_m * x * (1.0 - x)) * side;
+    const double sideways_m = 4.0 * o.bend_m * x * (1.0 - x) + o.wave_m * std::sin(2.0 * std::numbers::pi * x);
+    const Eigen::Vector3d path = o.start_m + along_m * dir + sideways_m * side;
     const Eigen::Vector3d above = path - o.height_m * down;
     const auto hit = intersectSegment(mesh, grid, above, above + 2.0 * o.height_m * down, longest_m);
     if (!hit) {

@@ -1,6 +1,8 @@
 #include "incise/sim/scenario.h"
 
+#include "incise/cutting/format.h"
 #include "incise/cutting/incision.h"
+#include "incise/cutting/shapes.h"
 #include "incise/cutting/surface_mesh.h"
 
 #include <algorithm>
@@ -54,12 +56,59 @@ std::vector<StrokeSpec> readStrokes(const Reader& source) {
     spec.direction = s.vector("direction", spec.direction);
     spec.length_m = s.number("length_m", spec.length_m, 1e-4, 10.0);
     spec.bend_m = s.number("bend_m", spec.bend_m, -10.0, 10.0);
+    spec.wave_m = s.number("wave_m", spec.wave_m, -10.0, 10.0);
     spec.speed_m_per_s = s.number("speed_m_per_s", spec.speed_m_per_s, 1e-4, 10.0);
     spec.pause_s = s.number("pause_s", spec.pause_s, 0.0, 100.0);
     if (spec.direction.norm() == 0.0) s.fail("must not be zero", "direction");
     strokes.push_back(spec);
   }
   return strokes;
+}
+
+// "plan": the polyline (>= 2 points [x, y, z], metres), the target depth and the tolerances (> 0).
+PlanSpec readPlan(const Reader& r) {
+  PlanSpec plan;
+  plan.given = true;
+  const json& points = r.raw().contains("points_m") ? r.raw()["points_m"] : json();
+  if (!points.is_array() || points.size() < 2) r.fail("must be an array of at least 2 points [x, y, z]", "points_m");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const json& p = points[i];
+    const std::string key = "points_m[" + std::to_string(i) + "]";
+    if (!p.is_array() || p.size() != 3) r.fail("must be a point [x, y, z] in metres", key);
+    Eigen::Vector3d point;
+    for (int a = 0; a < 3; ++a) {
+      if (!p[static_cast<std::size_t>(a)].is_number()) r.fail("must be a point [x, y, z] in metres", key);
+      point[a] = p[static_cast<std::size_t>(a)].get<double>();
+    }
+    if (!point.allFinite()) r.fail("is not finite", key);
+    plan.points_m.push_back(point);
+  }
+  const auto positive = [&r](const char* key, double fallback) {
+    const double value = r.number(key, fallback, -1e9, 1.0);
+    if (!(value > 0.0)) r.fail("must be > 0 (metres), got " + cutting::formatNumber(value), key);
+    return value;
+  };
+  plan.depth_m = positive("depth_m", plan.depth_m);
+  plan.lateral_tolerance_m = positive("lateral_tolerance_m", plan.lateral_tolerance_m);
+  plan.depth_tolerance_m = positive("depth_tolerance_m", plan.depth_tolerance_m);
+  return plan;
+}
+
+// "tissue": a mesh file, or "shape": "pad" (cutting::makeSkinPad).
+void readTissueSource(const Reader& tissue, Scenario& s) {
+  if (!tissue.has("shape")) {
+    s.mesh = tissue.file("mesh");
+    s.scale = tissue.number("scale", 1.0, 1e-9, 1e9);
+    s.subdivide = tissue.integer("subdivide", 0, 0, 5);
+    return;
+  }
+  if (tissue.has("mesh")) tissue.fail("give either mesh or shape, not both", "shape");
+  tissue.choice("shape", nullptr, {"pad"});
+  s.shape.given = true;
+  s.shape.size_m = tissue.vector("size_m", s.shape.size_m);
+  if (!(s.shape.size_m.array() > 0.0).all()) tissue.fail("must be > 0 along every axis", "size_m");
+  s.shape.grid_m = tissue.number("grid_m", s.shape.grid_m, 1e-5, 1.0);
+  s.subdivide = tissue.integer("subdivide", 0, 0, 5);
 }
 
 }  // namespace
@@ -73,9 +122,8 @@ Scenario loadScenario(const std::filesystem::path& file) {
 
   const Reader tissue = root.child("tissue");
   if (!root.has("tissue")) root.fail("is missing", "tissue");
-  s.mesh = tissue.file("mesh");
-  s.scale = tissue.number("scale", 1.0, 1e-9, 1e9);
-  s.subdivide = tissue.integer("subdivide", 0, 0, 5);
+  readTissueSource(tissue, s);
+  s.force_threshold_N = tissue.number("force_threshold_N", s.force_threshold_N, 0.0, 1e3);
   TissueOptions& tp = s.world.tissue;
   tp.stiffness_N_per_m = tissue.number("stiffness_N_per_m", tp.stiffness_N_per_m, 0.0, 1e7);
   tp.damping_N_s_per_m = tissue.number("damping_N_s_per_m", tp.damping_N_s_per_m, 0.0, 1e5);
@@ -101,6 +149,8 @@ Scenario loadScenario(const std::filesystem::path& file) {
   if (s.settle_s < s.world.cutter.incision.retraction_time_s)
     root.fail("must be at least incision.retraction_time_s so that the wound settles", "settle_s");
 
+  if (root.has("plan")) s.plan = readPlan(root.child("plan"));
+
   if (!root.has("pose_source")) root.fail("is missing", "pose_source");
   const Reader source = root.child("pose_source");
   const std::string kind = source.text("kind", nullptr);
@@ -120,6 +170,8 @@ Scenario loadScenario(const std::filesystem::path& file) {
 }
 
 cutting::SurfaceMesh loadTissue(const Scenario& scenario) {
+  if (scenario.shape.given)
+    return cutting::subdivided(cutting::makeSkinPad(scenario.shape.size_m, scenario.shape.grid_m), scenario.subdivide);
   return cutting::subdivided(cutting::loadSurfaceMesh(scenario.mesh, scenario.scale), scenario.subdivide);
 }
 

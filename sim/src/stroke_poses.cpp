@@ -72,6 +72,7 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
     path.direction = spec.direction;
     path.length_m = spec.length_m;
     path.bend_m = spec.bend_m;
+    path.wave_m = spec.wave_m;
     path.speed_m_per_s = spec.speed_m_per_s;
     path.rate_hz = rate_hz;
     const cutting::Stroke stroke = cutting::strokeAlongPath(tissue, path);

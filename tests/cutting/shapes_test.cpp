@@ -134,6 +134,42 @@ TEST_CASE("shapes: makeBox is a watertight grid with the box's volume", "[cuttin
   }
 }
 
+TEST_CASE("shapes: makeBox with divisions per axis is watertight, its top a grid of its own", "[cutting]") {
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-0.5, 0.25, 1.0), Eigen::Vector3d(1.5, 0.75, 4.0));
+  const Eigen::Vector3i n(7, 2, 5);
+  const SurfaceMesh mesh = makeBox(box, n);
+  requireClosedOutward(mesh);
+  const int faces = 4 * (n.x() * n.y() + n.y() * n.z() + n.z() * n.x());
+  CHECK(static_cast<int>(mesh.mesh().n_faces()) == faces);
+  CHECK(static_cast<int>(mesh.mesh().n_vertices()) == faces / 2 + 2);  // Euler: V - E + F = 2, E = 3F / 2
+  CHECK(signedVolume(mesh.mesh()) == Approx(box.volume()).epsilon(1e-13));
+  // The same divisions on every axis give makeBox(box, n)'s mesh, vertex for vertex.
+  const SurfaceMesh cube = makeBox(box, Eigen::Vector3i::Constant(3)), same = makeBox(box, 3);
+  REQUIRE(cube.mesh().n_vertices() == same.mesh().n_vertices());
+  for (const auto v : cube.mesh().vertices()) CHECK(cube.mesh().point(v) == same.mesh().point(v));
+  CHECK_THROWS_AS(makeBox(box, Eigen::Vector3i(3, 0, 3)), std::invalid_argument);
+}
+
+TEST_CASE("shapes: makeSkinPad is a 10 x 10 x 2 cm box, top at y = 0, a 1 mm grid on top", "[cutting]") {
+  const SurfaceMesh pad = makeSkinPad(Eigen::Vector3d(0.1, 0.02, 0.1), 0.001);
+  requireClosedOutward(pad);
+  CHECK(pad.mesh().n_faces() == 44000);
+  CHECK(signedVolume(pad.mesh()) == Approx(0.1 * 0.02 * 0.1).epsilon(1e-12));
+  int top = 0;
+  double longest_top_edge_m = 0.0;
+  for (const auto e : pad.mesh().edges()) {
+    const auto h = pad.mesh().halfedge_handle(e, 0);
+    const Eigen::Vector3d a = toEigen(pad.mesh().point(pad.mesh().from_vertex_handle(h)));
+    const Eigen::Vector3d b = toEigen(pad.mesh().point(pad.mesh().to_vertex_handle(h)));
+    if (a.y() == 0.0 && b.y() == 0.0) longest_top_edge_m = std::max(longest_top_edge_m, (a - b).norm());
+  }
+  for (const auto v : pad.mesh().vertices()) top += pad.mesh().point(v)[1] == 0.0 ? 1 : 0;
+  CHECK(top == 101 * 101);
+  CHECK(longest_top_edge_m == Approx(std::sqrt(2.0) * 0.001).epsilon(1e-9));  // the cells' diagonals
+  CHECK_THROWS_AS(makeSkinPad(Eigen::Vector3d(0.1, 0.0, 0.1), 0.001), std::invalid_argument);
+  CHECK_THROWS_AS(makeSkinPad(Eigen::Vector3d(0.1, 0.02, 0.1), 0.0), std::invalid_argument);
+}
+
 TEST_CASE("shapes: makeCylinder is the prism over the inscribed polygon", "[cutting]") {
   const Eigen::Vector3d base(0.1, -0.2, 0.3);
   const double radius = 0.25;

@@ -103,6 +103,21 @@ TEST_CASE("stroke_path: the blade direction is the travel direction across the r
   for (const StrokeSample& s : stroke.samples) REQUIRE(std::abs(s.point_m.y()) < 1e-12);
 }
 
+TEST_CASE("stroke_path: a wave is one sine across the stroke, an S sideways", "[cutting]") {
+  const SurfaceMesh mesh = slab();
+  StrokePathOptions o = exactOptions();
+  o.wave_m = 0.002;  // towards direction x down = -z: -z at a quarter, +z at three quarters
+  const Stroke stroke = strokeAlongPath(mesh, o);
+  REQUIRE(stroke.samples.size() == 200);
+  CHECK(stroke.first.point_m.z() == Approx(0.01).margin(1e-12));
+  CHECK(stroke.samples[49].point_m.z() == Approx(0.01 - 0.002).margin(1e-12));   // x = 1/4
+  CHECK(stroke.samples[99].point_m.z() == Approx(0.01).margin(1e-12));           // x = 1/2
+  CHECK(stroke.samples[149].point_m.z() == Approx(0.01 + 0.002).margin(1e-12));  // x = 3/4
+  CHECK(stroke.samples.back().point_m.z() == Approx(0.01).margin(1e-12));
+  o.wave_m = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(strokeAlongPath(mesh, o), Contains("wave_m"));
+}
+
 TEST_CASE("stroke_path: the stroke stops where the path leaves the surface", "[cutting]") {
   const SurfaceMesh mesh = slab();
   StrokePathOptions o = exactOptions();

@@ -34,6 +34,20 @@ inline constexpr long long kMaxShapeFaces = 50'000'000;
 // (>= 1). Its signed volume is the box's volume. Cost O(n^2).
 SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions = 1);
 
+// The same with its own number of divisions along each axis (each >= 1): the faces normal to axis a are
+// divisions[b] x divisions[c] grids (b, c the other two axes); makeBox(box, n) is makeBox(box, (n, n, n)),
+// the same mesh. 4 (nx ny + ny nz + nz nx) faces. Cost O(faces).
+SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divisions);
+
+// A skin pad, the silicone block surgeons practise incisions on: a box of size_m (x width, y thickness, z
+// depth; each finite and > 0) whose top face is the plane y = 0 (normal +y, the stroke generator's rays come
+// down -y onto it), centred on x = z = 0, its bottom at y = -size_m.y. The top (and bottom) is a regular grid
+// of cells at most grid_m (finite, > 0) on a side: ceil(size_m.x / grid_m) x ceil(size_m.z / grid_m) quads,
+// two triangles each; the sides have ceil(size_m.y / (4 grid_m)) layers. The issue-13 pad: size (0.1, 0.02,
+// 0.1), grid 0.001 -> 100 x 100 cells on top, 5 layers on the sides, 44,000 faces. Throws as makeBox, or for more than 1e6 cells
+// along a side. Cost O(faces).
+SurfaceMesh makeSkinPad(const Eigen::Vector3d& size_m, double grid_m);
+
 // A closed cylinder from the disc centred at base_centre_m to the one at base_centre_m + axis_m (axis_m:
 // direction and height, finite, length > 0), radius radius_m (finite, > 0). The circles are regular polygons
 // of `segments` (>= 3) vertices inscribed in the circle, the first one in the direction u, where u is the

@@ -23,6 +23,9 @@ struct StrokePathOptions {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // straight-line direction of travel
   double length_m = 0.05;
   double bend_m = 0.0;  // sideways bulge at the middle (a circular-ish arc), 0 for a straight line
+  // sideways S: wave_m * sin(2 pi x) added at x = along / length_m (one full wave over the stroke), towards
+  // direction x down (as bend_m)
+  double wave_m = 0.0;
   double speed_m_per_s = 0.05;
   double rate_hz = 1000.0;
   double start_time_s = 0.0;

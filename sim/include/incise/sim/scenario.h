@@ -1,6 +1,6 @@
 // Scenarios: one JSON file describes a run — the tissue, the tool and tissue parameters, the incision's
 // lattice, the pose source, the rate and the budget — shared by the tests, the CLI and the benchmarks.
-// The format is documented in scenarios/README.md; every key is optional except tissue.mesh and
+// The format is documented in scenarios/README.md; every key is optional except tissue.mesh (or .shape) and
 // pose_source; relative paths are relative to the scenario file.
 //
 //   { "name": "bunny-straight",
@@ -46,6 +46,7 @@ struct StrokeSpec {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
   double length_m = 0.05;
   double bend_m = 0.0;
+  double wave_m = 0.0;  // an S sideways (cutting::StrokePathOptions::wave_m)
   double speed_m_per_s = 0.05;
   double pause_s = 0.1;  // tool idle above the surface before the stroke
 };
@@ -69,10 +70,32 @@ struct HidRecordingSource {
   HidSynthesis synthesis;
 };
 
+// The tissue made by the program instead of read from a file: "tissue": {"shape": "pad", "size_m": [x, y, z],
+// "grid_m": g} (cutting::makeSkinPad: the top at y = 0, a regular grid of g on top).
+struct TissueShape {
+  bool given = false;
+  Eigen::Vector3d size_m{0.1, 0.02, 0.1};
+  double grid_m = 0.001;
+};
+
+// A planned incision ("plan"): a polyline in metres, projected onto the tissue's surface at load
+// (sim/include/incise/sim/plan.h), the target depth below the surface, and the tolerances (lateral: the FLS
+// pattern-cut tolerance, 2 mm; depth 1 mm). Checked at load: at least 2 points, tolerances > 0.
+struct PlanSpec {
+  bool given = false;
+  std::vector<Eigen::Vector3d> points_m;
+  double depth_m = 0.004;
+  double lateral_tolerance_m = 0.002;
+  double depth_tolerance_m = 0.001;
+};
+
 struct Scenario {
   std::string name;
   std::filesystem::path file;
   std::filesystem::path mesh;
+  TissueShape shape;               // given: the tissue is made, not read from `mesh`
+  PlanSpec plan;                   // given: the session is scored against it (score.h)
+  double force_threshold_N = 3.0;  // tissue.force_threshold_N: the scoring's "too much force" line
   double scale = 1.0;
   int subdivide = 0;
   WorldOptions world;
@@ -88,7 +111,7 @@ struct Scenario {
 
 Scenario loadScenario(const std::filesystem::path& file);
 
-// The scenario's tissue mesh, loaded, scaled and subdivided (throws cutting::MeshError).
+// The scenario's tissue mesh: loaded, scaled and subdivided, or made (shape); throws cutting::MeshError.
 cutting::SurfaceMesh loadTissue(const Scenario& scenario);
 
 }  // namespace incise::sim
