@@ -14,6 +14,7 @@ void addWrapCommand(CLI::App& app);
 void addHidCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
+void addTrainCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addScoreCommand(CLI::App& app);
 

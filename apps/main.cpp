@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   incise::apps::addHidCommand(app);
   incise::apps::addImportCommand(app);
   incise::apps::addViewCommand(app);
+  incise::apps::addTrainCommand(app);
   incise::apps::addRenderCommand(app);
   incise::apps::addScoreCommand(app);
   try {

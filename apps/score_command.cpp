@@ -133,9 +133,7 @@ nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const c
       writePicture("score", run, score.frames - 1, plotPath(a, s.file, "-top").string(), picture);
     }
   }
-  nlohmann::ordered_json line = {{"trace", s.file}};
-  line.update(nlohmann::ordered_json::parse(sim::scoreJson(score)));
-  return line;
+  return nlohmann::ordered_json::parse(scoreLine(s.file, score));
 }
 
 int runScore(const ScoreArgs& a) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "incise/sim/score.h"
 
@@ -16,5 +17,8 @@ namespace incise::apps {
 // True when a `gnuplot` is on the PATH (checked before any work: exit 2 without one).
 bool gnuplotAvailable();
 void writeScorePlot(const sim::Score& score, const std::filesystem::path& png);
+// A trace's line as `incise score` prints it (and `incise train` writes it): {"trace": FILE} then
+// sim::scoreJson's keys; no newline. Same score and name -> same bytes.
+std::string scoreLine(const std::string& trace_file, const sim::Score& score);
 
 }  // namespace incise::apps

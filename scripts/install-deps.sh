@@ -11,7 +11,7 @@ packages=(
   clang-format universal-ctags util-linux python3
   libepoxy-dev libimgui-dev libstb-dev libpng-dev
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl1
-  gnuplot-nox parallel
+  gnuplot-nox parallel xdotool
 )
 
 missing=()

@@ -25,7 +25,9 @@ FixedRateLoopOptions loopOptions(const LiveOptions& o) {
 }  // namespace
 
 LiveSession::LiveSession(World& world, const LiveOptions& options, ForceSink* sink)
-    : world_(world), options_(options), sim_(world, sink, options.period_us, 0.0, options.stats),
+    : world_(world),
+      options_(options),
+      sim_(world, sink, options.period_us, 0.0, options.stats),
       loop_(loopOptions(options)) {
   poses_.reserve(1 << 16);
   sim_.attachGeometry(options.geometry);

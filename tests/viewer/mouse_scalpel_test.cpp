@@ -55,54 +55,59 @@ TEST_CASE("mouse_scalpel: the camera's ray through a pixel projects back onto th
   }
 }
 
-TEST_CASE("mouse_scalpel: the blade goes down along the normal to the wheel's depth, and hovers without the button",
-          "[viewer]") {
+TEST_CASE("mouse_scalpel: the blade goes in once the way is known, along the normal to the wheel's depth", "[viewer]") {
   const viewer::SurfaceModel tissue = box();
   const viewer::Camera camera = topDown();
   viewer::MouseScalpel scalpel;
-  CHECK_FALSE(scalpel.pose(camera, tissue, at(2.0, 2.0, true)));  // off the box: nothing to say yet
+  CHECK(scalpel.poses(camera, tissue, at(2.0, 2.0, true)).count == 0);  // off the box: nothing to say yet
   CHECK_FALSE(scalpel.onTissue());
 
-  const auto down = scalpel.pose(camera, tissue, at(kW / 2.0, kH / 2.0, true, 0.1));
-  REQUIRE(down);
-  CHECK(scalpel.onTissue());
-  CHECK(down->tip_m.isApprox(Eigen::Vector3d(0.0, 0.0, -0.003), 1e-9));
-  CHECK(down->buttons == 1u);
-  CHECK(down->time_s == 0.1);
-  CHECK((down->orientation * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitZ(), 1e-9));  // blade: -z in
+  const auto hover = scalpel.poses(camera, tissue, at(kW / 2.0, kH / 2.0, false, 0.05));
+  REQUIRE(hover.count == 1);
+  CHECK(hover.pose[0].tip_m.isApprox(Eigen::Vector3d(0.0, 0.0, 0.004), 1e-9));  // above, no button
+  CHECK(hover.pose[0].buttons == 0u);
+  CHECK(scalpel.poses(camera, tissue, at(kW / 2.0, kH / 2.0, true, 0.1)).count == 0);  // pressed: the way unknown
+  CHECK(scalpel.poses(camera, tissue, at(kW / 2.0 + 1.0, kH / 2.0, true, 0.12)).count == 0);  // < 1 mm gone
+
+  const auto in = scalpel.poses(camera, tissue, at(kW / 2.0 + 30.0, kH / 2.0, true, 0.2));  // screen right: +x
+  REQUIRE(in.count == 2);
+  const devices::PoseSample &entry = in.pose[0], &now = in.pose[1];
+  CHECK(entry.time_s == 0.1);  // at the press, when it happened
+  CHECK(entry.tip_m.isApprox(Eigen::Vector3d(0.0, 0.0, -0.003), 1e-9));
+  CHECK(entry.buttons == 1u);
+  CHECK((entry.orientation * Eigen::Vector3d::UnitX()).dot(Eigen::Vector3d::UnitX()) > 0.999);     // the edge: the way
+  CHECK((entry.orientation * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitZ(), 1e-9));  // blade: -z in
+  CHECK(now.time_s == 0.2);
+  CHECK(now.tip_m.x() > 0.001);
+  CHECK(now.tip_m.z() == Approx(-0.003));
 
   scalpel.scroll(2.0);
   CHECK(scalpel.depthM() == Approx(0.004));
-  CHECK(scalpel.pose(camera, tissue, at(kW / 2.0, kH / 2.0, true))->tip_m.z() == Approx(-0.004));
+  const auto deeper = scalpel.poses(camera, tissue, at(kW / 2.0 + 40.0, kH / 2.0, true, 0.3));
+  REQUIRE(deeper.count == 1);
+  CHECK(deeper.pose[0].tip_m.z() == Approx(-0.004));
   scalpel.scroll(-100.0);
   CHECK(scalpel.depthM() == 0.0);
-  scalpel.scroll(2.0);
 
-  const auto up = scalpel.pose(camera, tissue, at(kW / 2.0, kH / 2.0, false));
-  REQUIRE(up);
-  CHECK(up->tip_m.z() == Approx(0.004));
-  CHECK(up->buttons == 0u);
-
-  const auto off = scalpel.pose(camera, tissue, at(2.0, 2.0, true));  // off the box after a hit: lifted
-  REQUIRE(off);
+  const auto off = scalpel.poses(camera, tissue, at(2.0, 2.0, true, 0.4));  // off the box after a hit: lifted
+  REQUIRE(off.count == 1);
   CHECK_FALSE(scalpel.onTissue());
-  CHECK(off->tip_m.z() > 0.0);
-  CHECK(off->buttons == 0u);
+  CHECK(off.pose[0].tip_m.z() > 0.0);
+  CHECK(off.pose[0].buttons == 0u);
 }
 
 TEST_CASE("mouse_scalpel: the cutting edge follows the cursor's motion over the surface", "[viewer]") {
   const viewer::SurfaceModel tissue = box();
   const viewer::Camera camera = topDown();
   viewer::MouseScalpel scalpel;
-  REQUIRE(scalpel.pose(camera, tissue, at(300, 200, true)));
-  const auto right = scalpel.pose(camera, tissue, at(360, 200, true));  // screen right is world +x here
-  REQUIRE(right);
-  CHECK((right->orientation * Eigen::Vector3d::UnitX()).dot(Eigen::Vector3d::UnitX()) > 0.999);
-  const auto still = scalpel.pose(camera, tissue, at(360, 200, true));  // resting: the edge stays
-  CHECK((still->orientation * Eigen::Vector3d::UnitX()).dot(Eigen::Vector3d::UnitX()) > 0.999);
-  const auto down_screen = scalpel.pose(camera, tissue, at(360, 260, true));  // screen down is world -y
-  CHECK((down_screen->orientation * Eigen::Vector3d::UnitX()).dot(-Eigen::Vector3d::UnitY()) > 0.999);
-  CHECK(down_screen->tip_m.x() > right->tip_m.x() - 1e-12);
+  REQUIRE(scalpel.poses(camera, tissue, at(300, 200, true)).count == 0);
+  const auto right = scalpel.poses(camera, tissue, at(360, 200, true));  // screen right is world +x here
+  REQUIRE(right.count == 2);
+  CHECK((right.pose[1].orientation * Eigen::Vector3d::UnitX()).dot(Eigen::Vector3d::UnitX()) > 0.999);
+  const auto still = scalpel.poses(camera, tissue, at(360, 200, true));  // resting: the edge stays
+  CHECK((still.pose[0].orientation * Eigen::Vector3d::UnitX()).dot(Eigen::Vector3d::UnitX()) > 0.999);
+  const auto down_screen = scalpel.poses(camera, tissue, at(360, 260, true));  // screen down is world -y
+  CHECK((down_screen.pose[0].orientation * Eigen::Vector3d::UnitX()).dot(-Eigen::Vector3d::UnitY()) > 0.999);
   CHECK_THROWS_WITH(viewer::MouseScalpel(viewer::MouseScalpelOptions{0.05}), Catch::Contains("depth_m"));
 }
 
@@ -118,14 +123,14 @@ TEST_CASE("mouse_scalpel: over an open groove the blade stays on the surface, no
   const Eigen::Vector3d middle = stroke[stroke.size() / 2];
   const Eigen::Vector2d p = *camera.project(middle, kW, kH);
   viewer::MouseScalpel scalpel;
-  REQUIRE(scalpel.pose(camera, tissue, at(p.x(), p.y() + 40.0, false)));  // beside the groove, on the skin
+  REQUIRE(scalpel.poses(camera, tissue, at(p.x(), p.y() + 40.0, false)).count == 1);  // beside the groove
   const Eigen::Vector3d beside_normal = scalpel.normal();
-  int on_surface = 0;
-  for (int step = 40; step >= 0; step -= 4) {  // the cursor moves onto the groove's middle
-    const auto pose = scalpel.pose(camera, tissue, at(p.x(), p.y() + step, true));
-    REQUIRE(pose);
+  int on_surface = 0, poses = 0;
+  for (int step = 40; step >= 0; step -= 4) {  // the cursor moves onto the groove's middle, cutting
+    poses += scalpel.poses(camera, tissue, at(p.x(), p.y() + step, true)).count;
     on_surface += (scalpel.surfacePointM() - middle).norm() < 0.006;
   }
+  CHECK(poses >= 8);  // none until the way is known (1 mm), then the entry and one per reading
   CHECK(on_surface == 11);
   CHECK(scalpel.onTissue());
   CHECK(scalpel.normal().dot(beside_normal) > 0.8);

@@ -28,6 +28,7 @@ void drawHudPanel(const HudFigures& h, const PoseSourceStatus& source, const std
   ImGui::SetNextWindowBgAlpha(0.8f);
   ImGui::Begin("incise", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
   ImGui::Text("%s%s", text.scenario.c_str(), text.paused ? "  [paused]" : "");
+  if (!text.training.empty()) ImGui::TextUnformatted(text.training.c_str());
   ImGui::Text("pose source: %s (%s)", source.source.c_str(), source.state.c_str());
   ImGui::Separator();
   if (ImGui::BeginTable("times", 4, ImGuiTableFlags_SizingFixedFit)) {

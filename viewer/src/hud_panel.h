@@ -9,7 +9,7 @@
 namespace incise::viewer::detail {
 
 struct HudText {
-  std::string scenario, gl, status;
+  std::string scenario, gl, status, training;
   bool paused = false, wireframe = false, tets = false;
   std::size_t triangles = 0, wall_triangles = 0;
   std::int64_t display_frames = 0;

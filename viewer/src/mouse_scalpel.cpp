@@ -41,6 +41,7 @@ MouseScalpel::MouseScalpel(const MouseScalpelOptions& options) : options_(option
   if (!(options.depth_step_m > 0.0)) bad("depth_step_m", options.depth_step_m);
   if (!(options.hover_m > 0.0)) bad("hover_m", options.hover_m);
   if (!(options.groove_reach_m >= 0.0)) bad("groove_reach_m", options.groove_reach_m);
+  if (!(options.start_m >= 0.0)) bad("start_m", options.start_m);
   if (options.cut_button < 0 || options.cut_button > 31) bad("cut_button", options.cut_button);
 }
 
@@ -98,29 +99,44 @@ Eigen::Quaterniond MouseScalpel::orientation(const Eigen::Vector3d& point_m) {
   return Eigen::Quaterniond(r).normalized();
 }
 
-std::optional<devices::PoseSample> MouseScalpel::pose(const Camera& camera, const SurfaceModel& tissue,
-                                                      const MouseReading& m) {
+MouseScalpel::Poses MouseScalpel::poses(const Camera& camera, const SurfaceModel& tissue, const MouseReading& m) {
+  Poses out;
   const Eigen::Vector3d dir = camera.rayThrough(m.x_px, m.y_px, m.width_px, m.height_px);
   const std::optional<Hit> hit = cast(camera.eye_m(), dir, tissue);
   on_tissue_ = hit.has_value();
-  if (!hit && !has_hit_) return std::nullopt;
-  devices::PoseSample pose;
-  pose.time_s = m.time_s;
-  if (!hit) {  // off the tissue: lifted above the last hit
+  if (!hit && !has_hit_) return out;
+  if (!hit || !m.left) {  // hovering above the hit, or lifted off the tissue above the last one
+    devices::PoseSample& pose = out.pose[out.count++];
+    pose.time_s = m.time_s;
+    if (hit) normal_ = hit->normal;
+    pose.orientation = orientation(hit ? hit->point_m : hit_m_);
+    if (hit) hit_m_ = hit->point_m;
+    has_hit_ = true;
+    pressed_ = in_ = false;
     pose.tip_m = hit_m_ + options_.hover_m * normal_;
-    pose.orientation = orientation(hit_m_);
-    return pose;
+    return out;
   }
-  const bool first = !has_hit_;
-  normal_ = hit->normal;
-  if (first) hit_m_ = hit->point_m;
-  pose.orientation = orientation(hit->point_m);
-  hit_m_ = hit->point_m;
   has_hit_ = true;
-  pose.tip_m =
-      m.left ? Eigen::Vector3d(hit_m_ - depth_m_ * normal_) : Eigen::Vector3d(hit_m_ + options_.hover_m * normal_);
-  if (m.left) pose.buttons = 1u << options_.cut_button;
-  return pose;
+  if (!pressed_) pressed_ = true, press_m_ = hit->point_m, press_normal_ = hit->normal, press_s_ = m.time_s;
+  if (!in_ && (hit->point_m - press_m_).norm() < options_.start_m) return out;  // the way not yet known
+  if (!in_) {  // the blade goes in where the button went down, its edge towards the cursor
+    in_ = true;
+    normal_ = press_normal_;
+    hit_m_ = press_m_;
+    devices::PoseSample& entry = out.pose[out.count++];
+    entry.time_s = press_s_;
+    entry.orientation = orientation(hit->point_m);  // the motion from the press point to the cursor
+    entry.tip_m = press_m_ - depth_m_ * normal_;
+    entry.buttons = 1u << options_.cut_button;
+  }
+  devices::PoseSample& now = out.pose[out.count++];
+  now.time_s = m.time_s;
+  normal_ = hit->normal;
+  now.orientation = orientation(hit->point_m);
+  hit_m_ = hit->point_m;
+  now.tip_m = hit_m_ - depth_m_ * normal_;
+  now.buttons = 1u << options_.cut_button;
+  return out;
 }
 
 }  // namespace incise::viewer

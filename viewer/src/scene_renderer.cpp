@@ -95,6 +95,8 @@ struct SceneRenderer::Impl {
   void uploadRuns(const SurfaceModel& model);
   void drawSurface(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection, const DrawOptions& options);
   void drawTool(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection, const ToolView& tool);
+  void drawTriangles(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection,
+                     const std::vector<float>& triangles);
   void ensureFramebuffer(int width, int height);
 };
 
@@ -221,7 +223,12 @@ void SceneRenderer::Impl::drawSurface(const Eigen::Matrix4f& view, const Eigen::
 
 void SceneRenderer::Impl::drawTool(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection,
                                    const ToolView& tool) {
-  const std::vector<float> triangles = toolTriangles(tool);
+  drawTriangles(view, projection, toolTriangles(tool));
+}
+
+// Lit triangles with their own colours (the tool program's layout: position, normal, RGB per vertex).
+void SceneRenderer::Impl::drawTriangles(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection,
+                                        const std::vector<float>& triangles) {
   if (triangles.empty()) return;
   glUseProgram(tool_program);
   glUniformMatrix4fv(glGetUniformLocation(tool_program, "view"), 1, GL_FALSE, view.data());
@@ -244,6 +251,7 @@ void SceneRenderer::draw(const Camera& camera, int width, int height, const Tool
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f projection = camera.projection(static_cast<double>(width) / std::max(height, 1));
   impl_->drawSurface(view, projection, options);
+  impl_->drawTriangles(view, projection, options.overlay);
   impl_->drawTool(view, projection, tool);
 }
 

@@ -14,6 +14,7 @@
 #include "incise/sim/geometry_mirror.h"
 #include "incise/viewer/gl_context.h"
 #include "incise/viewer/picture.h"
+#include "incise/viewer/plan_overlay.h"
 #include "incise/viewer/png_file.h"
 #include "incise/viewer/scene_renderer.h"
 #include "incise/viewer/surface_model.h"
@@ -28,8 +29,17 @@ std::int64_t nowNs() {
 }
 
 // Keys and the wheel arrive through GLFW callbacks (chained by ImGui's backend): kept until frame() reads.
+struct CursorEvent {
+  double x_px, y_px;
+  bool left;
+  double time_s;
+};
+
 struct Input {
   double scroll = 0.0;
+  // The scalpel's cursor events (incise train): recorded when `clock` is set, taken by frame().
+  const std::function<double()>* clock = nullptr;
+  std::vector<CursorEvent> cursor;
   bool pause = false, restart = false, wireframe = false, screenshot = false, reset = false, close = false,
        tets = false;
 };
@@ -68,6 +78,16 @@ void onKey(GLFWwindow* window, int key, int, int action, int) {
   }
 }
 
+void recordCursor(GLFWwindow* window) {
+  auto* in = static_cast<Input*>(glfwGetWindowUserPointer(window));
+  if (!in->clock || !*in->clock || ImGui::GetIO().WantCaptureMouse) return;
+  double x = 0.0, y = 0.0;
+  glfwGetCursorPos(window, &x, &y);
+  in->cursor.push_back({x, y, glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS, (*in->clock)()});
+}
+void onCursor(GLFWwindow* window, double, double) { recordCursor(window); }
+void onButton(GLFWwindow* window, int, int, int) { recordCursor(window); }
+
 void onScroll(GLFWwindow* window, double, double dy) {
   if (ImGui::GetIO().WantCaptureMouse) return;
   static_cast<Input*>(glfwGetWindowUserPointer(window))->scroll += dy;
@@ -81,6 +101,8 @@ struct ViewerWindow::Impl {
   GLFWwindow* window;
   std::unique_ptr<SceneRenderer> renderer;
   sim::GeometryMirror mirror;
+  MouseScalpel scalpel;
+  std::vector<float> plan_triangles;
   SurfaceModel model, tet_model;  // the surface; the tets' boundary (rebuilt whole, a few times a second)
   bool show_tets = false;
   std::int64_t last_tets_ns = 0;
@@ -104,6 +126,8 @@ struct ViewerWindow::Impl {
     glfwSetWindowUserPointer(window, &input);
     glfwSetKeyCallback(window, onKey);
     glfwSetScrollCallback(window, onScroll);
+    glfwSetCursorPosCallback(window, onCursor);
+    glfwSetMouseButtonCallback(window, onButton);
     glfwSwapInterval(1);
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -122,6 +146,14 @@ struct ViewerWindow::Impl {
 
   void mouse(int height);
   void follow();
+  void cutWithMouse();
+  DrawOptions drawOptions() const {
+    DrawOptions draw;
+    draw.wireframe = wireframe;
+    draw.overlay = plan_triangles;
+    return draw;
+  }
+  std::string trainingLine() const;
   void toggleTets();
   ToolView tool() const;
   void screenshot(int width, int height);
@@ -134,15 +166,25 @@ void ViewerWindow::Impl::mouse(int height) {
   const double dx = x - last_x, dy = y - last_y;
   last_x = x, last_y = y;
   if (ImGui::GetIO().WantCaptureMouse) return;
+  const bool cutting = feed.scalpel != nullptr;  // the left button is the blade's: the right one orbits
   const bool left = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  const bool right = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
   const bool shift = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS;
-  const bool pan = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
-                   glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS || (left && shift);
+  const bool ctrl = glfwGetKey(window, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS;
+  const bool middle = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+  const bool pan = middle || (cutting ? right && shift : right || (left && shift));
+  const bool orbit = cutting ? right : left;
   if (pan)
     camera.pan(dx, dy, height);
-  else if (left)
+  else if (orbit)
     camera.orbit(dx, dy, height);
-  if (input.scroll != 0.0) camera.zoom(input.scroll), input.scroll = 0.0;
+  if (input.scroll != 0.0) {
+    if (cutting && !ctrl)
+      scalpel.scroll(input.scroll);  // the wheel sets the blade's depth
+    else
+      camera.zoom(input.scroll);
+    input.scroll = 0.0;
+  }
 }
 
 void ViewerWindow::Impl::follow() {
@@ -182,6 +224,40 @@ void ViewerWindow::Impl::toggleTets() {
   last_tets_ns = 0;
 }
 
+// Every cursor event since the last frame becomes a pose for the simulation (once the tissue is drawn).
+void ViewerWindow::Impl::cutWithMouse() {
+  if (!feed.scalpel || !model.ready()) {
+    input.cursor.clear();
+    return;
+  }
+  int w = 0, h = 0;
+  glfwGetWindowSize(window, &w, &h);
+  for (const CursorEvent& e : input.cursor) {
+    const MouseScalpel::Poses p =
+        scalpel.poses(camera, model, {e.x_px, e.y_px, std::max(w, 1), std::max(h, 1), e.left, e.time_s});
+    for (int i = 0; i < p.count; ++i) feed.scalpel->push(p.pose[static_cast<std::size_t>(i)]);
+  }
+  input.cursor.clear();
+}
+
+// The trainee's numbers: the wheel's depth, the blade's depth in the tissue, the lateral error against the
+// plan where the blade enters, the force and the session's time.
+std::string ViewerWindow::Impl::trainingLine() const {
+  if (!feed.scalpel && !feed.plan) return {};
+  char line[256];
+  const sim::HapticState& s = snapshot.haptic;
+  std::string lateral = "-";
+  if (feed.plan && s.contact) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%+.1f mm", 1e3 * sim::locate(*feed.plan, s.contact_m).lateral_m);
+    lateral = value;
+  }
+  std::snprintf(
+      line, sizeof line, "blade depth (wheel) %.1f mm, in tissue %.1f mm | lateral %s | force %.2f N | t %.1f s",
+      1e3 * scalpel.depthM(), s.contact ? 1e3 * s.penetration_m : 0.0, lateral.c_str(), s.force_N.norm(), snapshot.t_s);
+  return line;
+}
+
 ToolView ViewerWindow::Impl::tool() const {
   ToolView t;
   t.show = snapshot.frame >= 0;
@@ -197,8 +273,7 @@ ToolView ViewerWindow::Impl::tool() const {
 void ViewerWindow::Impl::screenshot(int width, int height) {
   const std::filesystem::path path = options.screenshot_dir / ("incise-view-" + std::to_string(++screenshots) + ".png");
   try {
-    DrawOptions draw;
-    draw.wireframe = wireframe;
+    const DrawOptions draw = drawOptions();
     writePng(path, {width, height, renderer->renderPixels(camera, width, height, tool(), draw)});
     status = "wrote " + path.string();
   } catch (const std::exception& e) {
@@ -220,6 +295,7 @@ void ViewerWindow::Impl::hudFrame() {
   text.scenario = feed.scenario;
   text.gl = context.description();
   text.status = status;
+  text.training = trainingLine();
   text.wireframe = wireframe;
   text.tets = show_tets;
   const SurfaceModel& shown = show_tets ? tet_model : model;
@@ -241,6 +317,10 @@ void ViewerWindow::follow(const ViewerFeed& feed, sim::GeometryMirror seeded) {
   impl_->mirror = std::move(seeded);  // a default one asks the new stream for a full copy at the first pull
   impl_->model = SurfaceModel();
   impl_->tet_model = SurfaceModel();
+  impl_->scalpel = MouseScalpel(feed.scalpel_options);
+  impl_->plan_triangles = feed.plan ? planTriangles(*feed.plan) : std::vector<float>{};
+  impl_->input.clock = feed.scalpel ? &impl_->feed.clock_s : nullptr;
+  impl_->input.cursor.clear();
   impl_->show_tets = false;
   impl_->hud = std::make_unique<HudModel>(feed.period_us, feed.cut_budget_us);
   impl_->snapshot = sim::Snapshot();
@@ -254,6 +334,7 @@ ViewerRequests ViewerWindow::frame() {
   glfwGetFramebufferSize(m.window, &width, &height);
   m.mouse(height);
   m.follow();
+  m.cutWithMouse();
   ViewerRequests requests;
   requests.close = m.input.close || glfwWindowShouldClose(m.window);
   requests.restart = std::exchange(m.input.restart, false);
@@ -263,9 +344,7 @@ ViewerRequests ViewerWindow::frame() {
   if (std::exchange(m.input.reset, false)) m.camera.reset();
   if (width > 0 && height > 0) {
     if (std::exchange(m.input.screenshot, false)) m.screenshot(width, height);
-    DrawOptions draw;
-    draw.wireframe = m.wireframe;
-    m.renderer->draw(m.camera, width, height, m.tool(), draw);
+    m.renderer->draw(m.camera, width, height, m.tool(), m.drawOptions());
     m.hudFrame();
   }
   glfwSwapBuffers(m.window);
@@ -278,5 +357,12 @@ ViewerRequests ViewerWindow::frame() {
 HudFigures ViewerWindow::figures() const { return impl_->hud ? impl_->hud->figures() : HudFigures{}; }
 std::int64_t ViewerWindow::displayFrames() const noexcept { return impl_->display_frames; }
 std::string ViewerWindow::glDescription() const { return impl_->context.description(); }
+
+std::optional<Eigen::Vector2d> ViewerWindow::pixelOf(const Eigen::Vector3d& x_m) const {
+  if (!impl_->framed) return std::nullopt;
+  int w = 0, h = 0;
+  glfwGetWindowSize(impl_->window, &w, &h);
+  return impl_->camera.project(x_m, std::max(w, 1), std::max(h, 1));
+}
 
 }  // namespace incise::viewer

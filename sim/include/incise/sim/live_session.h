@@ -36,7 +36,7 @@ struct LiveOptions {
   double settle_s = 0.2;  // simulated time after the last pose that stop() still runs
   bool realtime_priority = false;
   std::int64_t spin_us = 0;
-  bool pin_threads = false;  // the loop on the last CPU (keepOffLastCpu() for the others)
+  bool pin_threads = false;            // the loop on the last CPU (keepOffLastCpu() for the others)
   GeometryStream* geometry = nullptr;  // attached before the first frame, flushed at stop()
   FrameTimesQueue* times = nullptr;
   LatencyStats* stats = nullptr;

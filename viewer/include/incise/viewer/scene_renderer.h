@@ -43,6 +43,9 @@ struct ToolView {
 
 struct DrawOptions {
   bool wireframe = false;
+  // Triangles drawn over the tissue, 9 floats per vertex (position m, normal, linear RGB): a training plan
+  // (plan_overlay.h). Empty: none.
+  std::vector<float> overlay;
 };
 
 class SceneRenderer {

@@ -22,9 +22,11 @@
 
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/geometry_stream.h"
+#include "incise/sim/plan.h"
 #include "incise/sim/simulation.h"
 #include "incise/viewer/camera.h"
 #include "incise/viewer/hud_model.h"
+#include "incise/viewer/mouse_scalpel.h"
 
 namespace incise::viewer {
 
@@ -44,6 +46,14 @@ struct ViewerFeed {
   double period_us = 1000.0, cut_budget_us = 300.0, blade_length_m = 0.03;
   std::span<const Eigen::Vector3d> stroke_points_m;  // framed by the default camera
   std::string scenario;
+  // Training (incise train): the plan drawn on the tissue and the live lateral error against it in the HUD.
+  const sim::Plan* plan = nullptr;
+  // The mouse as the scalpel (MouseScalpel): every cursor event becomes a pose pushed here, stamped by
+  // clock_s (the session's clock); the left button cuts, the wheel sets the depth, right drag orbits, shift
+  // + right or middle drag pans, ctrl + wheel zooms. nullptr: the mouse moves the camera only.
+  devices::PoseSink* scalpel = nullptr;
+  std::function<double()> clock_s;
+  MouseScalpelOptions scalpel_options;
 };
 
 // What the user asked for during a frame.
@@ -67,6 +77,9 @@ class ViewerWindow {
   HudFigures figures() const;
   std::int64_t displayFrames() const noexcept;
   std::string glDescription() const;
+  // Where a point lands in the window now (pixels from its top left; nullopt before the camera is framed,
+  // or behind the eye): for scripts that drive the mouse (the training test).
+  std::optional<Eigen::Vector2d> pixelOf(const Eigen::Vector3d& x_m) const;
 
  private:
   struct Impl;

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# incise train end to end under xvfb-run: a real session in the window, the mouse moved and clicked along
+# the plan with xdotool (the start and end pixels are the ones train prints), then the window closed with
+# Esc. The trace, the cut, the report, the score and its plot come out; the score is the line `incise score`
+# prints for the recorded trace, byte for byte; the cut lies along the plan. Bad input: exit 2, a message.
+#   train_test.sh INCISE_BINARY SCENARIOS_DIR
+set -u
+incise=$1
+scenarios=$2
+work=$(mktemp -d)
+pid=
+trap '[ -n "$pid" ] && kill "$pid" 2>/dev/null; rm -rf "$work"' EXIT
+failures=0
+check() {  # check NAME CONDITION...
+  local name=$1; shift
+  if "$@"; then echo "ok   $name"; else echo "FAIL $name"; failures=$((failures + 1)); fi
+}
+expect_exit() {  # expect_exit CODE PATTERN -- COMMAND...
+  local code=$1 pattern=$2; shift 3
+  "$@" > "$work/stdout" 2> "$work/stderr"
+  local got=$?
+  [ "$got" -eq "$code" ] && grep -q -- "$pattern" "$work/stderr" || { echo "  exit $got, stderr: $(cat "$work/stderr")"; return 1; }
+}
+pad=$scenarios/pad-straight.json
+out=$work/session
+
+# A session: press at the plan's start, drag to its end in 60 steps (about 3 s), release, close.
+"$incise" train "$pad" --out "$out" --size 1280x800 > "$work/train.txt" 2> "$work/train.err" &
+pid=$!
+for _ in $(seq 1 300); do grep -q "plan start at pixel" "$work/train.txt" 2>/dev/null && break; sleep 0.1; done
+check "train prints where the plan is in the window" grep -q "plan start at pixel" "$work/train.txt"
+read -r sx sy ex ey < <(sed -n 's/.*plan start at pixel \(-*[0-9]*\) \(-*[0-9]*\), end at pixel \(-*[0-9]*\) \(-*[0-9]*\).*/\1 \2 \3 \4/p' "$work/train.txt")
+wid=$(xdotool search --sync --name "incise train" | head -1)
+xdotool mousemove --window "$wid" "$sx" "$sy"; sleep 0.3
+xdotool mousedown 1; sleep 0.1
+for k in $(seq 1 60); do
+  xdotool mousemove --window "$wid" $((sx + (ex - sx) * k / 60)) $((sy + (ey - sy) * k / 60)); sleep 0.05
+done
+xdotool mouseup 1; sleep 0.5
+xdotool key --window "$wid" Escape
+wait "$pid"; code=$?; pid=
+check "the session ends with exit 0 (it cut along the plan)" test "$code" -eq 0
+[ "$code" -eq 0 ] || { echo "  stdout: $(cat "$work/train.txt")"; echo "  stderr: $(tail -5 "$work/train.err")"; }
+for f in trace.csv cut.obj report.json score.json score.png; do check "... and wrote $f" test -s "$out/$f"; done
+check "... the trace carries the tissue's hash" grep -q "^# tissue: " "$out/trace.csv"
+check "... and the poses of the session" test "$(grep -cv '^#\|^time_s' "$out/trace.csv")" -gt 50
+"$incise" score "$pad" "$out/trace.csv" > "$work/score.txt" 2> "$work/score.err"
+check "incise score on the recorded trace gives train's score, byte for byte" \
+  cmp -s <(head -1 "$work/score.txt") "$out/score.json"
+share() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['plan'][sys.argv[2]])" "$out/score.json" "$1"; }
+check "the cut follows the plan: under 20% left uncut" python3 -c "import sys; sys.exit(0 if $(share share_uncut) < 0.2 else 1)"
+check "... and over 80% within the lateral band" python3 -c "import sys; sys.exit(0 if $(share share_within_lateral_tolerance) > 0.8 else 1)"
+check "... one incision" grep -q '"incisions":1' "$out/score.json"
+
+check "--input other than mouse is refused" expect_exit 2 "\-\-input 'pen'" -- "$incise" train "$pad" --input pen --out "$work/bad"
+check "no display: exit 2 naming xvfb-run" expect_exit 2 "xvfb-run" -- env -u DISPLAY -u WAYLAND_DISPLAY "$incise" train "$pad" --out "$work/bad"
+check "... and nothing written" test ! -e "$work/bad/trace.csv"
+echo "train: $failures check(s) failed"
+[ "$failures" -eq 0 ]
