@@ -219,7 +219,8 @@ int runTrain(const TrainArgs& a) {
 void addTrainCommand(CLI::App& app) {
   auto args = std::make_shared<TrainArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "train", "A live training session in the viewer: cut along the scenario's plan with the mouse, recorded and scored");
+      "train",
+      "A live training session in the viewer: cut along the scenario's plan with the mouse, recorded and scored");
   cmd->add_option("scenario", args->scenario, "scenario file (JSON), with a plan")->required();
   cmd->add_option("--input", args->input, "the scalpel: mouse")->capture_default_str();
   cmd->add_option("--out", args->out, "output directory (trace.csv, cut.obj, report.json, score.json, score.png)")

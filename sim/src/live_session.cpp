@@ -79,14 +79,8 @@ ReplayReport LiveSession::stop() {
   while (loop_.running()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   loop_.stop();
   stopped_ = true;
-  report_.latency = sim_.stats().summary();
-  report_.loop = loop_.counters();
-  report_.frames = report_.latency.frames;
-  report_.poses = sim_.posesTaken();
-  report_.poses_dropped = sim_.posesDropped();
-  report_.simulated_s = static_cast<double>(report_.frames) * static_cast<double>(options_.period_us) * 1e-6;
+  fillReport(report_, sim_, loop_.counters(), options_.period_us);
   report_.wall_s = nowS();
-  report_.incisions = world_.incisions();
   if (options_.geometry) {  // the loop has stopped: this thread is the stream's writer now
     report_.geometry_flushed = options_.geometry->flush(world_, std::max<std::int64_t>(last_frame_, 0),
                                                         std::chrono::milliseconds(options_.flush_timeout_ms));

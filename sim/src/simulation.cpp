@@ -261,6 +261,16 @@ void replayRealTime(ReplayRun& run) {
 
 }  // namespace
 
+void fillReport(ReplayReport& report, const Simulation& sim, const LoopCounters& loop, std::int64_t period_us) {
+  report.latency = sim.stats().summary();
+  report.loop = loop;
+  report.frames = report.latency.frames;
+  report.poses = sim.posesTaken();
+  report.poses_dropped = sim.posesDropped();
+  report.simulated_s = static_cast<double>(report.frames) * static_cast<double>(period_us) * 1e-6;
+  report.incisions = sim.world().incisions();
+}
+
 ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, const ReplayOptions& options,
                     ForceSink* sink) {
   if (trace.empty()) throw std::invalid_argument("replay: the trace is empty");
@@ -292,13 +302,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   else
     replayRealTime(run);
   report.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  report.latency = sim.stats().summary();
-  report.loop = loop.counters();
-  report.frames = report.latency.frames;
-  report.poses = sim.posesTaken();
-  report.poses_dropped = sim.posesDropped();
-  report.simulated_s = static_cast<double>(report.frames) * static_cast<double>(options.period_us) * 1e-6;
-  report.incisions = world.incisions();
+  fillReport(report, sim, loop.counters(), options.period_us);
   report.stopped_early = run.stop.load();
   if (options.geometry) {  // the loop has stopped: this thread is the stream's writer now
     const auto reader = options.pace == ReplayPace::Fast ? options.geometry_reader : std::function<void()>{};

@@ -22,24 +22,14 @@
 #include "incise/devices/trace_csv.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
+#include "shipped_scenario.h"
 
 using namespace incise;
 
 namespace {
 
-struct Loaded {
-  sim::Scenario scenario;
-  std::unique_ptr<sim::World> world;
-  std::vector<devices::PoseSample> poses;
-};
-
-Loaded load(const char* name) {
-  Loaded l;
-  l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
-  l.world = std::make_unique<sim::World>(sim::loadTissue(l.scenario), l.scenario.world);
-  l.poses = devices::TraceReader::readAll(l.scenario.trace);
-  return l;
-}
+using Loaded = test::ShippedScenario;
+Loaded load(const char* name) { return test::loadShipped(name); }
 
 sim::ReplayOptions options(const Loaded& l, sim::ReplayPace pace, sim::GeometryStream& stream) {
   sim::ReplayOptions o;

@@ -14,24 +14,14 @@
 #include "incise/devices/trace_csv.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
+#include "shipped_scenario.h"
 
 using namespace incise;
 
 namespace {
 
-struct Loaded {
-  sim::Scenario scenario;
-  std::unique_ptr<sim::World> world;
-  std::vector<devices::PoseSample> trace;
-};
-
-Loaded load(const char* name) {
-  Loaded l;
-  l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
-  l.world = std::make_unique<sim::World>(sim::loadTissue(l.scenario), l.scenario.world);
-  l.trace = devices::TraceReader::readAll(l.scenario.trace);
-  return l;
-}
+using Loaded = test::ShippedScenario;
+Loaded load(const char* name) { return test::loadShipped(name); }
 
 }  // namespace
 
@@ -45,7 +35,7 @@ TEST_CASE("live_session: poses pushed live cut as their recording replays, byte 
   options.settle_s = l.scenario.settle_s;
   options.geometry = &stream;
   sim::LiveSession session(*l.world, options);
-  CHECK_FALSE(session.push(l.trace.front()));  // not started: refused
+  CHECK_FALSE(session.push(l.poses.front()));  // not started: refused
   std::atomic<bool> done{false};
   std::thread viewer([&] {  // a viewer's thread
     while (!done.load(std::memory_order_acquire)) {
@@ -59,8 +49,8 @@ TEST_CASE("live_session: poses pushed live cut as their recording replays, byte 
   CHECK_THROWS_AS(session.start(), std::logic_error);
   std::thread producer([&] {  // the "mouse": the trace's motion at its own pace, stamped by the session's clock
     const auto begin = std::chrono::steady_clock::now();
-    for (devices::PoseSample p : l.trace) {
-      std::this_thread::sleep_until(begin + std::chrono::duration<double>(p.time_s - l.trace.front().time_s));
+    for (devices::PoseSample p : l.poses) {
+      std::this_thread::sleep_until(begin + std::chrono::duration<double>(p.time_s - l.poses.front().time_s));
       p.time_s = session.nowS();
       session.push(p);
     }
@@ -72,10 +62,10 @@ TEST_CASE("live_session: poses pushed live cut as their recording replays, byte 
   REQUIRE(live.geometry_flushed);
   CHECK(live.incisions == 1);
   CHECK(live.poses + live.poses_dropped == static_cast<std::int64_t>(session.poses().size()));
-  CHECK(session.poses().size() == l.trace.size());
+  CHECK(session.poses().size() == l.poses.size());
   CHECK(mirror.exact());
   CHECK(session.stop().frames == live.frames);  // once; the same report after
-  CHECK_FALSE(session.push(l.trace.back()));    // stopped: refused
+  CHECK_FALSE(session.push(l.poses.back()));    // stopped: refused
 
   Loaded again = load("bunny-straight");
   sim::ReplayOptions replay;

@@ -8,12 +8,15 @@ namespace {
 
 constexpr double kLift_m = 0.0003;  // above the surface, so that the skin does not hide it
 
-void vertex(std::vector<float>& out, const Eigen::Vector3d& p, const Eigen::Vector3d& n, const std::array<float, 3>& c) {
-  out.insert(out.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z()), c[0], c[1], c[2]});
+void vertex(std::vector<float>& out, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+            const std::array<float, 3>& c) {
+  out.insert(out.end(),
+             {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z()), c[0], c[1], c[2]});
 }
 
 // A ribbon `width_m` wide along the stations, `offset_m` across the plan from its line.
-void ribbon(std::vector<float>& out, const sim::Plan& plan, double offset_m, double width_m, const std::array<float, 3>& c) {
+void ribbon(std::vector<float>& out, const sim::Plan& plan, double offset_m, double width_m,
+            const std::array<float, 3>& c) {
   for (std::size_t i = 1; i < plan.stations.size(); ++i) {
     const sim::PlanStation &a = plan.stations[i - 1], &b = plan.stations[i];
     const auto side = [&](const sim::PlanStation& s, double d) {

@@ -186,6 +186,10 @@ struct ReplayReport {
   GeometryCounters geometry;      // the stream's counters (zero without one)
 };
 
+// A run's figures from its simulation and loop (replay and LiveSession): latency, frames, poses, simulated
+// time, incisions. The rest (wall time, geometry, early stop) is the caller's.
+void fillReport(ReplayReport& report, const Simulation& sim, const LoopCounters& loop, std::int64_t period_us);
+
 // Replays a trace through `world` and returns the statistics; the world is left as the replay made it
 // (its tissue holds the cut). The trace must be in time order (as TraceReader guarantees). Throws
 // std::invalid_argument for an empty trace or bad options; otherwise never throws.
