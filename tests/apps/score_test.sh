@@ -16,6 +16,9 @@ import json; d = json.loads(open('$work/$name.jsonl').readline())
 assert d['strokes_count'] == 1 and d['plan']['share_within_lateral_tolerance'] >= 0.95, d['plan']
 assert d['plan']['lateral_mean_abs_m'] < 0.0005 and d['plan']['share_uncut'] < 0.05, d['plan']"
 done
+check "incise replay cuts the pad cleanly: a closed two-manifold, a groove along 95% of the stroke" bash -c "'$incise' replay '$scenarios/pad-straight.json' --fast --out '$work/pad-replay' | grep -q 'closed two-manifold: yes' && python3 -c \"
+import json; f = json.load(open('$work/pad-replay/report.json'))['incision_figures']
+assert len(f) == 1 and f[0]['groove_length_m'] >= 0.95 * f[0]['stroke_length_m'] > 0.045, f\""
 check "the same trace scores to the same bytes" bash -c "'$incise' score '$scenarios/pad-straight.json' '$scenarios/traces/pad-straight.csv' > '$work/again.jsonl' && head -1 '$work/again.jsonl' | cmp -s - <(head -1 '$work/pad-straight.jsonl' | sed 's|$work/pad-straight.jsonl||')"
 check "several traces: a line each and a summary of 2" bash -c "'$incise' score '$scenarios/pad-straight.json' '$scenarios/traces/pad-straight.csv' '$scenarios/traces/pad-s-curve.csv' | tail -1 | grep -q '\"traces\":2'"
 check "--plots writes the gnuplot PNG" "$incise" score "$scenarios/pad-straight.json" "$scenarios/traces/pad-straight.csv" --plots "$work/plots" > /dev/null
