@@ -15,10 +15,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "commands.h"
 #include "data_dir.h"
+#include "hid_support.h"
 #include "incise/cutting/surface_mesh.h"
+#include "incise/devices/hid_pose_source.h"
 #include "incise/devices/trace_csv.h"
 #include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/geometry_mirror.h"
@@ -38,6 +41,7 @@ namespace {
 struct TrainArgs {
   std::string scenario;
   std::string input = "mouse";
+  std::string transport = "hidapi";
   std::string out = "out/train";
   std::string size = "1280x800";
   std::string camera;
@@ -65,6 +69,34 @@ class RecordingSink final : public devices::PoseSink {
   std::string error_;
 };
 
+// A device's poses on the session's clock (the device thread's: the session's one producer), so that the
+// recorded trace replays as the session ran.
+class SessionClockSink final : public devices::PoseSink {
+ public:
+  SessionClockSink(const sim::LiveSession& session, devices::PoseSink& next) : session_(session), next_(next) {}
+  bool push(const devices::PoseSample& pose) noexcept override {
+    devices::PoseSample stamped = pose;
+    stamped.time_s = session_.nowS();
+    return next_.push(stamped);
+  }
+
+ private:
+  const sim::LiveSession& session_;
+  devices::PoseSink& next_;
+};
+
+// The HUD's source line for a device: its description and state.
+class DeviceStatus final : public viewer::PoseSourceMonitor {
+ public:
+  explicit DeviceStatus(const devices::HidPoseSource& source) : source_(source) {}
+  viewer::PoseSourceStatus status(const sim::Snapshot&) const override {
+    return {source_.describe(), devices::toString(source_.state())};
+  }
+
+ private:
+  const devices::HidPoseSource& source_;
+};
+
 // The source line of the HUD: the mouse, cutting or not.
 class MouseStatus final : public viewer::PoseSourceMonitor {
  public:
@@ -74,6 +106,13 @@ class MouseStatus final : public viewer::PoseSourceMonitor {
 };
 
 // One session in the window: until it closes (false) or the user restarts (true).
+// --input hid[:VID:PID]: the device (any, or the one named) through the scenario's pen or 6-DOF mapping.
+struct DeviceInput {
+  std::unique_ptr<devices::HidTransport> transport;
+  devices::HidDeviceSelector selector;
+  devices::HidMapping mapping;
+};
+
 struct Session {
   LoadedScenario run;
   sim::GeometryStream stream;
@@ -88,7 +127,7 @@ devices::TraceWriterOptions traceOptions(const TrainArgs& a, const LoadedScenari
   o.flush_every = 20;
   o.comments = {"generator: incise train " + std::filesystem::path(a.scenario).filename().string(),
                 "scenario: " + run.scenario.name, std::string(kTissueComment) + tissueHashText(run.world->tissue()),
-                "source: the mouse (incise train --input mouse)"};
+                "source: incise train --input " + a.input + (a.input == "mouse" ? "" : " --transport " + a.transport)};
   return o;
 }
 
@@ -100,7 +139,27 @@ void printPlanPixels(const viewer::ViewerWindow& window, const sim::Plan& plan) 
   std::fflush(stdout);
 }
 
-bool runSession(viewer::ViewerWindow& window, Session& s, const TrainArgs& a) {
+// What the window follows: the session's snapshots, stream and timings, the plan; the mouse as the scalpel
+// unless a device cuts.
+viewer::ViewerFeed feedFor(Session& s, const viewer::PoseSourceMonitor& status, devices::PoseSink* scalpel) {
+  viewer::ViewerFeed feed;
+  feed.geometry = &s.stream;
+  feed.take_snapshot = [&s](sim::Snapshot& out) { return s.live->takeSnapshot(out); };
+  feed.times = s.times.get();
+  feed.source = &status;
+  feed.period_us = static_cast<double>(s.run.scenario.periodUs());
+  feed.cut_budget_us = s.run.scenario.world.cut_budget_us;
+  feed.blade_length_m = s.run.scenario.world.tool.blade_length_m;
+  feed.scenario = s.run.scenario.name + " (training)";
+  feed.plan = s.run.plan ? &*s.run.plan : nullptr;
+  feed.scalpel = scalpel;
+  feed.clock_s = [&s] { return s.live->nowS(); };
+  feed.scalpel_options.cut_button = std::max(0, s.run.scenario.world.tool.cut_button);
+  if (s.run.plan) feed.scalpel_options.depth_m = std::min(s.run.plan->depth_m, feed.scalpel_options.max_depth_m);
+  return feed;
+}
+
+bool runSession(viewer::ViewerWindow& window, Session& s, const TrainArgs& a, DeviceInput* device) {
   devices::TraceWriter writer(std::filesystem::path(a.out) / "trace.csv", traceOptions(a, s.run));
   sim::LiveOptions options;
   options.period_us = s.run.scenario.periodUs();
@@ -112,29 +171,26 @@ bool runSession(viewer::ViewerWindow& window, Session& s, const TrainArgs& a) {
   options.realtime_priority = true;
   s.live = std::make_unique<sim::LiveSession>(*s.run.world, options);
   RecordingSink sink(*s.live, writer);
-  MouseStatus status;
-  viewer::ViewerFeed feed;
-  feed.geometry = &s.stream;
-  feed.take_snapshot = [&s](sim::Snapshot& out) { return s.live->takeSnapshot(out); };
-  feed.times = s.times.get();
-  feed.source = &status;
-  feed.period_us = static_cast<double>(options.period_us);
-  feed.cut_budget_us = s.run.scenario.world.cut_budget_us;
-  feed.blade_length_m = s.run.scenario.world.tool.blade_length_m;
+  SessionClockSink stamped(*s.live, sink);
+  std::unique_ptr<devices::HidPoseSource> source;
+  if (device)
+    source = std::make_unique<devices::HidPoseSource>(
+        *device->transport, device->selector, device->mapping, stamped,
+        [](const std::string& m) { std::fprintf(stderr, "incise train: %s\n", m.c_str()); });
+  MouseStatus mouse;
+  std::optional<DeviceStatus> device_status;
+  if (source) device_status.emplace(*source);
+  viewer::ViewerFeed feed = feedFor(s, source ? static_cast<const viewer::PoseSourceMonitor&>(*device_status) : mouse,
+                                    source ? nullptr : &sink);
   std::vector<Eigen::Vector3d> framed;
   if (s.run.plan)
     for (const sim::PlanStation& p : s.run.plan->stations) framed.push_back(p.point_m);
   feed.stroke_points_m = framed;
-  feed.scenario = s.run.scenario.name + " (training)";
-  feed.plan = s.run.plan ? &*s.run.plan : nullptr;
-  feed.scalpel = &sink;
-  feed.clock_s = [&s] { return s.live->nowS(); };
-  feed.scalpel_options.cut_button = std::max(0, s.run.scenario.world.tool.cut_button);
-  if (s.run.plan) feed.scalpel_options.depth_m = std::min(s.run.plan->depth_m, feed.scalpel_options.max_depth_m);
   sim::GeometryMirror seeded;
   s.stream.seed(*s.run.world, seeded);
   window.follow(feed, std::move(seeded));
   s.live->start();
+  if (source) source->start();
   bool printed = false;
   viewer::ViewerRequests r;
   while (!r.close && !r.restart) {
@@ -142,6 +198,7 @@ bool runSession(viewer::ViewerWindow& window, Session& s, const TrainArgs& a) {
     if (!printed && s.run.plan && window.pixelOf(s.run.plan->stations.front().point_m))
       printPlanPixels(window, *s.run.plan), printed = true;
   }
+  if (source) source->stop();  // its last pose (lifted) is in before the session settles
   s.report = s.live->stop();
   s.record_error = sink.error();
   writer.close();
@@ -151,7 +208,7 @@ bool runSession(viewer::ViewerWindow& window, Session& s, const TrainArgs& a) {
 // What the session leaves in DIR once the window has closed.
 int writeTrainOutputs(const TrainArgs& a, Session& s) {
   if (!s.record_error.empty()) failWith("train", "recording " + a.out + "/trace.csv failed: " + s.record_error);
-  if (s.live->poses().empty()) failWith("train", "the session has no poses: the mouse never met the tissue");
+  if (s.live->poses().empty()) failWith("train", "the session has no poses: the scalpel never met the tissue");
   sim::ReplayOptions options;
   options.pace = sim::ReplayPace::RealTime;
   options.period_us = s.run.scenario.periodUs();
@@ -173,9 +230,34 @@ int writeTrainOutputs(const TrainArgs& a, Session& s) {
   return code != 0 ? code : cut_something ? 0 : 1;
 }
 
+// The transport, the selector (any device for plain "hid") and the scenario's mapping; exit 2 when any is bad.
+DeviceInput deviceInput(const TrainArgs& a, const LoadedScenario& run) {
+  if (run.scenario.source != sim::Scenario::Source::HidRecording)
+    failWith("train", "--input " + a.input + ": " + a.scenario +
+                          " has no pen or six_dof mapping (its pose_source is not a hid-recording)");
+  DeviceInput d;
+  try {
+    d.transport = makeHidTransport(a.transport);
+    if (a.input != "hid") d.selector = devices::parseHidDeviceSelector(a.input.substr(4));
+  } catch (const std::exception& e) {
+    failWith("train", e.what());
+  }
+  if (a.input == "hid") {  // the first device there is, followed by its ids across a replug
+    const auto found = d.transport->enumerate();
+    if (found.empty())
+      failWith("train",
+               "--input hid: no HID device on " + d.transport->name() + "; plug one in, or name it as hid:VID:PID");
+    d.selector.vid = found.front().vid, d.selector.pid = found.front().pid;
+    if (!found.front().serial.empty()) d.selector.serial = found.front().serial;
+  }
+  d.mapping = run.scenario.hid.mapping;
+  return d;
+}
+
 int runTrain(const TrainArgs& a) {
-  if (a.input != "mouse")
-    failWith("train", "--input '" + a.input + "': only 'mouse' is supported (a pen through HID is not built yet)");
+  const bool hid = a.input == "hid" || a.input.rfind("hid:", 0) == 0;
+  if (a.input != "mouse" && !hid)
+    failWith("train", "--input '" + a.input + "': expected mouse, hid or hid:VID:PID[:serial]");
   viewer::ViewerWindowOptions window_options;
   window_options.title = "incise train";
   try {
@@ -194,6 +276,8 @@ int runTrain(const TrainArgs& a) {
   } catch (const std::exception& e) {
     failWith("train", e.what());
   }
+  std::optional<DeviceInput> device;
+  if (hid) device = deviceInput(a, session->run);
   sim::keepOffLastCpu();
   std::unique_ptr<viewer::ViewerWindow> window;
   try {
@@ -201,7 +285,7 @@ int runTrain(const TrainArgs& a) {
   } catch (const std::exception& e) {
     failWith("train", e.what());
   }
-  while (runSession(*window, *session, a)) {  // R: a fresh tissue
+  while (runSession(*window, *session, a, device ? &*device : nullptr)) {  // R: a fresh tissue
     auto fresh = std::make_unique<Session>();
     fresh->run = loadScenarioRun(a.scenario);
     session = std::move(fresh);
@@ -222,7 +306,10 @@ void addTrainCommand(CLI::App& app) {
       "train",
       "A live training session in the viewer: cut along the scenario's plan with the mouse, recorded and scored");
   cmd->add_option("scenario", args->scenario, "scenario file (JSON), with a plan")->required();
-  cmd->add_option("--input", args->input, "the scalpel: mouse")->capture_default_str();
+  cmd->add_option("--input", args->input, "the scalpel: mouse, hid or hid:VID:PID[:serial] (a pen or 6-DOF device)")
+      ->capture_default_str();
+  cmd->add_option("--transport", args->transport, "with --input hid: hidapi, or replay:FILE.hid (a recording)")
+      ->capture_default_str();
   cmd->add_option("--out", args->out, "output directory (trace.csv, cut.obj, report.json, score.json, score.png)")
       ->capture_default_str();
   cmd->add_option("--size", args->size, "window WIDTHxHEIGHT in pixels")->capture_default_str();

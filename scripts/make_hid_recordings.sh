@@ -7,6 +7,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build build --target incise
-for name in bunny-pen-wacom bunny-pen-xppen bunny-spacenavigator; do
+for name in bunny-pen-wacom bunny-pen-xppen bunny-spacenavigator pad-pen-wacom; do
   ./build/apps/incise hid synth "scenarios/$name.json"
 done

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # incise train end to end under xvfb-run: a real session in the window, the mouse moved and clicked along
 # the plan with xdotool (the start and end pixels are the ones train prints), then the window closed with
-# Esc. The trace, the cut, the report, the score and its plot come out; the score is the line `incise score`
+# Esc. Then a pen's recorded session played through the HID profile as a live device. The trace, the cut,
+# the report, the score and its plot come out; the score is the line `incise score`
 # prints for the recorded trace, byte for byte; the cut lies along the plan. Bad input: exit 2, a message.
 #   train_test.sh INCISE_BINARY SCENARIOS_DIR
 set -u
@@ -52,7 +53,33 @@ check "the cut follows the plan: under 20% left uncut" python3 -c "import sys; s
 check "... and over 80% within the lateral band" python3 -c "import sys; sys.exit(0 if $(share share_within_lateral_tolerance) > 0.8 else 1)"
 check "... one incision" grep -q '"incisions":1' "$out/score.json"
 
-check "--input other than mouse is refused" expect_exit 2 "\-\-input 'pen'" -- "$incise" train "$pad" --input pen --out "$work/bad"
+# The pen: a recorded Wacom pen session played as a live device (--transport replay) through the HID profile,
+# the session's clock on its poses. The cut is the recording's (replay --fast of the scenario), to the hash.
+pen=$scenarios/pad-pen-wacom.json
+"$incise" train "$pen" --input hid --transport "replay:$scenarios/hid/pad-pen-wacom.hid" --out "$work/pen" \
+  --size 1280x800 > "$work/pen.txt" 2> "$work/pen.err" &
+pid=$!
+wid=$(xdotool search --sync --name "incise train" | head -1)
+last=-1
+for _ in $(seq 1 100); do  # until the recording has played out: the trace stops growing
+  sleep 0.5
+  now=$(grep -c . "$work/pen/trace.csv" 2>/dev/null || echo 0)
+  [ "$now" -gt 100 ] && [ "$now" -eq "$last" ] && break
+  last=$now
+done
+xdotool key --window "$wid" Escape
+wait "$pid"; code=$?; pid=
+check "a pen session through the HID profile ends with exit 0" test "$code" -eq 0
+[ "$code" -eq 0 ] || { echo "  stdout: $(cat "$work/pen.txt")"; echo "  stderr: $(tail -5 "$work/pen.err")"; }
+"$incise" score "$pen" "$work/pen/trace.csv" > "$work/pen-score.txt" 2> /dev/null
+check "... its score is incise score's on its trace" cmp -s <(head -1 "$work/pen-score.txt") "$work/pen/score.json"
+"$incise" replay "$pen" --fast --out "$work/pen-replay" > /dev/null
+hash() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['geometry_hash'])" "$1"; }
+check "... and its cut is the recording's, replayed (the same geometry hash)" \
+  test "$(hash "$work/pen/report.json")" = "$(hash "$work/pen-replay/report.json")"
+check "--input hid on a scenario without a pen mapping is refused" \
+  expect_exit 2 "has no pen or six_dof mapping" -- "$incise" train "$pad" --input hid --out "$work/bad"
+check "--input other than mouse or hid is refused" expect_exit 2 "\-\-input 'pen'" -- "$incise" train "$pad" --input pen --out "$work/bad"
 check "no display: exit 2 naming xvfb-run" expect_exit 2 "xvfb-run" -- env -u DISPLAY -u WAYLAND_DISPLAY "$incise" train "$pad" --out "$work/bad"
 check "... and nothing written" test ! -e "$work/bad/trace.csv"
 echo "train: $failures check(s) failed"
