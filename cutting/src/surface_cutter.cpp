@@ -48,6 +48,9 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   if (options.wall_rows < 1 || options.wall_rows > 64)
     throw std::invalid_argument("SurfaceCutter: wall_rows = " + std::to_string(options.wall_rows) +
                                 " is outside [1, 64]");
+  if (!(options.snap_fraction >= 0.0 && options.snap_fraction < 0.5))
+    throw std::invalid_argument("SurfaceCutter: snap_fraction = " + std::to_string(options.snap_fraction) +
+                                " is outside [0, 0.5)");
   if (!(options.contact_tolerance_m >= 0.0))
     throw std::invalid_argument("SurfaceCutter: contact_tolerance_m must be >= 0");
   Incision::validateOptions(options.incision);
@@ -224,6 +227,8 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
       walkChain();
       promoteInterior(step);
     }
+    // A seam vertex whose faces waited for a later column's vertices (sidesKnown) is opened at the end.
+    if (allColumnsDone()) promoteInterior(step);
     redeform(step);
   } catch (const std::exception& e) {  // allocation failure or a broken invariant: stop, never throw
     fail(std::string("SurfaceCutter: ") + e.what());
@@ -268,6 +273,7 @@ bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
   d.incision = incision_index_;
   d.side = r.uvw[0] < 0.5 ? -1 : 1;
   setStencil(v);
+  if (options_.snap_fraction > 0.0 && insideCut(r.uvw) && nearCut(v, r.uvw)) snapOntoCut(v);  // no sliver
   cells_[static_cast<size_t>(std::floor(r.uvw[1]))].push_back(v);
   all_bound_.push_back(v);
   dirty_.push_back(v);
@@ -292,6 +298,62 @@ bool SurfaceCutter::processColumn(int column, int& budget, CutStep& step) {
   splitCrossings(fresh_, step);
   column_started_ = false;
   return true;
+}
+
+void SurfaceCutter::snapNearEnd(TriMesh::EdgeHandle e) {
+  const TriMesh& m = mesh_.mesh();
+  const auto h = m.halfedge_handle(e, 0);
+  const VH a = m.from_vertex_handle(h), b = m.to_vertex_handle(h);
+  const VertexData& da = data(a);
+  const VertexData& db = data(b);
+  if (da.side == 0 || db.side == 0) return;  // an end point is on the cut already
+  const double lambda = (0.5 - da.uvw[0]) / (db.uvw[0] - da.uvw[0]);
+  Eigen::Vector3d uvw = (1.0 - lambda) * da.uvw + lambda * db.uvw;
+  uvw[0] = 0.5;
+  if (!insideCut(uvw)) return;
+  const double ab_m = (db.rest_m - da.rest_m).norm();
+  if (lambda * ab_m < snapDistance(a)) {
+    snapOntoCut(a);
+  } else if ((1.0 - lambda) * ab_m < snapDistance(b)) {
+    snapOntoCut(b);
+  }
+}
+
+bool SurfaceCutter::insideCut(const Eigen::Vector3d& uvw) const noexcept {
+  const double w_limit = incision_->bottomW() - 0.05 * (incision_->bottomW() - incision_->surfaceW());
+  return uvw[1] >= incision_->startV() && uvw[2] <= w_limit &&
+         (!incision_->finished() || uvw[1] <= incision_->lastStationV());
+}
+
+double SurfaceCutter::snapDistance(VH v) const {
+  const TriMesh& m = mesh_.mesh();
+  double shortest_m = std::numeric_limits<double>::infinity();
+  // At rest for this incision (as intersect()): not where the opening has moved the neighbours so far.
+  const Eigen::Vector3d x = restPosition(v);
+  for (auto n = m.cvv_iter(v); n.is_valid(); ++n) shortest_m = std::min(shortest_m, (restPosition(*n) - x).norm());
+  return std::isfinite(shortest_m) ? options_.snap_fraction * shortest_m : 0.0;
+}
+
+bool SurfaceCutter::nearCut(VH v, const Eigen::Vector3d& uvw) const {
+  // As TetCutter: the distance to the cut is about |u - 1/2| / |grad u|, grad u the first row of F0's
+  // inverse Jacobian, computed only near the cut (Eq. (2) spaces the u-planes over (l - 1) alpha).
+  const double phi = std::abs(uvw[0] - 0.5);
+  const double snap_m = snapDistance(v);
+  const IncisionOptions& o = options_.incision;
+  if (phi * (o.across_controls - 1) * o.alpha_m >= 4.0 * snap_m) return false;
+  const double grad_u = incision_->rest().jacobian(uvw).inverse().row(0).norm();
+  return std::isfinite(grad_u) && grad_u > 0.0 && phi / grad_u < snap_m;
+}
+
+void SurfaceCutter::snapOntoCut(VH v) {
+  VertexData& d = data(v);
+  d.uvw[0] = 0.5;
+  d.side = 0;
+  d.seam = true;
+  seam_created_.push_back(v);
+  ++stats_.vertices_snapped;
+  if (mesh_.kind(v) == VertexKind::Original) mesh_.setKind(v, VertexKind::Seam);
+  setStencil(v);
 }
 
 VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side, VertexKind kind) {
@@ -332,19 +394,25 @@ void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) 
   crossings.erase(std::unique(crossings.begin(), crossings.end(),
                               [](const Crossing& x, const Crossing& y) { return x.edge == y.edge; }),
                   crossings.end());
-  const double w_limit = incision_->bottomW() - 0.05 * (incision_->bottomW() - incision_->surfaceW());
+  // A crossing within the snap distance of an end point puts that end point on the cut instead (one the
+  // bind left off it: just outside the cut's window, or found near only along this edge); its edges then
+  // cross no more. Done for all the column's crossings before any split, so the order does not matter.
+  if (options_.snap_fraction > 0.0)
+    for (const Crossing& c : crossings) snapNearEnd(TriMesh::EdgeHandle(c.edge));
   for (const Crossing& c : crossings) {
     const TriMesh::EdgeHandle e(c.edge);
     const auto h = m.halfedge_handle(e, 0);
     const VH a = m.from_vertex_handle(h), b = m.to_vertex_handle(h);
     const VertexData& da = data(a);
     const VertexData& db = data(b);
+    if (da.side == 0 || db.side == 0) {
+      ++stats_.splits_avoided;
+      continue;
+    }
     const double lambda = (0.5 - da.uvw[0]) / (db.uvw[0] - da.uvw[0]);
     Eigen::Vector3d uvw = (1.0 - lambda) * da.uvw + lambda * db.uvw;
     uvw[0] = 0.5;
-    const bool inside = uvw[1] >= incision_->startV() && uvw[2] <= w_limit &&
-                        (!incision_->finished() || uvw[1] <= incision_->lastStationV());
-    if (!inside) {
+    if (!insideCut(uvw)) {
       ++stats_.skipped_crossings;
       continue;
     }
@@ -397,6 +465,7 @@ void SurfaceCutter::promoteInterior(CutStep& step) {
   for (size_t i = 1; i + 1 < chain_.size() && !failed_; ++i) {
     const VH c = chain_[i];
     if (data(c).doubled) continue;
+    if (!allColumnsDone() && !sidesKnown(c)) break;  // its neighbours' sides come with a later column
     const VH prev = chain_[i - 1], next = chain_[i + 1];
     deleteStrip(prev, c);
     deleteStrip(c, next);

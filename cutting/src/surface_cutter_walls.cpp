@@ -26,11 +26,8 @@ bool SurfaceCutter::duplicate(VH c) {
   std::vector<Around> around;
   for (auto f = m.vf_ccwiter(c); f.is_valid(); ++f) {
     int side = 0;
-    for (auto v = m.fv_iter(*f); v.is_valid(); ++v) {
-      if (*v == c || !bound(*v)) continue;
-      const int s = data(*v).side;
-      if (s == -1 || s == 1) side = s;
-    }
+    for (auto v = m.fv_iter(*f); v.is_valid(); ++v)
+      if (*v != c && sideOf(*v) != 0) side = sideOf(*v);
     around.push_back({*f, side});
   }
   const auto minus = std::find_if(around.begin(), around.end(), [](const Around& a) { return a.side == -1; });
@@ -81,6 +78,26 @@ bool SurfaceCutter::duplicate(VH c) {
   column.minus.push_back(c);
   column.plus.push_back(c_plus);
   columns_[c.idx()] = column;
+  return true;
+}
+
+int SurfaceCutter::sideOf(VH v) const {
+  if (bound(v)) return data(v).side == -1 || data(v).side == 1 ? data(v).side : 0;
+  if (!allColumnsDone()) return 0;  // it may still be bound by a later column
+  // Never bound (beyond the lattice): Eq. (2) read backwards tells its side.
+  const Eigen::Vector3d guess = incision_->inversionGuess(toEigen(mesh_.mesh().point(v)), next_column_ - 1);
+  return guess[0] < 0.5 ? -1 : 1;
+}
+
+bool SurfaceCutter::sidesKnown(VH c) const {
+  // A split edge's seam vertex always has a side vertex in each face; a vertex snapped onto the cut may
+  // have faces whose only off-seam vertex lies in the next slab, not yet bound.
+  const TriMesh& m = mesh_.mesh();
+  for (auto f = m.cvf_iter(c); f.is_valid(); ++f) {
+    bool known = false;
+    for (auto v = m.cfv_iter(*f); v.is_valid() && !known; ++v) known = *v != c && sideOf(*v) != 0;
+    if (!known) return false;
+  }
   return true;
 }
 

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <sstream>
 #include <thread>
@@ -189,12 +190,16 @@ struct PlanLine {
 std::vector<double> uncoveredStations(const cutting::SurfaceMesh& tissue, const PlanLine& plan,
                                       const std::vector<PlanLine>& earlier) {
   const cutting::TriMesh& m = tissue.mesh();
-  std::vector<Eigen::Vector2d> walls;
+  // Each wall face seen from above (x, z): its corners. A station is covered by a face whose extent along
+  // the plan reaches within 0.5 mm of it and whose centroid lies within 1.5 mm across (the wall's fan at a
+  // groove's end spans from the last doubled seam vertex to the chain's end: its centroid lies inside).
+  std::vector<std::array<Eigen::Vector2d, 3>> walls;
   for (const auto f : m.faces()) {
     if (tissue.kind(f) != cutting::FaceKind::Wall) continue;
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (auto v = m.cfv_iter(f); v.is_valid(); ++v) c += cutting::toEigen(m.point(*v)) / 3.0;
-    walls.emplace_back(c.x(), c.z());
+    std::array<Eigen::Vector2d, 3> corners;
+    int i = 0;
+    for (auto v = m.cfv_iter(f); v.is_valid() && i < 3; ++v, ++i) corners[i] = {m.point(*v)[0], m.point(*v)[2]};
+    walls.push_back(corners);
   }
   const Eigen::Vector2d d = plan.direction.normalized(), across(-d.y(), d.x());
   std::vector<double> uncovered;
@@ -202,8 +207,11 @@ std::vector<double> uncoveredStations(const cutting::SurfaceMesh& tissue, const 
     const Eigen::Vector2d p = plan.at(s);
     if (std::any_of(earlier.begin(), earlier.end(), [&](const PlanLine& g) { return g.distanceTo(p) < 0.0015; }))
       continue;
-    const bool covered = std::any_of(walls.begin(), walls.end(), [&](const Eigen::Vector2d& w) {
-      return std::abs((w - p).dot(d)) <= 0.0005 && std::abs((w - p).dot(across)) <= 0.0015;
+    const bool covered = std::any_of(walls.begin(), walls.end(), [&](const std::array<Eigen::Vector2d, 3>& w) {
+      const double a0 = (w[0] - p).dot(d), a1 = (w[1] - p).dot(d), a2 = (w[2] - p).dot(d);
+      const Eigen::Vector2d centroid = (w[0] + w[1] + w[2]) / 3.0;
+      return std::min({a0, a1, a2}) <= 0.0005 && std::max({a0, a1, a2}) >= -0.0005 &&
+             std::abs((centroid - p).dot(across)) <= 0.0015;
     });
     if (!covered) uncovered.push_back(s);
   }

@@ -138,6 +138,16 @@ class SurfaceCutter {
   CutStep add(std::span<const StrokeSample> samples, SampleOrigin origin = SampleOrigin::Unchecked) noexcept;
   bool processColumn(int column, int& budget, CutStep& step);  // false: budget spent, resume next call
   bool bindVertex(TriMesh::VertexHandle v, int column, int& budget);
+  void snapOntoCut(TriMesh::VertexHandle v);                  // v becomes a seam vertex at u = 1/2 (it stays in place)
+  void snapNearEnd(TriMesh::EdgeHandle crossing);             // snaps the end point the crossing is within snap of
+  bool insideCut(const Eigen::Vector3d& uvw) const noexcept;  // after the start, above the depth, to the end
+  double snapDistance(TriMesh::VertexHandle v) const;         // snap_fraction x its shortest edge (m)
+  bool nearCut(TriMesh::VertexHandle v, const Eigen::Vector3d& uvw) const;  // within snapDistance of u = 1/2
+  int sideOf(TriMesh::VertexHandle v) const;       // a face's side from v: -1, +1, or 0 (on the seam, unknown)
+  bool sidesKnown(TriMesh::VertexHandle c) const;  // every face around seam vertex c has a known side
+  bool allColumnsDone() const noexcept {           // finished, and every column cut: no vertex will be bound any more
+    return incision_ && incision_->finished() && next_column_ >= incision_->finalColumns();
+  }
   void splitCrossings(const std::vector<TriMesh::VertexHandle>& fresh, CutStep& step);
   TriMesh::VertexHandle addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side,
                                        VertexKind kind);

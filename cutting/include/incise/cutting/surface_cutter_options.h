@@ -27,6 +27,12 @@ struct CutterOptions {
   // cut trails a little more. 0 = no limit (finish everything that is final in each call). The resulting
   // mesh does not depend on it.
   int max_inversions_per_call = 0;
+  // Degenerate coincidences (a vertex on the cut's plane or within rounding of it, a stroke along existing
+  // edges or through vertices): a vertex inside the cut closer to u = 1/2 than snap_fraction times its
+  // shortest edge is put on the cut (it becomes a seam vertex) instead of its edges being split next to it,
+  // and no edge is split closer than that to an end point; so every piece of a split face keeps at least
+  // that fraction of the face's area. In [0, 0.5); 0 = no snapping (splits at any crossing).
+  double snap_fraction = 0.1;
 };
 
 // What one call did. Counts are for the call; totals live in CutStats.
@@ -68,6 +74,8 @@ struct CutStats {
   int edges_split = 0;    // totals over all incisions
   int vertices_duplicated = 0;
   int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
+  int vertices_snapped = 0;   // vertices put on the cut (CutterOptions::snap_fraction), totals
+  int splits_avoided = 0;     // crossings not split because they lay within the snap distance of an end
   std::string failure;        // first internal failure, empty if none
   // One entry per incision, in order (the current one last). Room for kReservedIncisions is reserved at
   // construction: more incisions than that grow the vector once in a while (amortised).
