@@ -112,6 +112,8 @@ int runCut(CutArgs& a) {
   cutter->advance(stroke.samples.empty() ? stroke.first.time_s : stroke.samples.back().time_s);
 
   const MeshSummary summary = summarize(mesh);
+  std::string failure = cutFailure(cutter->stats());
+  if (failure.empty() && totalGroove_m(cutter->stats().figures) == 0.0) failure = "no groove was opened";
   const std::filesystem::path out(a.out);
   try {
     if (a.format != MeshFormat::Ply) saveObj(mesh, out / "cut.obj");
@@ -126,14 +128,13 @@ int runCut(CutArgs& a) {
         {"seam_vertices_duplicated", cutter->stats().vertices_duplicated},
         {"incision_figures", incisionFiguresJson(cutter->stats().figures)},
         {"per_sample", timingSummary(sample_us)},
-        {"failure", cutter->stats().failure},
+        {"failure", failure},
     };
     writeJsonAtomically(report, out / "summary.json");
   } catch (const std::exception& e) {
     failWith(e.what());
   }
-  const bool ok =
-      summary.closed_two_manifold && summary.euler_characteristic == euler_before && cutter->stats().failure.empty();
+  const bool ok = summary.closed_two_manifold && summary.euler_characteristic == euler_before && failure.empty();
   std::printf(
       "incise cut: %zu samples, %d edges split, %d seam vertices opened, a groove of %.1f mm along %.1f mm of "
       "stroke in contact; %d vertices, %d faces (%d wall); "
@@ -142,6 +143,7 @@ int runCut(CutArgs& a) {
       1e3 * totalGroove_m(cutter->stats().figures), 1e3 * totalStroke_m(cutter->stats().figures), summary.vertices,
       summary.faces, summary.wall_faces, summary.closed_two_manifold ? "yes" : "NO", euler_before,
       summary.euler_characteristic, timingSummary(sample_us)["p99_us"].get<double>(), a.out.c_str());
+  if (!failure.empty()) std::fprintf(stderr, "incise cut: the cut failed: %s\n", failure.c_str());
   return ok ? 0 : 1;
 }
 

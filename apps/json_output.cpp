@@ -15,8 +15,25 @@ void writeJsonAtomically(const nlohmann::json& document, const std::filesystem::
 nlohmann::json incisionFiguresJson(const std::vector<cutting::IncisionFigures>& figures) {
   nlohmann::json list = nlohmann::json::array();
   for (const cutting::IncisionFigures& f : figures)
-    list.push_back({{"stroke_length_m", f.stroke_length_m}, {"groove_length_m", f.groove_length_m}});
+    list.push_back({{"stroke_length_m", f.stroke_length_m},
+                    {"groove_length_m", f.groove_length_m},
+                    {"groove_start_m", f.groove_start_m},
+                    {"groove_end_m", f.groove_end_m},
+                    {"lattice_columns", f.columns},
+                    {"empty_columns", f.empty_columns},
+                    {"seam_vertices", f.seam_vertices},
+                    {"shortfall", cutting::toString(f.shortfall)},
+                    {"why", cutting::describeShortfall(f)}});
   return list;
+}
+
+std::string cutFailure(const cutting::CutStats& stats) {
+  if (!stats.failure.empty()) return stats.failure;
+  for (std::size_t i = 0; i < stats.figures.size(); ++i)
+    if (stats.figures[i].shortfall != cutting::Shortfall::None)
+      return "incision " + std::to_string(i + 1) + " of " + std::to_string(stats.figures.size()) + ": " +
+             cutting::describeShortfall(stats.figures[i]);
+  return "";
 }
 
 double totalGroove_m(const std::vector<cutting::IncisionFigures>& figures) {

@@ -31,7 +31,12 @@ void writeThroughTemporary(const std::filesystem::path& path, Write&& write) {
 }
 
 // Per incision, in order: {"stroke_length_m", "groove_length_m"} (cutting::IncisionFigures).
+// Also where the groove runs along the stroke, the lattice columns that held no vertex, and the shortfall
+// with its sentence ("why", empty when the groove is as long as the stroke).
 nlohmann::json incisionFiguresJson(const std::vector<cutting::IncisionFigures>& figures);
+// What went wrong with the cut, for a report's failure field: the cutter's internal failure, else the first
+// incision whose groove fell short of its stroke ("incision 2 of 3: a groove of ..."), else "".
+std::string cutFailure(const cutting::CutStats& stats);
 
 // Sums over the incisions of their groove and stroke lengths (metres).
 double totalGroove_m(const std::vector<cutting::IncisionFigures>& figures);

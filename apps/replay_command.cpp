@@ -87,7 +87,7 @@ nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& o
       {"incisions", report.incisions},
       {"edges_split", stats.edges_split},
       {"seam_vertices_opened", stats.vertices_duplicated},
-      {"cut_failure", stats.failure},
+      {"cut_failure", cutFailure(stats)},
       {"incision_figures", incisionFiguresJson(stats.figures)},
       {"geometry_hash", hex(hash)},
       {"mesh", nlohmann::json::parse(cutting::toJson(mesh))},
@@ -171,7 +171,9 @@ int writeReplayOutputs(const char* command, const LoadedScenario& run, const sim
       report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
       static_cast<long long>(report.latency.deadline_misses), mesh.closed_two_manifold ? "yes" : "NO",
       hex(hash).c_str(), tets_note.c_str(), out_dir.c_str());
-  return mesh.closed_two_manifold && stats.failure.empty() && tets_ok ? 0 : 1;
+  const std::string failure = cutFailure(stats);
+  if (!failure.empty()) std::fprintf(stderr, "incise %s: the cut failed: %s\n", command, failure.c_str());
+  return mesh.closed_two_manifold && failure.empty() && tets_ok ? 0 : 1;
 }
 
 void addReplayCommand(CLI::App& app) {

@@ -62,6 +62,7 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   reserveHeadroom();
   stats_.figures.reserve(CutStats::kReservedIncisions);
   const double edge_m = meanEdgeLength(m);
+  mean_edge_m_ = edge_m;
   contact_tolerance_m_ = options.contact_tolerance_m > 0.0 ? options.contact_tolerance_m : 3.0 * edge_m;
   longest_edge_m_ = longestEdgeLength(m);
   // Cells about a lattice column wide: a column step's query box spans a few cells per axis whatever the
@@ -156,7 +157,8 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   stats_.seam_vertices = 0;
   failed_ = false;
   CutStep step;
-  if (!onSurface(first.point_m)) {
+  no_contact_ = !onSurface(first.point_m);
+  if (no_contact_) {
     step.left_surface = true;
     incision_->finish();
   }
@@ -235,6 +237,7 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
   }
   stats_.seam_vertices = static_cast<int>(chain_.size());
   if (step.vertices_duplicated > 0) stats_.figures.back().groove_length_m = grooveLength();
+  if ((failed_ || allColumnsDone()) && !stats_.figures.back().done) diagnose();
   step.failed = failed_;
   return step;
 }
@@ -265,6 +268,7 @@ bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
   // A point beyond the final part cannot converge: few halvings end that search early.
   const InversionResult r = invertPoint(incision_->rest(), x, guess, final_part, InversionOptions{12, 1e-10, 6});
   // Only the slab whose lattice is final is bound here; a vertex further on waits for its own column.
+  if (!r.converged && guess[1] >= column && guess[1] < column + 1.0) ++stats_.figures.back().inversions_failed;
   if (!r.converged || r.uvw[1] >= column + 1.0) return false;
   VertexData& d = data(v);
   d = VertexData{};
@@ -352,6 +356,7 @@ void SurfaceCutter::snapOntoCut(VH v) {
   d.seam = true;
   seam_created_.push_back(v);
   ++stats_.vertices_snapped;
+  ++stats_.figures.back().seam_vertices;
   if (mesh_.kind(v) == VertexKind::Original) mesh_.setKind(v, VertexKind::Seam);
   setStencil(v);
 }
@@ -414,6 +419,7 @@ void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) 
     uvw[0] = 0.5;
     if (!insideCut(uvw)) {
       ++stats_.skipped_crossings;
+      ++stats_.figures.back().crossings_outside;
       continue;
     }
     const Eigen::Vector3d rest_m = (1.0 - lambda) * da.rest_m + lambda * db.rest_m;
@@ -428,6 +434,7 @@ void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) 
     }
     data(v).seam = true;
     seam_created_.push_back(v);
+    ++stats_.figures.back().seam_vertices;
     ++step.edges_split;
     ++stats_.edges_split;
   }

@@ -162,6 +162,7 @@ class SurfaceCutter {
   void redeform(CutStep& step);
   void setStencil(TriMesh::VertexHandle v);
   void fail(const std::string& message);
+  void diagnose() noexcept;  // the incision's work is done: its figures' last fields (surface_cutter_figures.cpp)
   double grooveLength() const noexcept;  // the current chain's arc length at rest (IncisionFigures)
   void reserveHeadroom();
   Eigen::Vector3d restPosition(TriMesh::VertexHandle v) const;
@@ -175,6 +176,8 @@ class SurfaceCutter {
   VertexGrid grid_;
   double contact_tolerance_m_ = 0.0;
   double longest_edge_m_ = 0.0;
+  double mean_edge_m_ = 0.0;
+  bool no_contact_ = false;  // the current incision's first sample was off the surface
   std::unique_ptr<Incision> incision_;
   int incision_index_ = -1;
   int next_column_ = 0;

@@ -48,12 +48,50 @@ struct CutStep {
   int vertices_moved = 0;  // re-deformed
 };
 
-// What one incision made, for a user to check that the cut did what the scalpel did.
+// Why an incision's groove is much shorter than its stroke (IncisionFigures::shortfall): the first reason
+// that applies, in this order. None: the groove is about as long as the stroke (or the work is not done).
+enum class Shortfall : std::uint8_t {
+  None,
+  Failed,           // an internal topology failure stopped the incision (CutStats::failure)
+  NoContact,        // the first sample was not on the surface: nothing to cut
+  CoarseMesh,       // lattice columns along the stroke held no surface vertex: the mesh's edges are longer
+                    // than the lattice (subdivide the mesh, or refine it along the stroke)
+  InversionFailed,  // vertices inside the lattice whose parameters (F0's inverse) were not found
+  NoCrossing,       // no edge crossed the cut inside the blade's window (above its depth, within the stroke)
+  SeamBroken,       // seam vertices were made but the chain from the first one did not reach most of them
+  TooShort,         // the stroke is shorter than the lattice needs to open a groove
+  Unexplained,      // none of the above, and still much shorter
+};
+const char* toString(Shortfall shortfall) noexcept;
+
+// What one incision made, for a user to check that the cut did what the scalpel did. The counts are this
+// incision's; the last fields are set once its work is done (the shortfall test: the groove is shorter
+// than the stroke by more than max(4 spacing_m, 20 %), or is 0 while the stroke is not).
 struct IncisionFigures {
   double stroke_length_m = 0.0;  // arc length of the stroke in contact: the incision's accepted samples
   double groove_length_m = 0.0;  // arc length, at rest, of the seam opened: the chain of seam vertices from
                                  // its start to its tip once one of them is duplicated; 0 while none is
+  int inversions_failed = 0;     // vertices in their own slab whose inversion did not converge
+  int seam_vertices = 0;         // seam vertices made (edges split and vertices snapped)
+  int crossings_outside = 0;     // crossing edges outside the blade's window (not split)
+  // Set when the work is done:
+  bool done = false;
+  int columns = 0;                // lattice columns from the stroke's first station to its last
+  int empty_columns = 0;          // of those, columns whose slab held no vertex of the surface
+  double first_empty_at_m = -1;   // arc length along the stroke of the first empty column (-1: none)
+  double groove_start_m = 0.0;    // where the chain of seam vertices starts and ends, as arc length along the
+  double groove_end_m = 0.0;      // stroke from its first station (0 and 0 without a chain)
+  int seam_vertices_chained = 0;  // of seam_vertices, those in the chain
+  double mean_edge_m = 0.0;       // the surface's mean edge length when the cutter was made
+  double lattice_width_m = 0.0;   // the lattice's extent across the cut ((l - 1) alpha)
+  double min_stroke_m = 0.0;      // the shortest stroke that opens a groove (about order spacings)
+  Shortfall shortfall = Shortfall::None;
 };
+
+// A sentence for a user: why the groove is short and where along the stroke ("" for Shortfall::None),
+// e.g. "the mesh is coarse next to the lattice: 61 of 70 lattice columns along the stroke held no vertex
+// (the first at 0.5 mm) ...". Allocates: not for the sim thread.
+std::string describeShortfall(const IncisionFigures& figures);
 
 // The mesh elements a cutter changed, for a reader that mirrors the mesh (sim's GeometryStream): indices
 // (OpenMesh handle indices) of every vertex added or moved and of every face added, changed (its vertices
