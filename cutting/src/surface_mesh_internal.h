@@ -53,6 +53,10 @@ RawMesh readOff(const std::filesystem::path& path, double scale);
 RawMesh readStl(const std::filesystem::path& path, double scale);  // equal positions welded
 RawMesh readPly(const std::filesystem::path& path, double scale);
 
+// A triangle list to be read from `path` by a reader whose file numbers vertices from 0.
+RawMesh zeroBasedMesh(const std::filesystem::path& path,
+                      std::string vertex_note = " (vertex numbers 0-based, as in the file)");
+
 // Shared by the text readers: the whole file (MeshError "cannot open"); a line split at whitespace; a
 // coordinate (finite double, "+" allowed; `where` prefixes the message); an integer token.
 std::string readWholeFile(const std::filesystem::path& path);

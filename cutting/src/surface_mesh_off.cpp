@@ -89,10 +89,7 @@ void readFace(RawMesh& raw, const TextLines& lines, const Tokens& tokens, int f,
 
 RawMesh readOff(const std::filesystem::path& path, double scale) {
   const std::string text = readWholeFile(path);
-  RawMesh raw;
-  raw.file = path.string();
-  raw.index_base = 0;
-  raw.vertex_note = " (vertex numbers 0-based, as in the file)";
+  RawMesh raw = zeroBasedMesh(path);
   TextLines lines(text);
   Tokens tokens;
   if (!lines.nextTokens(tokens)) fail(raw.file + ": empty file (expected the OFF header)");

@@ -302,10 +302,7 @@ void readElement(RawMesh& raw, Values& values, const Element& e, Target& target)
 
 RawMesh readPly(const std::filesystem::path& path, double scale) {
   const std::string bytes = readWholeFile(path);
-  RawMesh raw;
-  raw.file = path.string();
-  raw.index_base = 0;
-  raw.vertex_note = " (vertex numbers 0-based, as in the file)";
+  RawMesh raw = zeroBasedMesh(path);
   const Header header = parseHeader(raw, bytes);
   checkHeader(raw, header);
   Values values(raw, bytes, header);

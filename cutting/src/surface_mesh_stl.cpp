@@ -139,10 +139,7 @@ void weld(RawMesh& raw) {
 
 RawMesh readStl(const std::filesystem::path& path, double scale) {
   const std::string bytes = readWholeFile(path);
-  RawMesh raw;
-  raw.file = path.string();
-  raw.index_base = 0;
-  raw.vertex_note = " (vertex numbers 0-based, in order of first use after welding equal positions)";
+  RawMesh raw = zeroBasedMesh(path, " (vertex numbers 0-based, in order of first use after welding equal positions)");
   const std::uint64_t size = bytes.size();
   const std::uint64_t count = size >= kHeaderBytes ? littleEndian32(bytes, 80) : 0;
   if (size >= kHeaderBytes && size == kHeaderBytes + kTriangleBytes * count) {

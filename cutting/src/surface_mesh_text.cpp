@@ -8,11 +8,20 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 
 #include "incise/cutting/format.h"
 #include "surface_mesh_internal.h"
 
 namespace incise::cutting::detail {
+
+RawMesh zeroBasedMesh(const std::filesystem::path& path, std::string vertex_note) {
+  RawMesh raw;
+  raw.file = path.string();
+  raw.index_base = 0;
+  raw.vertex_note = std::move(vertex_note);
+  return raw;
+}
 
 std::string readWholeFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

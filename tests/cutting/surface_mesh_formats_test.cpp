@@ -14,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include "incise/cutting/surface_mesh.h"
+#include "mesh_fixture.h"
 #include "support/temp_dir.h"
 
 namespace incise::cutting {
@@ -28,15 +29,7 @@ const std::array<std::array<int, 3>, 8> kCorners = {
 const std::array<std::array<int, 4>, 6> kQuads = {
     {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}}};
 
-std::string loadError(const fs::path& path) {
-  try {
-    loadSurfaceMesh(path);
-  } catch (const MeshError& e) {
-    return e.what();
-  }
-  FAIL("loading " << path << " did not throw MeshError");
-  return {};
-}
+using test::loadError;
 
 std::vector<std::array<double, 3>> positions(const SurfaceMesh& s) {
   std::vector<std::array<double, 3>> p;

@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "mesh_fixture.h"
 #include "support/temp_dir.h"
 
 namespace incise::cutting {
@@ -26,16 +27,7 @@ const fs::path kBunny = fs::path(INCISE_SCENARIOS_DIR) / "meshes" / "bunny.obj";
 constexpr int kBunnyVertices = 1839;
 constexpr int kBunnyFaces = 3674;
 
-// The MeshError message of loading `path`; fails the test if loading succeeds.
-std::string loadError(const fs::path& path) {
-  try {
-    loadSurfaceMesh(path);
-  } catch (const MeshError& e) {
-    return e.what();
-  }
-  FAIL("loading " << path << " did not throw MeshError");
-  return {};
-}
+using test::loadError;
 
 const std::string kTetVertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
 // Outward-facing (counter-clockwise seen from outside), one face per line; lines 5..8 of the file.
