@@ -9,7 +9,7 @@
 # killed recording is a byte prefix of the reference whose complete lines the trace reader reads back (the
 # trace replayed: as many poses as complete lines). A failure prints the command and the seed:
 #   kill_test.sh INCISE_BINARY SCENARIOS_DIR [SEEDS] [COMMANDS]   (defaults 20, "replay wrap cut record record-live";
-#   "replay-tets" adds the tet tissue's outputs, 5 s a run: the slow variant; "record-live" a live device,
+#   "replay-tets" adds the tet tissue's outputs, about 1.4 s a run: in the slow variant; "record-live" a live device,
 #   a hid recording played as one for 1 s, whose time stamps come from the clock: compared without them)
 set -u
 incise=$1
