@@ -22,8 +22,6 @@ namespace incise::cutting {
 
 namespace {
 
-constexpr const char* kObjVertexNote = " (vertex numbers 1-based, as in the file)";
-
 using detail::countOf;
 using detail::fail;
 using detail::RawMesh;
@@ -34,20 +32,22 @@ using FaceHandle = TriMesh::FaceHandle;
 // ---------------------------------------------------------------------------------------------------------
 // Triangle-list checks (before building the OpenMesh mesh, which would silently drop non-manifold faces)
 
-std::string vertexPair(int a, int b) { return "(" + std::to_string(a + 1) + ", " + std::to_string(b + 1) + ")"; }
+std::string vertexPair(const RawMesh& raw, int a, int b) {
+  return "(" + raw.vertexName(a) + ", " + raw.vertexName(b) + ")";
+}
 
 void checkDegenerate(const RawMesh& raw) {
   for (size_t t = 0; t < raw.triangles.size(); ++t) {
     const auto [a, b, c] = raw.triangles[t];
     const std::string where = raw.faceAt(static_cast<int>(t)) + "degenerate face " + std::to_string(t) + ": ";
-    if (a == b || a == c) fail(where + "vertex " + std::to_string(a + 1) + " repeated" + kObjVertexNote);
-    if (b == c) fail(where + "vertex " + std::to_string(b + 1) + " repeated" + kObjVertexNote);
+    if (a == b || a == c) fail(where + "vertex " + raw.vertexName(a) + " repeated" + raw.vertex_note);
+    if (b == c) fail(where + "vertex " + raw.vertexName(b) + " repeated" + raw.vertex_note);
     const auto& p = raw.points;
     const Eigen::Vector3d n = (p[static_cast<size_t>(b)] - p[static_cast<size_t>(a)])
                                   .cross(p[static_cast<size_t>(c)] - p[static_cast<size_t>(a)]);
     if (n.squaredNorm() == 0.0)
-      fail(where + "zero area (vertices " + std::to_string(a + 1) + ", " + std::to_string(b + 1) + ", " +
-           std::to_string(c + 1) + " are collinear or coincide)" + kObjVertexNote);
+      fail(where + "zero area (vertices " + raw.vertexName(a) + ", " + raw.vertexName(b) + ", " + raw.vertexName(c) +
+           " are collinear or coincide)" + raw.vertex_note);
   }
 }
 
@@ -58,8 +58,8 @@ void checkReferenced(const RawMesh& raw) {
   const auto unused = static_cast<size_t>(std::count(used.begin(), used.end(), 0));
   if (unused == 0) return;
   const auto first = static_cast<size_t>(std::find(used.begin(), used.end(), 0) - used.begin());
-  fail(raw.at(raw.point_lines[first]) + "unreferenced vertex " + std::to_string(first + 1) + " (used by no face); " +
-       std::to_string(unused) + " unreferenced vertices in all" + kObjVertexNote);
+  fail(raw.at(raw.point_lines[first]) + "unreferenced vertex " + raw.vertexName(static_cast<int>(first)) +
+       " (used by no face); " + std::to_string(unused) + " unreferenced vertices in all" + raw.vertex_note);
 }
 
 // One side of an undirected edge lo < hi: the face using it and whether it runs lo -> hi.
@@ -94,7 +94,7 @@ std::string faceList(const RawMesh& raw, const std::vector<EdgeUse>& uses, size_
   std::string s;
   for (size_t i = begin; i < end && i < begin + 4; ++i) {
     const int f = uses[i].face;
-    s += (i > begin ? ", face " : "face ") + std::to_string(f) + " at line " +
+    s += (i > begin ? ", face " : "face ") + std::to_string(f) + (raw.binary ? " at byte " : " at line ") +
          std::to_string(raw.triangle_lines[static_cast<size_t>(f)]);
   }
   return end - begin > 4 ? s + ", ..." : s;
@@ -108,20 +108,20 @@ void reportEdgeProblems(const RawMesh& raw, const std::vector<EdgeUse>& uses, co
   };
   if (p.non_manifold > 0) {
     const size_t i = p.first_non_manifold, j = groupEnd(i);
-    fail(raw.faceAt(uses[i].face) + "non-manifold edge " + vertexPair(uses[i].lo, uses[i].hi) + " shared by " +
+    fail(raw.faceAt(uses[i].face) + "non-manifold edge " + vertexPair(raw, uses[i].lo, uses[i].hi) + " shared by " +
          std::to_string(j - i) + " faces (" + faceList(raw, uses, i, j) + "); " + std::to_string(p.non_manifold) +
-         " such edges in all" + kObjVertexNote);
+         " such edges in all" + raw.vertex_note);
   }
   if (p.open > 0) {
     const size_t i = p.first_open;
-    fail(raw.faceAt(uses[i].face) + "open surface: edge " + vertexPair(uses[i].lo, uses[i].hi) + " has 1 face (" +
-         faceList(raw, uses, i, i + 1) + "); " + std::to_string(p.open) + " boundary edges in all" + kObjVertexNote);
+    fail(raw.faceAt(uses[i].face) + "open surface: edge " + vertexPair(raw, uses[i].lo, uses[i].hi) + " has 1 face (" +
+         faceList(raw, uses, i, i + 1) + "); " + std::to_string(p.open) + " boundary edges in all" + raw.vertex_note);
   }
   if (p.flipped > 0) {
     const size_t i = p.first_flipped;
-    fail(raw.faceAt(uses[i].face) + "inconsistent orientation at edge " + vertexPair(uses[i].lo, uses[i].hi) + ": " +
-         faceList(raw, uses, i, i + 2) + " run the same way (a face is flipped); " + std::to_string(p.flipped) +
-         " such edges in all" + kObjVertexNote);
+    fail(raw.faceAt(uses[i].face) + "inconsistent orientation at edge " + vertexPair(raw, uses[i].lo, uses[i].hi) +
+         ": " + faceList(raw, uses, i, i + 2) + " run the same way (a face is flipped); " + std::to_string(p.flipped) +
+         " such edges in all" + raw.vertex_note);
   }
 }
 
@@ -185,8 +185,8 @@ void checkFans(const RawMesh& raw) {
     const auto begin = links.edges.begin() + links.offsets[v], end = links.edges.begin() + links.offsets[v + 1];
     const int fans = fanCount(begin, end, seen);
     if (fans != 1)
-      fail(raw.at(raw.point_lines[v]) + "non-manifold vertex " + std::to_string(v + 1) + ": its " +
-           std::to_string(end - begin) + " faces form " + std::to_string(fans) + " separate fans" + kObjVertexNote);
+      fail(raw.at(raw.point_lines[v]) + "non-manifold vertex " + raw.vertexName(static_cast<int>(v)) + ": its " +
+           std::to_string(end - begin) + " faces form " + std::to_string(fans) + " separate fans" + raw.vertex_note);
   }
 }
 

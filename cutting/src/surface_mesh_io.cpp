@@ -1,5 +1,6 @@
-// Loading and saving surface meshes (surface_mesh.h): OBJ through incise's own reader and checks, PLY, OFF
-// and STL through OpenMesh; OBJ and PLY output.
+// Loading and saving surface meshes (surface_mesh.h): the OBJ reader, the choice of reader by extension
+// (OFF, STL, PLY in surface_mesh_off/stl/ply.cpp), the loader's checks and the OpenMesh mesh built from the
+// triangle list; OBJ and PLY output.
 #include "incise/cutting/surface_mesh.h"
 
 #include <algorithm>
@@ -18,8 +19,6 @@
 #include <utility>
 #include <vector>
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-
 #include "incise/cutting/atomic_file.h"
 #include "incise/cutting/format.h"
 #include "surface_mesh_internal.h"
@@ -30,37 +29,14 @@ namespace {
 
 using detail::countOf;
 using detail::fail;
+using detail::parseCoordinate;
 using detail::RawMesh;
+using detail::splitTokens;
 using VertexHandle = TriMesh::VertexHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
 // ---------------------------------------------------------------------------------------------------------
 // OBJ parsing
-
-void splitTokens(std::string_view line, std::vector<std::string_view>& tokens) {
-  tokens.clear();
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    size_t j = i;
-    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-    if (j > i) tokens.push_back(line.substr(i, j - i));
-    i = j;
-  }
-}
-
-double parseCoordinate(std::string_view token, const std::string& where) {
-  std::string_view digits = token;
-  if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
-  double value = 0.0;
-  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  const std::string quoted = std::string("'").append(token).append("'");  // not "'" + ...: GCC 12 -Wrestrict, PR 105651
-  if (ec == std::errc::result_out_of_range) fail(where + "coordinate " + quoted + " is out of range");
-  if (ec != std::errc() || end != digits.data() + digits.size())
-    fail(where + "coordinate " + quoted + " is not a number");
-  if (!std::isfinite(value)) fail(where + "coordinate " + quoted + " is not finite");
-  return value;
-}
 
 // The vertex part of `a`, `a/t`, `a//n` or `a/t/n`, resolved to a 0-based index. Positive indices may
 // point past the vertices read so far (checked at the end); negative ones count back from the last.
@@ -87,24 +63,16 @@ void parseVertex(const std::vector<std::string_view>& tokens, double scale, int 
   if (tokens.size() < 4) fail(where + "expected 3 coordinates, got " + std::to_string(tokens.size() - 1));
   Eigen::Vector3d p;
   for (int a = 0; a < 3; ++a) p[a] = parseCoordinate(tokens[static_cast<size_t>(a + 1)], where);
-  p *= scale;
-  if (!p.allFinite()) fail(where + "coordinate overflows after scaling by " + formatNumber(scale));
-  raw.points.push_back(p);
-  raw.point_lines.push_back(line);
+  raw.addPoint(p, scale, line);
 }
 
-void parseFace(const std::vector<std::string_view>& tokens, int line, RawMesh& raw) {
+void parseFace(const std::vector<std::string_view>& tokens, int line, RawMesh& raw, std::vector<int>& polygon) {
   const std::string where = raw.at(line);
   if (tokens.size() < 4) fail(where + "a face needs at least 3 vertices, got " + std::to_string(tokens.size() - 1));
   const int so_far = static_cast<int>(raw.points.size());
-  const int first = parseFaceIndex(tokens[1], so_far, where);
-  int previous = parseFaceIndex(tokens[2], so_far, where);
-  for (size_t k = 3; k < tokens.size(); ++k) {  // fan: (first, previous, next)
-    const int next = parseFaceIndex(tokens[k], so_far, where);
-    raw.triangles.push_back({first, previous, next});
-    raw.triangle_lines.push_back(line);
-    previous = next;
-  }
+  polygon.clear();
+  for (size_t k = 1; k < tokens.size(); ++k) polygon.push_back(parseFaceIndex(tokens[k], so_far, where));
+  raw.addPolygon(polygon, line);
 }
 
 bool ignoredStatement(std::string_view keyword) {
@@ -112,13 +80,13 @@ bool ignoredStatement(std::string_view keyword) {
   return std::find(kIgnored.begin(), kIgnored.end(), keyword) != kIgnored.end();
 }
 
-void parseObjLine(std::string_view line, double scale, int number, RawMesh& raw,
-                  std::vector<std::string_view>& tokens) {
+void parseObjLine(std::string_view line, double scale, int number, RawMesh& raw, std::vector<std::string_view>& tokens,
+                  std::vector<int>& polygon) {
   line = line.substr(0, line.find('#'));
   splitTokens(line, tokens);
   if (tokens.empty() || ignoredStatement(tokens[0])) return;
   if (tokens[0] == "v") return parseVertex(tokens, scale, number, raw);
-  if (tokens[0] == "f") return parseFace(tokens, number, raw);
+  if (tokens[0] == "f") return parseFace(tokens, number, raw, polygon);
   fail(raw.at(number) + "unsupported OBJ statement '" + std::string(tokens[0]) + "'");
 }
 
@@ -138,7 +106,8 @@ RawMesh readObj(const std::filesystem::path& path, double scale) {
   raw.file = path.string();
   std::string line;
   std::vector<std::string_view> tokens;
-  for (int number = 1; std::getline(in, line); ++number) parseObjLine(line, scale, number, raw, tokens);
+  std::vector<int> polygon;
+  for (int number = 1; std::getline(in, line); ++number) parseObjLine(line, scale, number, raw, tokens, polygon);
   if (in.bad()) fail(raw.file + ": read error");
   checkIndexRange(raw);
   return raw;
@@ -158,79 +127,18 @@ SurfaceMesh buildMesh(const RawMesh& raw) {
   return surface;
 }
 
-// ---------------------------------------------------------------------------------------------------------
-// Other formats, through OpenMesh
-
 std::string lowerExtension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 
-std::optional<long long> plyFaceCount(std::istream& in) {
-  std::string line;
-  while (std::getline(in, line) && line.rfind("end_header", 0) != 0) {
-    std::istringstream s(line);
-    std::string element, name;
-    long long count = -1;
-    if (s >> element >> name >> count && element == "element" && name == "face") return count;
-  }
-  return std::nullopt;
-}
-
-// "OFF" (or COFF, NOFF, ...) then "#vertices #faces #edges"; nullopt when comments or binary data intervene.
-std::optional<long long> offFaceCount(std::istream& in) {
-  std::string word;
-  long long vertices = 0, faces = 0;
-  if (in >> word && word.find("OFF") != std::string::npos && in >> vertices >> faces) return faces;
-  return std::nullopt;
-}
-
-// Binary STL when the size matches 84 + 50 * (count at byte 80); ASCII otherwise ("facet" statements).
-std::optional<long long> stlFaceCount(std::istream& in, const std::filesystem::path& path) {
-  std::array<char, 84> header{};
-  in.read(header.data(), header.size());
-  std::uint32_t count = 0;
-  std::memcpy(&count, header.data() + 80, sizeof count);
-  if (in && std::filesystem::file_size(path) == 84 + 50 * static_cast<std::uintmax_t>(count)) return count;
-  in.clear();
-  in.seekg(0);
-  long long facets = 0;
-  std::string word;
-  while (in >> word) facets += (word == "facet");
-  return facets;
-}
-
-// Faces the file declares, when the format says (PLY and OFF headers, STL facets). Polygons may turn into
-// more triangles, so only fewer faces than declared means OpenMesh dropped some.
-std::optional<long long> declaredFaceCount(const std::filesystem::path& path, const std::string& ext) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  if (ext == ".ply") return plyFaceCount(in);
-  if (ext == ".off") return offFaceCount(in);
-  if (ext == ".stl") return stlFaceCount(in, path);
-  return std::nullopt;
-}
-
-SurfaceMesh readWithOpenMesh(const std::filesystem::path& path, const std::string& ext, double scale) {
-  if (!std::filesystem::exists(path)) fail(path.string() + ": cannot open (no such file)");
-  TriMesh mesh;
-  OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::read_mesh(mesh, path.string(), options)) fail(path.string() + ": OpenMesh could not read it");
-  const auto declared = declaredFaceCount(path, ext);
-  if (declared && static_cast<long long>(mesh.n_faces()) < *declared)
-    fail(path.string() + ": OpenMesh read " + std::to_string(mesh.n_faces()) + " of the " + std::to_string(*declared) +
-         " faces in the file (it drops degenerate and non-manifold faces)");
-  for (const VertexHandle v : mesh.vertices()) {
-    mesh.point(v) *= scale;
-    if (!toEigen(mesh.point(v)).allFinite())
-      fail(path.string() + ": vertex " + std::to_string(v.idx()) + " (0-based) has a non-finite position");
-  }
-  const ManifoldReport report = checkManifold(mesh);
-  if (!report.closed_two_manifold)
-    fail(path.string() + ": " + report.first_problem + " (0-based indices as read by OpenMesh)");
-  mesh.update_normals();
-  return SurfaceMesh(std::move(mesh));
+RawMesh readRaw(const std::filesystem::path& path, const std::string& ext, double scale) {
+  if (ext == ".obj") return readObj(path, scale);
+  if (ext == ".off") return detail::readOff(path, scale);
+  if (ext == ".stl") return detail::readStl(path, scale);
+  if (ext == ".ply") return detail::readPly(path, scale);
+  fail(path.string() + ": unsupported mesh format '" + ext + "' (obj, ply, off, stl)");
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -292,10 +200,7 @@ void writePlyHeader(AtomicFile& out, const TriMesh& mesh) {
 SurfaceMesh loadSurfaceMesh(const std::filesystem::path& path, double scale) {
   if (!std::isfinite(scale) || scale <= 0.0)
     throw std::invalid_argument("loadSurfaceMesh: scale must be finite and > 0, got " + formatNumber(scale));
-  const std::string ext = lowerExtension(path);
-  if (ext == ".ply" || ext == ".off" || ext == ".stl") return readWithOpenMesh(path, ext, scale);
-  if (ext != ".obj") fail(path.string() + ": unsupported mesh format '" + ext + "' (obj, ply, off, stl)");
-  const RawMesh raw = readObj(path, scale);
+  const RawMesh raw = readRaw(path, lowerExtension(path), scale);
   detail::checkTriangles(raw);
   return buildMesh(raw);
 }

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <system_error>
 #include <utility>
 
@@ -12,7 +13,9 @@ namespace incise::devices::detail {
 RecordStream::RecordStream(std::filesystem::path path, std::string who, std::size_t flush_every, bool fsync_on_close,
                            std::size_t reserve_bytes)
     : path_(std::move(path)), who_(std::move(who)), flush_every_(flush_every), fsync_on_close_(fsync_on_close) {
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  tmp_ = path_;
+  tmp_ += ".tmp";
+  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) fail(errno, "create");
   buffer_.reserve(reserve_bytes);
 }
@@ -33,8 +36,10 @@ void RecordStream::writeHeader(std::string_view text) {
   buffer_.append(text);
   try {
     writeBuffer();
+    if (::rename(tmp_.c_str(), path_.c_str()) != 0) fail(errno, "rename onto");
   } catch (...) {
     ::close(std::exchange(fd_, -1));
+    ::unlink(tmp_.c_str());
     throw;
   }
 }

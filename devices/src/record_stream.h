@@ -3,7 +3,10 @@
 // no stdio or iostream buffer in between, every flush_every records, on flush(), close() and in the
 // destructor. What a call to one of these has handed over survives the process dying in any way (it is
 // in the page cache); records still buffered are lost whole; a kill during a write(2) can leave at most
-// one cut last line. The writers' headers (trace_csv.h, hid_recording.h) state the guarantee to users.
+// one cut last line. The file appears at its path only with its header complete: the header is written to
+// `path + ".tmp"`, which is then renamed onto the path (a previous file there stays whole until then; a
+// kill before the rename leaves the .tmp, which the next recorder of the path truncates). The writers'
+// headers (trace_csv.h, hid_recording.h) state the guarantee to users.
 // Private to devices/ (held by pointer from the public writers, so their headers do not need this one).
 //
 // Threads: one thread at a time. Cost: O(1) amortised per record; one write(2) per flush.
@@ -21,7 +24,7 @@ namespace incise::devices::detail {
 
 class RecordStream {
  public:
-  // Creates or truncates `path` (mode 0644 before umask). flush_every >= 1 (the writers check it);
+  // Creates or truncates `path + ".tmp"` (mode 0644 before umask); writeHeader() renames it onto `path`. flush_every >= 1 (the writers check it);
   // reserve_bytes: the buffer's first allocation, roughly flush_every lines.
   RecordStream(std::filesystem::path path, std::string who, std::size_t flush_every, bool fsync_on_close,
                std::size_t reserve_bytes);
@@ -30,7 +33,8 @@ class RecordStream {
   RecordStream(const RecordStream&) = delete;
   RecordStream& operator=(const RecordStream&) = delete;
 
-  // Writes `text` (the file's header) now. On failure closes the file and throws.
+  // Writes `text` (the file's header) now and renames the .tmp onto the path. On failure closes the file,
+  // removes the .tmp and throws.
   void writeHeader(std::string_view text);
   // Append one record's text (lines ending in '\n') here, then call recordAdded().
   std::string& buffer() { return buffer_; }
@@ -53,7 +57,7 @@ class RecordStream {
   void writeBuffer();
   [[noreturn]] void fail(int error, const char* what) const;
 
-  std::filesystem::path path_;
+  std::filesystem::path path_, tmp_;
   std::string who_;
   std::size_t flush_every_;
   bool fsync_on_close_;

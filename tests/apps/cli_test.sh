@@ -26,6 +26,36 @@ import json, sys
 f = json.load(open('$work/cutfig/summary.json'))['incision_figures']
 sys.exit(0 if len(f) == 1 and abs(f[0]['groove_length_m'] - f[0]['stroke_length_m']) <= 0.1 * f[0]['stroke_length_m'] else 1)"
 
+# Meshes as other tools write them: the bunny as an OFF headed by CGAL's comments (the same cut as from the
+# OBJ) and as a binary STL whose 80-byte header begins with "solid" (float positions, corners welded).
+python3 - "$scenarios/meshes/bunny.obj" "$work" <<'PY'
+import struct, sys
+v, f = [], []
+for line in open(sys.argv[1]):
+    t = line.split('#')[0].split()
+    if t and t[0] == 'v': v.append(t[1:4])
+    if t and t[0] == 'f': f.append([int(x.split('/')[0]) - 1 for x in t[1:]])
+with open(sys.argv[2] + '/bunny.off', 'w') as out:
+    out.write('# written by CGAL\n# a comment block before the header\nOFF\n%d %d 0\n\n' % (len(v), len(f)))
+    out.writelines(' '.join(p) + '\n' for p in v)
+    out.writelines('%d %s\n' % (len(x), ' '.join(map(str, x))) for x in f)
+with open(sys.argv[2] + '/bunny.stl', 'wb') as out:
+    out.write(b'solid bunny, but binary'.ljust(80) + struct.pack('<I', len(f)))
+    for x in f:
+        out.write(struct.pack('<3f', 0, 0, 0) + b''.join(struct.pack('<3f', *map(float, v[i])) for i in x) + b'\0\0')
+with open(sys.argv[2] + '/bad.off', 'w') as out:
+    out.write('OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n')
+PY
+check "cut accepts an OFF whose first lines are comments" "$incise" cut --mesh "$work/bunny.off" --out "$work/cutoff"
+check "... the same cut mesh as from the OBJ" cmp -s "$work/cutfig/cut.obj" "$work/cutoff/cut.obj"
+check "cut accepts a binary STL whose header begins with 'solid'" "$incise" cut --mesh "$work/bunny.stl" --out "$work/cutstl"
+check "... closed and cut" python3 -c "
+import json, sys
+b = json.load(open('$work/cutstl/summary.json'))
+sys.exit(0 if b['failure'] == '' and b['mesh']['closed_two_manifold'] and b['mesh']['wall_faces'] > 0 and b['edges_split'] > 0 else 1)"
+check "a bad OFF is refused with file:line" expect_exit 2 "bad.off:6: face 0 has index 7 but there are 3 vertices" -- "$incise" cut --mesh "$work/bad.off" --out "$work/cutbad"
+check "... and nothing is written" test ! -e "$work/cutbad/cut.obj"
+
 # A tet tissue: the cut tets beside the cut surface, their figures in the report.
 check "replay runs the tet scenario" "$incise" replay "$scenarios/bunny-tets.json" --out "$work/tets"
 for f in tets.vtu tets.node tets.ele cut.obj; do check "the tet replay writes $f" test -s "$work/tets/$f"; done

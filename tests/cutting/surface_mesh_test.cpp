@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "mesh_fixture.h"
 #include "support/temp_dir.h"
 
 namespace incise::cutting {
@@ -26,16 +27,7 @@ const fs::path kBunny = fs::path(INCISE_SCENARIOS_DIR) / "meshes" / "bunny.obj";
 constexpr int kBunnyVertices = 1839;
 constexpr int kBunnyFaces = 3674;
 
-// The MeshError message of loading `path`; fails the test if loading succeeds.
-std::string loadError(const fs::path& path) {
-  try {
-    loadSurfaceMesh(path);
-  } catch (const MeshError& e) {
-    return e.what();
-  }
-  FAIL("loading " << path << " did not throw MeshError");
-  return {};
-}
+using test::loadError;
 
 const std::string kTetVertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
 // Outward-facing (counter-clockwise seen from outside), one face per line; lines 5..8 of the file.
@@ -246,21 +238,19 @@ TEST_CASE("surface_mesh: an unreferenced vertex is rejected, naming it", "[cutti
   REQUIRE_THAT(message, Catch::Contains(p.string() + ":5: unreferenced vertex 5 (used by no face); 1 unreferenced"));
 }
 
-TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-manifold check", "[cutting]") {
+TEST_CASE("surface_mesh: OFF goes through the same closed-manifold check, 0-based vertex numbers", "[cutting]") {
   TempDir dir;
   const std::string verts = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
   const SurfaceMesh tet =
       loadSurfaceMesh(dir.write("tet.off", "OFF\n4 4 6\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
   REQUIRE(tet.mesh().n_faces() == 4);
   REQUIRE(checkManifold(tet.mesh()).closed_two_manifold);
-  const std::string open = loadError(dir.write("open.off", "OFF\n4 3 0\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n"));
-  REQUIRE_THAT(open, Catch::Contains("open.off: boundary edge"));
-  // OpenMesh's importer re-adds the third face on edge (0, 1) with copies of its vertices: the copies
-  // leave boundary edges, so the file is still refused.
-  const std::string fin =
-      loadError(dir.write("fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n"));
-  REQUIRE_THAT(fin, Catch::Contains("fin.off: boundary edge"));
-  REQUIRE_THAT(fin, Catch::Contains("0-based"));
+  const fs::path open = dir.write("open.off", "OFF\n4 3 0\n" + verts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n");
+  REQUIRE_THAT(loadError(open), Catch::Contains(open.string() + ":7: open surface: edge (1, 2) has 1 face"));
+  REQUIRE_THAT(loadError(open), Catch::Contains("(vertex numbers 0-based, as in the file)"));
+  const fs::path fin =
+      dir.write("fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  REQUIRE_THAT(loadError(fin), Catch::Contains(fin.string() + ":8: non-manifold edge (0, 1) shared by 3 faces"));
 }
 
 TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addVertex, addFace and copies",

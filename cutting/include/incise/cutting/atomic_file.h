@@ -1,7 +1,9 @@
 // The one way incise writes a whole output file (meshes, tet meshes, JSON reports, JSON lines): the text
 // goes to `path + ".tmp"` through a 1 MiB buffer and is renamed onto `path` by commit(), so a crash, a
 // kill or a full disk leaves either no file, the previous complete file, or the new complete file —
-// never a torn one. A writer destroyed before commit() removes its .tmp.
+// never a torn one. A writer destroyed before commit() removes its .tmp; a SIGKILL (no destructor runs)
+// leaves it: `path + ".tmp"` is never read as the output, and the next writer of the path truncates it
+// (tests/apps/kill_test.sh kills replay, wrap, cut and record at seeded moments and checks all this).
 //
 // Numbers: operator<<(double) writes the shortest text that reads back to the same double (std::to_chars,
 // locale-independent, round trip); number17(double) the fixed 17-significant-digit form the mesh files use.

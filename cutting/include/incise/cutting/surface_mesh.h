@@ -1,16 +1,15 @@
 // The tissue surface: a closed, consistently oriented triangle mesh (OpenMesh TriMesh) that the incision
 // code cuts. Every vertex and face carries a kind, so a cut's lips (Seam vertices, Split faces) and walls
-// (Wall vertices and faces) stay recognisable for drawing and checking. Plus OBJ/PLY input and output, a
+// (Wall vertices and faces) stay recognisable for drawing and checking. Plus OBJ/OFF/STL/PLY input, OBJ/PLY output, a
 // closed-two-manifold check, a JSON summary and Loop subdivision (to make large test meshes).
 //
 // Shapes: triangles only; handles are OpenMesh handles into mesh(); face and vertex indices in messages of
 // checkManifold are 0-based handle indices. Loader messages give vertex numbers as the file does (1-based
 // for OBJ, 0-based for PLY/OFF/STL; each message says which) and faces as "face i" (0-based index in the
-// triangulated face list, which is the loaded mesh's FaceHandle index) plus the file:line it came from.
+// triangulated face list, which is the loaded mesh's FaceHandle index) plus the file:line (or byte) it came from.
 // Units: positions in metres in incise (the loader's `scale` converts, e.g. 0.001 for a file in mm).
-// Threads: const members and free functions on distinct or const meshes may run concurrently (except
-// loading .ply/.off/.stl, which goes through OpenMesh's IO singleton: one at a time); mutators need
-// exclusive access.
+// Threads: const members and free functions on distinct or const meshes may run concurrently (loading
+// included); mutators need exclusive access.
 // Failure: MeshError (a std::runtime_error naming the file and line, or the element) for bad files and
 // I/O failures; std::invalid_argument for bad arguments (with the value); std::out_of_range for invalid
 // handles. Loading, saving and checking allocate: not for the sim thread.
@@ -114,11 +113,22 @@ class SurfaceMesh {
 // "open surface: edge (a, b) has 1 face (face 17, file:line)"), with opposite orientations
 // ("inconsistent orientation at edge (a, b)"); each vertex's faces form a single fan ("non-manifold
 // vertex 42").
-// .ply/.off/.stl go through OpenMesh::IO::read_mesh, whose importer re-adds a face it cannot add on copies
-// of its vertices (or drops it): the face count is compared with the file's header (PLY, OFF) or facet
-// count (STL), and the result must pass checkManifold (copies show up as boundary edges); messages then
-// give OpenMesh's 0-based indices.
-// Throws MeshError (missing or unreadable file, unknown extension, any check above). Cost O(n log n).
+// OFF, STL and PLY go through incise's own readers too (CGAL's polygon-soup readers load the same files
+// but only say true or false, with no line or byte), into the same checks, with vertex numbers 0-based:
+// .off: text OFF, COFF, NOFF, CNOFF, STOFF (what follows x y z on a vertex line, or the indices on a face
+// line — a colour — is ignored), `#` comments and blank lines anywhere, the counts on the keyword's line or
+// the next; 4OFF, nOFF and binary OFF refused. .stl: binary when the size is exactly 84 + 50 * the count at
+// byte 80 (even if the header begins with "solid"), ASCII when the text begins with "solid" and has no NUL
+// byte; exactly equal positions welded (vertices numbered in order of first use). .ply: ascii,
+// binary_little_endian, binary_big_endian; x y z of "vertex" (any numeric type) and the list
+// "vertex_indices" (or "vertex_index") of "face" (any integer types); other properties and elements
+// ignored. Polygons of every format become fans from their first vertex (right for convex polygons).
+// Errors name file:line for text ("bad.off:16: face 5 has index 12 but there are 8 vertices"), the byte
+// offset for binary data ("x.ply: byte 463: the file ends inside face 1") or both sizes ("x.stl: binary STL
+// declares 1200 triangles (60084 bytes) but the file has 5000 bytes"). Any input gives a mesh or a
+// MeshError: a declared count is checked against the file's size before memory is reserved for it.
+// Throws MeshError (missing or unreadable file, unknown extension, any check above). Cost O(n log n) plus
+// the file's size in memory while it is read.
 SurfaceMesh loadSurfaceMesh(const std::filesystem::path& path, double scale = 1.0);
 
 struct ManifoldReport {

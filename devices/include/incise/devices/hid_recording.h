@@ -131,7 +131,9 @@ struct HidRecordingWriterOptions {
 // The device's index is not written (the file holds one device, number 0).
 //
 // Crash guarantee. The constructor writes the comments and the device's lines with write(2) before it
-// returns. Reports are buffered in this process's memory and handed to the kernel with write(2) (no stdio
+// returns; the file appears at its path only then, header complete (written to path + ".tmp", renamed
+// onto the path; a previous file there stays whole until the rename; a kill before it leaves the .tmp).
+// Reports are buffered in this process's memory and handed to the kernel with write(2) (no stdio
 // or iostream buffer in between) when the buffer holds options.flush_every reports, on flush(), close()
 // and in the destructor. Once one of these calls has returned, its reports are in the kernel's page cache:
 // if the process then dies in any way (SIGKILL, abort, a crash, _exit) the file holds the comments, the

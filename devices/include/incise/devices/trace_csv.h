@@ -138,6 +138,8 @@ struct TraceWriterOptions {
 // Records samples to a trace file in the format above.
 //
 // Crash guarantee. The constructor writes the header and the comments with write(2) before it returns.
+// The file appears at its path only then, header complete (written to path + ".tmp", renamed onto the
+// path; a previous file there stays whole until the rename; a kill before it leaves only the .tmp).
 // Samples are buffered in this process's memory and handed to the kernel with write(2) (no stdio or
 // iostream buffer in between) when the buffer holds options.flush_every samples, on flush(), close()
 // and in the destructor. Once one of these calls has returned, its samples are in the kernel's page
