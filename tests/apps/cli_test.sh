@@ -26,6 +26,35 @@ import json, sys
 f = json.load(open('$work/cutfig/summary.json'))['incision_figures']
 sys.exit(0 if len(f) == 1 and abs(f[0]['groove_length_m'] - f[0]['stroke_length_m']) <= 0.1 * f[0]['stroke_length_m'] else 1)"
 
+# A cut that did nothing never reports success (issue 14): a 10 cm box of 12 triangles (a CAD model's large
+# flat faces) is coarser than the lattice; cut exits 1 and the summary's failure says why and where.
+cat > "$work/cadbox.obj" <<'OBJ'
+v -0.05 -0.02 -0.05
+v 0.05 -0.02 -0.05
+v 0.05 0 -0.05
+v -0.05 0 -0.05
+v -0.05 -0.02 0.05
+v 0.05 -0.02 0.05
+v 0.05 0 0.05
+v -0.05 0 0.05
+f 1 4 3
+f 1 3 2
+f 5 6 7
+f 5 7 8
+f 1 2 6
+f 1 6 5
+f 4 8 7
+f 4 7 3
+f 1 5 8
+f 1 8 4
+f 2 3 7
+f 2 7 6
+OBJ
+check "cut on a mesh coarser than the lattice exits 1 and says why" expect_exit 1 "the mesh is coarse next to the lattice" \
+  -- "$incise" cut --mesh "$work/cadbox.obj" --scale 1 --subdivide 0 --start -0.02 0.05 0.003 --length 0.04 --out "$work/cadcut"
+check "... its summary's failure names the empty lattice columns" grep -q '"failure": ".*80 of 80 lattice columns' "$work/cadcut/summary.json"
+check "... and the incision's shortfall" grep -q '"shortfall": "coarse_mesh"' "$work/cadcut/summary.json"
+
 # Meshes as other tools write them: the bunny as an OFF headed by CGAL's comments (the same cut as from the
 # OBJ) and as a binary STL whose 80-byte header begins with "solid" (float positions, corners welded).
 python3 - "$scenarios/meshes/bunny.obj" "$work" <<'PY'

@@ -138,7 +138,7 @@ bool cutAndCheck(const Case& c) {
     return false;  // said why; the mesh checks above still hold
   }
   if (f.groove_length_m == 0.0) return false;  // nothing to open (no stroke in contact)
-  REQUIRE(volume_after < volume_before);  // the walls face out of the tissue: the wound removes volume
+  REQUIRE(volume_after < volume_before);       // the walls face out of the tissue: the wound removes volume
 
   // Vertices beyond the lattice's reach are bit for bit where they were; the groove's bottom is the
   // blade's depth below the original surface.
@@ -192,14 +192,23 @@ Case randomCase(std::mt19937& rng, int index) {
   Eigen::Vector2d centre(0.0, 0.0);
   double radius_m = 0.01;
   switch (kind) {
-    case 0: c.tissue = &t.sphere4, c.what = "icosphere (5 subdivisions, r 3 cm)"; break;
+    case 0:
+      c.tissue = &t.sphere4, c.what = "icosphere (5 subdivisions, r 3 cm)";
+      break;
     case 1:
       c.tissue = &t.pad1, c.what = "skin pad, 1 mm grid", radius_m = 0.025;
-      if (index % 2) c.path.direction = index % 4 == 1 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d(1, 0, 1).normalized();
+      if (index % 2)
+        c.path.direction = index % 4 == 1 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d(1, 0, 1).normalized();
       break;
-    case 2: c.tissue = &t.pad2, c.what = "skin pad, 0.7 mm grid", radius_m = 0.015; break;
-    case 3: c.tissue = &t.torus, c.what = "torus (R 3 cm, r 1.2 cm)", centre = {0.03, 0.0}, radius_m = 0.004; break;
-    default: c.tissue = &t.bunny2, c.what = "bunny (2 subdivisions)", centre = {-0.005, 0.015}, radius_m = 0.006; break;
+    case 2:
+      c.tissue = &t.pad2, c.what = "skin pad, 0.7 mm grid", radius_m = 0.015;
+      break;
+    case 3:
+      c.tissue = &t.torus, c.what = "torus (R 3 cm, r 1.2 cm)", centre = {0.03, 0.0}, radius_m = 0.004;
+      break;
+    default:
+      c.tissue = &t.bunny2, c.what = "bunny (2 subdivisions)", centre = {-0.005, 0.015}, radius_m = 0.006;
+      break;
   }
   Eigen::Vector2d start = centre + radius_m * Eigen::Vector2d(between(-1, 1), between(-1, 1));
   if (kind == 1 && index % 3 == 0) start = {std::round(1e3 * between(-0.02, 0.0)) * 1e-3, 0.0};  // a grid line
@@ -253,12 +262,12 @@ IncisionFigures cutFigures(SurfaceMesh& mesh, const StrokePathOptions& path, Man
 TEST_CASE("surface_cutter: a stroke exactly along a pad's grid line cuts clean (issue 14)", "[cutting]") {
   // Was: 616 zero-area faces, not a closed two-manifold, an empty failure.
   const SurfaceMesh& pad = tissues().pad1;
-  cutAndCheck(padCase({-0.02, 0.05, 0.0}, Eigen::Vector3d::UnitX(), pad));       // along a grid line
-  cutAndCheck(padCase({-0.02, 0.05, 0.00025}, Eigen::Vector3d::UnitX(), pad));   // 0.25 mm beside it
-  cutAndCheck(padCase({-0.02, 0.05, 1e-12}, Eigen::Vector3d::UnitX(), pad));     // within rounding
-  cutAndCheck(padCase({-0.02, 0.05, -0.02}, Eigen::Vector3d(1, 0, 1), pad));     // along the diagonals
-  cutAndCheck(padCase({0.0, 0.05, -0.02}, Eigen::Vector3d::UnitZ(), pad));       // the other grid line
-  cutAndCheck(padCase({-0.02, 0.05, 0.0488}, Eigen::Vector3d::UnitX(), pad));    // along the pad's edge
+  cutAndCheck(padCase({-0.02, 0.05, 0.0}, Eigen::Vector3d::UnitX(), pad));      // along a grid line
+  cutAndCheck(padCase({-0.02, 0.05, 0.00025}, Eigen::Vector3d::UnitX(), pad));  // 0.25 mm beside it
+  cutAndCheck(padCase({-0.02, 0.05, 1e-12}, Eigen::Vector3d::UnitX(), pad));    // within rounding
+  cutAndCheck(padCase({-0.02, 0.05, -0.02}, Eigen::Vector3d(1, 0, 1), pad));    // along the diagonals
+  cutAndCheck(padCase({0.0, 0.05, -0.02}, Eigen::Vector3d::UnitZ(), pad));      // the other grid line
+  cutAndCheck(padCase({-0.02, 0.05, 0.0488}, Eigen::Vector3d::UnitX(), pad));   // along the pad's edge
   SurfaceMesh mesh = pad;
   ManifoldReport after;
   const IncisionFigures f = cutFigures(mesh, padCase({-0.02, 0.05, 0.0}, Eigen::Vector3d::UnitX(), pad).path, after);
@@ -271,8 +280,8 @@ TEST_CASE("surface_cutter: a CAD-like box of large flat faces and long thin tria
   // Was: no opening, six zero-area faces, an empty failure. A 10 cm box of 12 triangles, and one whose
   // faces are 40 long thin strips: the lattice (6 mm across) holds no vertex.
   for (const Eigen::Vector3i divisions : {Eigen::Vector3i(1, 1, 1), Eigen::Vector3i(1, 1, 40)}) {
-    SurfaceMesh box = makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.02, -0.05), Eigen::Vector3d(0.05, 0, 0.05)),
-                              divisions);
+    SurfaceMesh box =
+        makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.02, -0.05), Eigen::Vector3d(0.05, 0, 0.05)), divisions);
     const SurfaceMesh original = box;
     StrokePathOptions path;
     path.start_m = {-0.02, 0.05, 0.003};
@@ -320,4 +329,6 @@ TEST_CASE("surface_cutter: property: random strokes on icospheres, pads, a torus
   runProperty(14, 10);
 }
 
-TEST_CASE("surface_cutter: property (large): 200 random strokes cut clean", "[cutting][slow]") { runProperty(1414, 200); }
+TEST_CASE("surface_cutter: property (large): 200 random strokes cut clean", "[cutting][slow]") {
+  runProperty(1414, 200);
+}
