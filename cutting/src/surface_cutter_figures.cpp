@@ -24,8 +24,8 @@ Shortfall classify(const IncisionFigures& f, bool failed, bool no_contact) {
   if (failed) return Shortfall::Failed;
   if (no_contact) return Shortfall::NoContact;
   const double tolerance_m = std::max(f.min_stroke_m, 0.2 * f.stroke_length_m);
-  const bool short_groove = f.groove_length_m + tolerance_m < f.stroke_length_m ||
-                            (f.groove_length_m == 0.0 && f.stroke_length_m > 0.0);
+  const bool short_groove =
+      f.groove_length_m + tolerance_m < f.stroke_length_m || (f.groove_length_m == 0.0 && f.stroke_length_m > 0.0);
   if (!short_groove) return Shortfall::None;
   if (f.stroke_length_m < f.min_stroke_m) return Shortfall::TooShort;
   if (f.columns > 0 && 4 * f.empty_columns >= f.columns) return Shortfall::CoarseMesh;
@@ -48,8 +48,8 @@ std::string reason(const IncisionFigures& f) {
     case Shortfall::CoarseMesh:
       return "the mesh is coarse next to the lattice: " + std::to_string(f.empty_columns) + " of " +
              std::to_string(f.columns) + " lattice columns along the stroke held no vertex (the first at " +
-             mm(f.first_empty_at_m) + " along the stroke); its mean edge is " + mm(f.mean_edge_m) +
-             ", the lattice " + mm(f.lattice_width_m) + " across: subdivide the mesh or refine it along the stroke";
+             mm(f.first_empty_at_m) + " along the stroke); its mean edge is " + mm(f.mean_edge_m) + ", the lattice " +
+             mm(f.lattice_width_m) + " across: subdivide the mesh or refine it along the stroke";
     case Shortfall::InversionFailed:
       return "inversion failed on " + std::to_string(f.inversions_failed) +
              " vertices inside the lattice (their parameters were not found)";
@@ -69,15 +69,24 @@ std::string reason(const IncisionFigures& f) {
 
 const char* toString(Shortfall shortfall) noexcept {
   switch (shortfall) {
-    case Shortfall::None: return "none";
-    case Shortfall::Failed: return "failed";
-    case Shortfall::NoContact: return "no_contact";
-    case Shortfall::TooShort: return "too_short";
-    case Shortfall::CoarseMesh: return "coarse_mesh";
-    case Shortfall::InversionFailed: return "inversion_failed";
-    case Shortfall::NoCrossing: return "no_crossing";
-    case Shortfall::SeamBroken: return "seam_broken";
-    case Shortfall::Unexplained: return "unexplained";
+    case Shortfall::None:
+      return "none";
+    case Shortfall::Failed:
+      return "failed";
+    case Shortfall::NoContact:
+      return "no_contact";
+    case Shortfall::TooShort:
+      return "too_short";
+    case Shortfall::CoarseMesh:
+      return "coarse_mesh";
+    case Shortfall::InversionFailed:
+      return "inversion_failed";
+    case Shortfall::NoCrossing:
+      return "no_crossing";
+    case Shortfall::SeamBroken:
+      return "seam_broken";
+    case Shortfall::Unexplained:
+      return "unexplained";
   }
   return "unknown";
 }
@@ -87,8 +96,8 @@ std::string describeShortfall(const IncisionFigures& f) {
   std::string where = f.seam_vertices_chained > 0
                           ? "; it runs from " + mm(f.groove_start_m) + " to " + mm(f.groove_end_m) + " along the stroke"
                           : "";
-  return "a groove of " + mm(f.groove_length_m) + " along " + mm(f.stroke_length_m) + " of stroke in contact: " +
-         reason(f) + where;
+  return "a groove of " + mm(f.groove_length_m) + " along " + mm(f.stroke_length_m) +
+         " of stroke in contact: " + reason(f) + where;
 }
 
 void SurfaceCutter::diagnose() noexcept {

@@ -7,7 +7,10 @@
 //     (damped Newton, volume_inversion.h);
 //  2. splits each edge whose end points lie on opposite sides of u = 1/2 and whose crossing lies inside
 //     the cut (after the stroke's start, above the blade's depth) at the crossing, in parameter space
-//     (paper §3.2); the new vertex is a seam vertex at u = 1/2 exactly;
+//     (paper §3.2); the new vertex is a seam vertex at u = 1/2 exactly. Degenerate coincidences: a vertex
+//     inside the cut within CutterOptions::snap_fraction of its shortest edge from u = 1/2 (on the plane,
+//     within rounding of it, a stroke along existing edges or through vertices) is snapped: it becomes a
+//     seam vertex where it is, and no edge is split that close to an end point, so no sliver is made;
 //  3. walks the seam (the chain of seam edges, the level set u = 1/2 on the surface) and, for every seam
 //     vertex with a seam neighbour on both sides, duplicates it: faces on the u >= 1/2 side move to the
 //     copy (evaluated at 1/2 + 0), the original keeps the u < 1/2 side (evaluated at 1/2 - epsilon);
@@ -16,6 +19,9 @@
 //     triangles between consecutive columns, meeting at the bottom (the blade's V); at the seam's two ends
 //     the walls close in a fan. The mesh stays a closed two-manifold with its Euler characteristic.
 // Then every vertex whose displacement changed is moved to rest + D(u, v, w) (Incision::displacementAt).
+// When an incision's work is done its IncisionFigures say where the groove runs along the stroke and, if
+// it is much shorter than the stroke, why (Shortfall: no contact, a mesh coarser than the lattice, ...):
+// a cut that did nothing never passes for one that did.
 // The order of all this depends only on the samples, so the same samples give the same mesh (the same
 // bytes) however they are grouped into extend() calls.
 //
