@@ -71,6 +71,14 @@ nlohmann::json writeTets(const cutting::TetCutter& tets, const std::filesystem::
           {"failure", stats.failure}};
 }
 
+// What went wrong with a replay's cut (cutFailure), and a trace whose blade never touched the tissue.
+std::string replayFailure(const cutting::CutStats& stats, const sim::ReplayReport& report) {
+  if (report.incisions == 0 && report.poses > 0)
+    return "no contact: none of the " + std::to_string(report.poses) +
+           " poses touched the tissue with the blade (the tip stayed above the surface or the cut button was up)";
+  return cutFailure(stats);
+}
+
 // The report.json document of a replay (without the tets' block).
 nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& options, const sim::ReplayReport& report,
                           const cutting::MeshSummary& mesh, std::uint64_t hash) {
@@ -87,7 +95,7 @@ nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& o
       {"incisions", report.incisions},
       {"edges_split", stats.edges_split},
       {"seam_vertices_opened", stats.vertices_duplicated},
-      {"cut_failure", cutFailure(stats)},
+      {"cut_failure", replayFailure(stats, report)},
       {"incision_figures", incisionFiguresJson(stats.figures)},
       {"geometry_hash", hex(hash)},
       {"mesh", nlohmann::json::parse(cutting::toJson(mesh))},
@@ -171,7 +179,7 @@ int writeReplayOutputs(const char* command, const LoadedScenario& run, const sim
       report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
       static_cast<long long>(report.latency.deadline_misses), mesh.closed_two_manifold ? "yes" : "NO",
       hex(hash).c_str(), tets_note.c_str(), out_dir.c_str());
-  const std::string failure = cutFailure(stats);
+  const std::string failure = replayFailure(stats, report);
   if (!failure.empty()) std::fprintf(stderr, "incise %s: the cut failed: %s\n", command, failure.c_str());
   return mesh.closed_two_manifold && failure.empty() && tets_ok ? 0 : 1;
 }

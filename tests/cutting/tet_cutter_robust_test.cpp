@@ -98,8 +98,8 @@ TEST_CASE("tet_cutter: property: random strokes over a tet pad stay conforming, 
     const Eigen::Vector3d start(-0.5 * length_m * direction.x() + 0.004 * (unit(rng) - 0.5), 0.05,
                                 -0.5 * length_m * direction.z() + 0.004 * (unit(rng) - 0.5));
     std::ostringstream what;
-    what << "case " << i << ": start " << start.transpose() << ", direction " << direction.transpose()
-         << ", length " << length_m;
+    what << "case " << i << ": start " << start.transpose() << ", direction " << direction.transpose() << ", length "
+         << length_m;
     cutPad(padPath(start, direction, length_m), what.str());
   }
 }
