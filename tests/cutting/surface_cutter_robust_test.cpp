@@ -245,6 +245,14 @@ Case padCase(Eigen::Vector3d start_m, Eigen::Vector3d direction, const SurfaceMe
   return c;
 }
 
+// A straight stroke along +x from above start_m (rays down -y).
+StrokePathOptions alongX(const Eigen::Vector3d& start_m, double length_m) {
+  StrokePathOptions path;
+  path.start_m = start_m;
+  path.length_m = length_m;
+  return path;
+}
+
 IncisionFigures cutFigures(SurfaceMesh& mesh, const StrokePathOptions& path, ManifoldReport& after) {
   const Stroke stroke = strokeAlongPath(mesh, path);
   SurfaceCutter cutter(mesh, CutterOptions{});
@@ -283,11 +291,8 @@ TEST_CASE("surface_cutter: a CAD-like box of large flat faces and long thin tria
     SurfaceMesh box =
         makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.02, -0.05), Eigen::Vector3d(0.05, 0, 0.05)), divisions);
     const SurfaceMesh original = box;
-    StrokePathOptions path;
-    path.start_m = {-0.02, 0.05, 0.003};
-    path.length_m = 0.04;
     ManifoldReport after;
-    const IncisionFigures f = cutFigures(box, path, after);
+    const IncisionFigures f = cutFigures(box, alongX({-0.02, 0.05, 0.003}, 0.04), after);
     REQUIRE(after.closed_two_manifold);
     REQUIRE(after.degenerate_faces == 0);
     REQUIRE(f.shortfall == Shortfall::CoarseMesh);
@@ -301,11 +306,8 @@ TEST_CASE("surface_cutter: a coarse closed model (4-7 mm edges on 10 cm) reports
           "[cutting]") {
   // Was (a scanned fist, 3.5 cm stroke): one edge split, no wall, exit 0.
   SurfaceMesh sphere = makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);
-  StrokePathOptions path;
-  path.start_m = {-0.0175, 0.1, 0.0011};
-  path.length_m = 0.035;
   ManifoldReport after;
-  const IncisionFigures f = cutFigures(sphere, path, after);
+  const IncisionFigures f = cutFigures(sphere, alongX({-0.0175, 0.1, 0.0011}, 0.035), after);
   REQUIRE(after.closed_two_manifold);
   REQUIRE(f.groove_length_m < 0.5 * f.stroke_length_m);
   REQUIRE(f.shortfall == Shortfall::CoarseMesh);
