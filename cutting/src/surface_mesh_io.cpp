@@ -178,6 +178,25 @@ std::optional<long long> plyFaceCount(std::istream& in) {
   return std::nullopt;
 }
 
+// OpenMesh 9.0's PLY reader loops for ever on an element line whose count is not a number ("element v
+// float x": found by tests/fuzz/fuzz_surface_mesh), so the header is checked before it sees the file: every
+// "element" line is "element <name> <count>" with a count in [0, 2^31), and "end_header" ends the header.
+void checkPlyHeader(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.rfind("end_header", 0) == 0) return;
+    if (line.rfind("element", 0) != 0) continue;
+    std::istringstream s(line);
+    std::string element, name, rest;
+    long long count = -1;
+    if (!(s >> element >> name >> count) || element != "element" || count < 0 || count > INT32_MAX || s >> rest)
+      fail(path.string() + ":" + std::to_string(number) + ": PLY header: expected 'element <name> <count>', got '" +
+           line + "'");
+  }
+  fail(path.string() + ": PLY header without end_header");
+}
+
 // "OFF" (or COFF, NOFF, ...) then "#vertices #faces #edges"; nullopt when comments or binary data intervene.
 std::optional<long long> offFaceCount(std::istream& in) {
   std::string word;
@@ -214,6 +233,7 @@ std::optional<long long> declaredFaceCount(const std::filesystem::path& path, co
 
 SurfaceMesh readWithOpenMesh(const std::filesystem::path& path, const std::string& ext, double scale) {
   if (!std::filesystem::exists(path)) fail(path.string() + ": cannot open (no such file)");
+  if (ext == ".ply") checkPlyHeader(path);
   TriMesh mesh;
   OpenMesh::IO::Options options;
   if (!OpenMesh::IO::read_mesh(mesh, path.string(), options)) fail(path.string() + ": OpenMesh could not read it");

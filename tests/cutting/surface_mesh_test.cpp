@@ -263,6 +263,17 @@ TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-man
   REQUIRE_THAT(fin, Catch::Contains("0-based"));
 }
 
+// Found by tests/fuzz/fuzz_surface_mesh: OpenMesh's PLY reader never returned from these headers (an element
+// count that is not a number; no end_header). They are refused before OpenMesh reads them.
+TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end is a MeshError, not a hang",
+          "[cutting]") {
+  TempDir dir;
+  const fs::path count = dir.write("count.ply", "ply\nformat ascii 1.0\nelement v float x\nend_header\n");
+  REQUIRE_THAT(loadError(count), Catch::Contains("count.ply:3: PLY header: expected 'element <name> <count>'"));
+  const fs::path endless = dir.write("endless.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  REQUIRE_THAT(loadError(endless), Catch::Contains("endless.ply: PLY header without end_header"));
+}
+
 TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addVertex, addFace and copies",
           "[cutting]") {
   SurfaceMesh s;
