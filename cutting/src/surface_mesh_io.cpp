@@ -178,23 +178,86 @@ std::optional<long long> plyFaceCount(std::istream& in) {
   return std::nullopt;
 }
 
-// OpenMesh 9.0's PLY reader loops for ever on an element line whose count is not a number ("element v
-// float x": found by tests/fuzz/fuzz_surface_mesh), so the header is checked before it sees the file: every
-// "element" line is "element <name> <count>" with a count in [0, 2^31), and "end_header" ends the header.
+// The expected shape of a PLY header line, by its keyword; "" when the line is well formed.
+std::string plyHeaderLineProblem(const std::vector<std::string>& t) {
+  const std::string& k = t[0];
+  if (k == "comment" || k == "obj_info") return "";
+  if (k == "format") return t.size() == 3 ? "" : "expected 'format <type> <version>'";
+  if (k == "property")
+    return t.size() == 3 || (t.size() == 5 && t[1] == "list") ? ""
+                                                              : "expected 'property <type> <name>' or 'property list "
+                                                                "<count type> <type> <name>'";
+  if (k == "element") {
+    long long count = -1;
+    const auto [end, ec] = t.size() == 3 ? std::from_chars(t[2].data(), t[2].data() + t[2].size(), count)
+                                         : std::from_chars_result{nullptr, std::errc::invalid_argument};
+    const bool ok = ec == std::errc() && end == t[2].data() + t[2].size() && count >= 0 && count <= INT32_MAX;
+    return ok ? "" : "expected 'element <name> <count>'";
+  }
+  return "unknown keyword '" + k + "'";
+}
+
+// OpenMesh 9.0's PLY reader reads its header word by word and never returns when it meets the end of the
+// file before a word "end_header" (found by tests/fuzz/fuzz_surface_mesh: "element v float x" made it read
+// "end_header" as an element's count; a header whose end_header has bytes stuck to it, or that has none).
+// So the header is checked line by line before OpenMesh sees the file: "ply", then format, comment,
+// obj_info, element and property lines of their documented shapes, then a line "end_header".
 void checkPlyHeader(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
-    if (line.rfind("end_header", 0) == 0) return;
-    if (line.rfind("element", 0) != 0) continue;
     std::istringstream s(line);
-    std::string element, name, rest;
-    long long count = -1;
-    if (!(s >> element >> name >> count) || element != "element" || count < 0 || count > INT32_MAX || s >> rest)
-      fail(path.string() + ":" + std::to_string(number) + ": PLY header: expected 'element <name> <count>', got '" +
-           line + "'");
+    std::vector<std::string> t;
+    for (std::string word; s >> word;) t.push_back(word);
+    if (number == 1 || t.empty()) continue;  // "ply" (OpenMesh checks it), empty lines
+    if (t[0] == "end_header" && t.size() == 1) return;
+    const std::string problem = plyHeaderLineProblem(t);
+    if (!problem.empty())
+      fail(path.string() + ":" + std::to_string(number) + ": PLY header: " + problem + ", got '" + line + "'");
   }
   fail(path.string() + ": PLY header without end_header");
+}
+
+// The non-empty, non-comment lines of an OFF file, split into words.
+std::vector<std::vector<std::string>> offLines(std::istream& in) {
+  std::vector<std::vector<std::string>> lines;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream s(line.substr(0, line.find('#')));
+    std::vector<std::string> words;
+    for (std::string word; s >> word;) words.push_back(word);
+    if (!words.empty()) lines.push_back(std::move(words));
+  }
+  return lines;
+}
+
+// OpenMesh 9.0's ASCII OFF reader reads a face's vertex count as unsigned and then that many indices: a
+// count of -1 had it read 4294967295 numbers from a failed stream (found by tests/fuzz/fuzz_surface_mesh),
+// and it reserves room for the vertex and face counts of the header as they are. So an ASCII OFF file is
+// checked first: "<#vertices> <#faces> <#edges>" on the line after the keyword line, counts that the file's
+// size can hold (a vertex takes 6 bytes at least, a face 8), then after the vertex lines each face line
+// "k i1 .. ik ..." with 3 <= k <= its words - 1. Binary OFF is left to OpenMesh.
+void checkOff(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const auto lines = offLines(in);
+  if (lines.empty() || lines[0][0].find("OFF") == std::string::npos) return;  // OpenMesh refuses it
+  if (std::find(lines[0].begin(), lines[0].end(), "BINARY") != lines[0].end()) return;
+  // OpenMesh takes the counts from the line after the keyword line, whatever follows the keyword.
+  const std::vector<std::string> header = lines.size() > 1 ? lines[1] : std::vector<std::string>();
+  long long counts[2] = {-1, -1};
+  for (int i = 0; i < 2 && static_cast<std::size_t>(i) < header.size(); ++i)
+    std::from_chars(header[i].data(), header[i].data() + header[i].size(), counts[i]);
+  const auto bytes = static_cast<long long>(std::filesystem::file_size(path));
+  if (counts[0] < 0 || counts[1] < 0 || counts[0] > bytes / 6 || counts[1] > bytes / 8)
+    fail(path.string() + ": OFF header: expected '<#vertices> <#faces> <#edges>' that the file's " +
+         std::to_string(bytes) + " bytes can hold");
+  const std::size_t first_face = 2 + static_cast<std::size_t>(counts[0]);
+  for (std::size_t l = first_face; l < lines.size() && l < first_face + static_cast<std::size_t>(counts[1]); ++l) {
+    long long k = -1;
+    std::from_chars(lines[l][0].data(), lines[l][0].data() + lines[l][0].size(), k);
+    if (k < 3 || k > static_cast<long long>(lines[l].size()) - 1)
+      fail(path.string() + ": OFF face " + std::to_string(l - first_face) + " (0-based): its vertex count '" +
+           lines[l][0] + "' is not 3 or more with that many indices after it");
+  }
 }
 
 // "OFF" (or COFF, NOFF, ...) then "#vertices #faces #edges"; nullopt when comments or binary data intervene.
@@ -234,6 +297,7 @@ std::optional<long long> declaredFaceCount(const std::filesystem::path& path, co
 SurfaceMesh readWithOpenMesh(const std::filesystem::path& path, const std::string& ext, double scale) {
   if (!std::filesystem::exists(path)) fail(path.string() + ": cannot open (no such file)");
   if (ext == ".ply") checkPlyHeader(path);
+  if (ext == ".off") checkOff(path);
   TriMesh mesh;
   OpenMesh::IO::Options options;
   if (!OpenMesh::IO::read_mesh(mesh, path.string(), options)) fail(path.string() + ": OpenMesh could not read it");

@@ -264,7 +264,7 @@ TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-man
 }
 
 // Found by tests/fuzz/fuzz_surface_mesh: OpenMesh's PLY reader never returned from these headers (an element
-// count that is not a number; no end_header). They are refused before OpenMesh reads them.
+// count that is not a number; no end_header; bytes stuck to end_header). They are refused before OpenMesh reads them.
 TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end is a MeshError, not a hang",
           "[cutting]") {
   TempDir dir;
@@ -272,6 +272,28 @@ TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end
   REQUIRE_THAT(loadError(count), Catch::Contains("count.ply:3: PLY header: expected 'element <name> <count>'"));
   const fs::path endless = dir.write("endless.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
   REQUIRE_THAT(loadError(endless), Catch::Contains("endless.ply: PLY header without end_header"));
+  const fs::path stuck = dir.write("stuck.ply", std::string("ply\nformat binary_little_endian 1.0\nelement vertex 1\n"
+                                                            "property float x\nend_header\xff\xff\n\0\0\x80\x3f",
+                                                            87));
+  REQUIRE_THAT(loadError(stuck), Catch::Contains("stuck.ply:5: PLY header: unknown keyword"));
+}
+
+// Found by tests/fuzz/fuzz_surface_mesh: OpenMesh's OFF reader took the face count -1 as 4294967295 and read
+// on for ever (the fuzzer's octahedron, a vertex line lost so that "0 0 -1" became a face); a header's counts
+// are reserved as they are (a count of -1: 2^32 - 1 vertices). They are refused before OpenMesh reads the file.
+TEST_CASE("surface_mesh: an OFF face with a bad vertex count, or counts the file cannot hold, is a MeshError",
+          "[cutting]") {
+  TempDir dir;
+  const std::string verts = "1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n";
+  const fs::path minus = dir.write("minus.off", "OFF\n6 8 0\n1 8 0\n" + verts + "0 0 -1\n3 0 2 4\n-1 0 0\n");
+  REQUIRE_THAT(loadError(minus), Catch::Contains("minus.off: OFF face 0 (0-based): its vertex count '0'"));
+  const fs::path huge = dir.write("huge.off", "OFF\n6 2000000000 0\n" + verts);
+  REQUIRE_THAT(loadError(huge), Catch::Contains("huge.off: OFF header: expected '<#vertices> <#faces> <#edges>'"));
+  // OpenMesh took its counts from the second line, "-1 0 0", and reserved 2^32 - 1 vertices (the fuzzer's input).
+  const fs::path second = dir.write("second.off",
+                                    "OFF\x02"
+                                    "6vertex 0 0\n-1 0 0\n0\xd0 1 0\n0\"-1 0\n");
+  REQUIRE_THAT(loadError(second), Catch::Contains("second.off: OFF header: expected"));
 }
 
 TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addVertex, addFace and copies",
