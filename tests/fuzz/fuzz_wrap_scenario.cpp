@@ -6,21 +6,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "fuzz_input.h"
 #include "incise/sim/wrap_scenario.h"
 #include "scenario_files.h"
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  incise::fuzz::writeScenarioFiles();
-  return 0;
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::filesystem::path path = incise::fuzz::writeInput(data, size, "scenarios/wrap/scenario.json");
-  try {
-    const incise::sim::WrapScenario scenario = incise::sim::loadWrapScenario(path);
-    (void)incise::sim::treatmentName(scenario.treatment);
-  } catch (const incise::sim::ScenarioError&) {
-  }
-  return 0;
+  return incise::fuzz::runScenario(data, size, "scenarios/wrap/scenario.json", [](const std::filesystem::path& path) {
+    const auto s = incise::sim::loadWrapScenario(path);
+    (void)incise::sim::treatmentName(s.treatment);
+  });
 }

@@ -4,11 +4,16 @@
 // closed and outward-facing), traces/tiny.csv (two samples), hid/tiny.hid (a one-report recording),
 // hid/descriptors/tiny.txt (a one-byte-report descriptor in hex), generate/tiny.json (a strokes scenario).
 // The shipped meshes and recordings are far larger; the loaders only need something valid to read.
+// Also the harnesses' shared body (runScenario) and their LLVMFuzzerInitialize: include this header from
+// one harness file only (each harness is its own program).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "fuzz_input.h"
+#include "incise/sim/scenario_error.h"
 
 namespace incise::fuzz {
 
@@ -32,4 +37,21 @@ inline void writeScenarioFiles() {
           "[{\"start_m\": [0, 0.02, 0]}]}}\n");
 }
 
+// Writes the input to scratch() / name and loads it with `load`; ScenarioError, the loaders' documented
+// failure, is caught, anything else escapes to libFuzzer as a finding.
+template <class Load>
+int runScenario(const std::uint8_t* data, std::size_t size, const std::string& name, Load load) {
+  const std::filesystem::path path = writeInput(data, size, name);
+  try {
+    load(path);
+  } catch (const sim::ScenarioError&) {
+  }
+  return 0;
+}
+
 }  // namespace incise::fuzz
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  incise::fuzz::writeScenarioFiles();
+  return 0;
+}
