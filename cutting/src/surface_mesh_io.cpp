@@ -178,8 +178,9 @@ std::optional<long long> plyFaceCount(std::istream& in) {
   return std::nullopt;
 }
 
-// The expected shape of a PLY header line, by its keyword; "" when the line is well formed.
-std::string plyHeaderLineProblem(const std::vector<std::string>& t) {
+// The expected shape of a PLY header line, by its keyword; "" when the line is well formed. An element's
+// count may not exceed `max_count` (the file's size: every element takes a byte at least).
+std::string plyHeaderLineProblem(const std::vector<std::string>& t, long long max_count) {
   const std::string& k = t[0];
   if (k == "comment" || k == "obj_info") return "";
   if (k == "format") return t.size() == 3 ? "" : "expected 'format <type> <version>'";
@@ -192,6 +193,7 @@ std::string plyHeaderLineProblem(const std::vector<std::string>& t) {
     const auto [end, ec] = t.size() == 3 ? std::from_chars(t[2].data(), t[2].data() + t[2].size(), count)
                                          : std::from_chars_result{nullptr, std::errc::invalid_argument};
     const bool ok = ec == std::errc() && end == t[2].data() + t[2].size() && count >= 0 && count <= INT32_MAX;
+    if (ok && count > max_count) return "more elements than the file's " + std::to_string(max_count) + " bytes hold";
     return ok ? "" : "expected 'element <name> <count>'";
   }
   return "unknown keyword '" + k + "'";
@@ -201,7 +203,9 @@ std::string plyHeaderLineProblem(const std::vector<std::string>& t) {
 // file before a word "end_header" (found by tests/fuzz/fuzz_surface_mesh: "element v float x" made it read
 // "end_header" as an element's count; a header whose end_header has bytes stuck to it, or that has none).
 // So the header is checked line by line before OpenMesh sees the file: "ply", then format, comment,
-// obj_info, element and property lines of their documented shapes, then a line "end_header".
+// obj_info, element and property lines of their documented shapes, then a line "end_header". OpenMesh also
+// reserves room for the declared counts as they are (8 GB for "element vertex 2000000000"), so a count is
+// bounded by the file's size.
 void checkPlyHeader(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
@@ -211,7 +215,7 @@ void checkPlyHeader(const std::filesystem::path& path) {
     for (std::string word; s >> word;) t.push_back(word);
     if (number == 1 || t.empty()) continue;  // "ply" (OpenMesh checks it), empty lines
     if (t[0] == "end_header" && t.size() == 1) return;
-    const std::string problem = plyHeaderLineProblem(t);
+    const std::string problem = plyHeaderLineProblem(t, static_cast<long long>(std::filesystem::file_size(path)));
     if (!problem.empty())
       fail(path.string() + ":" + std::to_string(number) + ": PLY header: " + problem + ", got '" + line + "'");
   }

@@ -264,7 +264,8 @@ TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-man
 }
 
 // Found by tests/fuzz/fuzz_surface_mesh: OpenMesh's PLY reader never returned from these headers (an element
-// count that is not a number; no end_header; bytes stuck to end_header). They are refused before OpenMesh reads them.
+// count that is not a number; no end_header; bytes stuck to end_header), or reserved 8 GB for a count of 2e9.
+// They are refused before OpenMesh reads them.
 TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end is a MeshError, not a hang",
           "[cutting]") {
   TempDir dir;
@@ -276,6 +277,10 @@ TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end
                                                             "property float x\nend_header\xff\xff\n\0\0\x80\x3f",
                                                             87));
   REQUIRE_THAT(loadError(stuck), Catch::Contains("stuck.ply:5: PLY header: unknown keyword"));
+  const fs::path many = dir.write("many.ply",
+                                  "ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\n"
+                                  "end_header\n0\n");
+  REQUIRE_THAT(loadError(many), Catch::Contains("many.ply:3: PLY header: more elements than the file's"));
 }
 
 // Found by tests/fuzz/fuzz_surface_mesh: OpenMesh's OFF reader took the face count -1 as 4294967295 and read
