@@ -183,7 +183,11 @@ std::optional<long long> plyFaceCount(std::istream& in) {
 std::string plyHeaderLineProblem(const std::vector<std::string>& t, long long max_count) {
   const std::string& k = t[0];
   if (k == "comment" || k == "obj_info") return "";
-  if (k == "format") return t.size() == 3 ? "" : "expected 'format <type> <version>'";
+  if (k == "format")
+    return t.size() == 3 && (t[1] == "ascii" || t[1] == "binary_little_endian" || t[1] == "binary_big_endian") &&
+                   t[2] == "1.0"
+               ? ""
+               : "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'";
   if (k == "property")
     return t.size() == 3 || (t.size() == 5 && t[1] == "list") ? ""
                                                               : "expected 'property <type> <name>' or 'property list "
@@ -201,23 +205,71 @@ std::string plyHeaderLineProblem(const std::vector<std::string>& t, long long ma
 
 // OpenMesh 9.0's PLY reader reads its header word by word and never returns when it meets the end of the
 // file before a word "end_header" (found by tests/fuzz/fuzz_surface_mesh: "element v float x" made it read
-// "end_header" as an element's count; a header whose end_header has bytes stuck to it, or that has none).
+// "end_header" as an element's count; a header whose end_header has bytes stuck to it, or that has none; a
+// format line whose version is not a number).
 // So the header is checked line by line before OpenMesh sees the file: "ply", then format, comment,
-// obj_info, element and property lines of their documented shapes, then a line "end_header". OpenMesh also
+// obj_info, element and property lines of their documented shapes, then a line "end_header"; then an ASCII
+// body (checkPlyAsciiBody). OpenMesh also
 // reserves room for the declared counts as they are (8 GB for "element vertex 2000000000"), so a count is
 // bounded by the file's size.
+// A PLY element as its header declares it: how many, and which of its properties are lists.
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  std::vector<bool> lists;
+};
+
+// True for a word istream's >> reads as a number: digits, sign, point and exponent only, and from_chars
+// agrees (no "nan", "inf" or hex, which leave OpenMesh's stream failed).
+bool plyNumber(const std::string& word, double& value) {
+  if (word.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;
+  const char* begin = word.data() + (word[0] == '+' ? 1 : 0);
+  const auto [end, ec] = std::from_chars(begin, word.data() + word.size(), value);
+  return ec == std::errc() && end == word.data() + word.size();
+}
+
+// An ASCII body, word by word as OpenMesh reads it: every value a number, every list's length an integer in
+// [0, file size] followed by that many numbers. OpenMesh went on reading from a failed stream otherwise,
+// with a list length it never set (an out-of-memory found by tests/fuzz/fuzz_surface_mesh).
+void checkPlyAsciiBody(std::istream& in, const std::vector<PlyElement>& elements, const std::filesystem::path& path,
+                       long long bytes) {
+  std::string word;
+  double value = 0.0;
+  for (const PlyElement& e : elements)
+    for (long long i = 0; i < e.count; ++i)
+      for (const bool list : e.lists) {
+        const auto where = [&] { return path.string() + ": PLY " + e.name + " " + std::to_string(i) + " (0-based): "; };
+        if (!(in >> word) || !plyNumber(word, value))
+          fail(where() + (in ? "'" + word + "' is not a number" : std::string("the file ends before it")));
+        if (!list) continue;
+        if (value < 0 || value > static_cast<double>(bytes) || value != std::floor(value))
+          fail(where() + "list length '" + word + "' is not an integer the file can hold");
+        for (long long k = static_cast<long long>(value); k > 0; --k)
+          if (!(in >> word) || !plyNumber(word, value)) fail(where() + "a list ends early or holds a non-number");
+      }
+}
+
 void checkPlyHeader(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
+  const auto bytes = static_cast<long long>(std::filesystem::file_size(path));
+  std::vector<PlyElement> elements;
+  bool ascii = false;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     std::istringstream s(line);
     std::vector<std::string> t;
     for (std::string word; s >> word;) t.push_back(word);
     if (number == 1 || t.empty()) continue;  // "ply" (OpenMesh checks it), empty lines
-    if (t[0] == "end_header" && t.size() == 1) return;
-    const std::string problem = plyHeaderLineProblem(t, static_cast<long long>(std::filesystem::file_size(path)));
+    if (t[0] == "end_header" && t.size() == 1) {
+      if (ascii) checkPlyAsciiBody(in, elements, path, bytes);
+      return;
+    }
+    const std::string problem = plyHeaderLineProblem(t, bytes);
     if (!problem.empty())
       fail(path.string() + ":" + std::to_string(number) + ": PLY header: " + problem + ", got '" + line + "'");
+    if (t[0] == "format") ascii = t[1] == "ascii";
+    if (t[0] == "element") elements.push_back({t[1], std::stoll(t[2]), {}});
+    if (t[0] == "property" && !elements.empty()) elements.back().lists.push_back(t[1] == "list");
   }
   fail(path.string() + ": PLY header without end_header");
 }

@@ -264,7 +264,8 @@ TEST_CASE("surface_mesh: OFF and PLY go through OpenMesh and the same closed-man
 }
 
 // Found by tests/fuzz/fuzz_surface_mesh: OpenMesh's PLY reader never returned from these headers (an element
-// count that is not a number; no end_header; bytes stuck to end_header), or reserved 8 GB for a count of 2e9.
+// count that is not a number; no end_header; bytes stuck to end_header; a format version 'ly'; an ASCII body
+// cut short), or reserved 8 GB for a count of 2e9.
 // They are refused before OpenMesh reads them.
 TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end is a MeshError, not a hang",
           "[cutting]") {
@@ -277,6 +278,21 @@ TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end
                                                             "property float x\nend_header\xff\xff\n\0\0\x80\x3f",
                                                             87));
   REQUIRE_THAT(loadError(stuck), Catch::Contains("stuck.ply:5: PLY header: unknown keyword"));
+  const fs::path format = dir.write("format.ply",
+                                    "ply\nformat binary_little_endian ly\nformat binary_little_endian "
+                                    "1.0\nelement vertex 6\nend_header\n");
+  REQUIRE_THAT(loadError(format), Catch::Contains("format.ply:2: PLY header: expected 'format ascii|binary"));
+  // The ASCII body: OpenMesh read on from a failed stream (the fuzzer's octahedron had its last faces cut short).
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string verts = "1 0 0\n-1 0 0\n0 1 0\n";
+  REQUIRE_THAT(loadError(dir.write("short.ply", header + verts + "3 0 1\n")),
+               Catch::Contains("short.ply: PLY face 0 (0-based): a list ends early"));
+  REQUIRE_THAT(loadError(dir.write("nan.ply", header + "1 0 nan\n")),
+               Catch::Contains("nan.ply: PLY vertex 0 (0-based): 'nan' is not a number"));
+  REQUIRE_THAT(loadError(dir.write("minus.ply", header + verts + "-1 0 1 2\n")),
+               Catch::Contains("minus.ply: PLY face 0 (0-based): list length '-1'"));
   const fs::path many = dir.write("many.ply",
                                   "ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\n"
                                   "end_header\n0\n");
