@@ -219,9 +219,9 @@ struct PlyElement {
   std::vector<bool> lists;
 };
 
-// True for a word istream's >> reads as a number: digits, sign, point and exponent only, and from_chars
+// True for a word istream's >> reads as a number (in a PLY or OFF body): digits, sign, point and exponent only, and from_chars
 // agrees (no "nan", "inf" or hex, which leave OpenMesh's stream failed).
-bool plyNumber(const std::string& word, double& value) {
+bool streamNumber(const std::string& word, double& value) {
   if (word.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;
   const char* begin = word.data() + (word[0] == '+' ? 1 : 0);
   const auto [end, ec] = std::from_chars(begin, word.data() + word.size(), value);
@@ -239,13 +239,13 @@ void checkPlyAsciiBody(std::istream& in, const std::vector<PlyElement>& elements
     for (long long i = 0; i < e.count; ++i)
       for (const bool list : e.lists) {
         const auto where = [&] { return path.string() + ": PLY " + e.name + " " + std::to_string(i) + " (0-based): "; };
-        if (!(in >> word) || !plyNumber(word, value))
+        if (!(in >> word) || !streamNumber(word, value))
           fail(where() + (in ? "'" + word + "' is not a number" : std::string("the file ends before it")));
         if (!list) continue;
         if (value < 0 || value > static_cast<double>(bytes) || value != std::floor(value))
           fail(where() + "list length '" + word + "' is not an integer the file can hold");
         for (long long k = static_cast<long long>(value); k > 0; --k)
-          if (!(in >> word) || !plyNumber(word, value)) fail(where() + "a list ends early or holds a non-number");
+          if (!(in >> word) || !streamNumber(word, value)) fail(where() + "a list ends early or holds a non-number");
       }
 }
 
@@ -274,6 +274,12 @@ void checkPlyHeader(const std::filesystem::path& path) {
   fail(path.string() + ": PLY header without end_header");
 }
 
+// The whole word as a decimal integer (from_chars reads "6-1" as 6; istream's >> would go on with "-1").
+bool wholeInteger(const std::string& word, long long& value) {
+  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
+  return ec == std::errc() && end == word.data() + word.size();
+}
+
 // The non-empty, non-comment lines of an OFF file, split into words.
 std::vector<std::vector<std::string>> offLines(std::istream& in) {
   std::vector<std::vector<std::string>> lines;
@@ -291,7 +297,8 @@ std::vector<std::vector<std::string>> offLines(std::istream& in) {
 // and it reserves room for the vertex and face counts of the header as they are. So an ASCII OFF file is
 // checked first: "<#vertices> <#faces> <#edges>" on the line after the keyword line, counts that the file's
 // size can hold (a vertex takes 6 bytes at least, a face 8), then after the vertex lines each face line
-// "k i1 .. ik ..." with 3 <= k <= its words - 1. Binary OFF is left to OpenMesh.
+// "k i1 .. ik ..." with 3 <= k <= its words - 1, every count and index a whole integer, every vertex line 3
+// numbers first ("6-1 0" as counts had OpenMesh take -1 faces). Binary OFF is left to OpenMesh.
 void checkOff(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   const auto lines = offLines(in);
@@ -299,18 +306,25 @@ void checkOff(const std::filesystem::path& path) {
   if (std::find(lines[0].begin(), lines[0].end(), "BINARY") != lines[0].end()) return;
   // OpenMesh takes the counts from the line after the keyword line, whatever follows the keyword.
   const std::vector<std::string> header = lines.size() > 1 ? lines[1] : std::vector<std::string>();
-  long long counts[2] = {-1, -1};
-  for (int i = 0; i < 2 && static_cast<std::size_t>(i) < header.size(); ++i)
-    std::from_chars(header[i].data(), header[i].data() + header[i].size(), counts[i]);
+  long long counts[3] = {-1, -1, -1};
+  for (std::size_t i = 0; i < 3 && i < header.size(); ++i)
+    if (!wholeInteger(header[i], counts[i])) counts[0] = -1;
   const auto bytes = static_cast<long long>(std::filesystem::file_size(path));
-  if (counts[0] < 0 || counts[1] < 0 || counts[0] > bytes / 6 || counts[1] > bytes / 8)
+  if (counts[0] < 0 || counts[1] < 0 || counts[2] < 0 || counts[0] > bytes / 6 || counts[1] > bytes / 8)
     fail(path.string() + ": OFF header: expected '<#vertices> <#faces> <#edges>' that the file's " +
          std::to_string(bytes) + " bytes can hold");
   const std::size_t first_face = 2 + static_cast<std::size_t>(counts[0]);
+  double x = 0.0;
+  for (std::size_t l = 2; l < lines.size() && l < first_face; ++l)
+    if (lines[l].size() < 3 || !streamNumber(lines[l][0], x) || !streamNumber(lines[l][1], x) ||
+        !streamNumber(lines[l][2], x))
+      fail(path.string() + ": OFF vertex " + std::to_string(l - 2) + " (0-based): expected 3 numbers");
   for (std::size_t l = first_face; l < lines.size() && l < first_face + static_cast<std::size_t>(counts[1]); ++l) {
-    long long k = -1;
-    std::from_chars(lines[l][0].data(), lines[l][0].data() + lines[l][0].size(), k);
-    if (k < 3 || k > static_cast<long long>(lines[l].size()) - 1)
+    long long k = -1, index = 0;
+    bool ok = wholeInteger(lines[l][0], k) && k >= 3 && k < static_cast<long long>(lines[l].size());
+    for (long long j = 1; ok && j <= k; ++j)
+      ok = wholeInteger(lines[l][static_cast<std::size_t>(j)], index) && index >= 0;
+    if (!ok)
       fail(path.string() + ": OFF face " + std::to_string(l - first_face) + " (0-based): its vertex count '" +
            lines[l][0] + "' is not 3 or more with that many indices after it");
   }

@@ -315,6 +315,8 @@ TEST_CASE("surface_mesh: an OFF face with a bad vertex count, or counts the file
                                     "OFF\x02"
                                     "6vertex 0 0\n-1 0 0\n0\xd0 1 0\n0\"-1 0\n");
   REQUIRE_THAT(loadError(second), Catch::Contains("second.off: OFF header: expected"));
+  const fs::path glued = dir.write("glued.off", "OFF\n6-1 0\n0 0 1\n0 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n");
+  REQUIRE_THAT(loadError(glued), Catch::Contains("glued.off: OFF header: expected"));
 }
 
 TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addVertex, addFace and copies",
