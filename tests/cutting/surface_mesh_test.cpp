@@ -317,6 +317,9 @@ TEST_CASE("surface_mesh: an OFF face with a bad vertex count, or counts the file
   REQUIRE_THAT(loadError(second), Catch::Contains("second.off: OFF header: expected"));
   const fs::path glued = dir.write("glued.off", "OFF\n6-1 0\n0 0 1\n0 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n");
   REQUIRE_THAT(loadError(glued), Catch::Contains("glued.off: OFF header: expected"));
+  const fs::path binary =
+      dir.write("binary.off", std::string("OFF BINARY 513 \x98\xea\x35\x00\xb0\x60\x00\x00 3\n", 26));
+  REQUIRE_THAT(loadError(binary), Catch::Contains("binary.off: binary OFF is not supported"));
 }
 
 TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addVertex, addFace and copies",

@@ -114,7 +114,9 @@ class SurfaceMesh {
 // "open surface: edge (a, b) has 1 face (face 17, file:line)"), with opposite orientations
 // ("inconsistent orientation at edge (a, b)"); each vertex's faces form a single fan ("non-manifold
 // vertex 42").
-// .ply/.off/.stl go through OpenMesh::IO::read_mesh, whose importer re-adds a face it cannot add on copies
+// .ply/.off/.stl go through OpenMesh::IO::read_mesh, after checks of what OpenMesh 9.0 does not survive (a PLY
+// header's lines and counts, a PLY ASCII body word by word, an ASCII OFF file's counts and faces; binary OFF is
+// refused). Its importer re-adds a face it cannot add on copies
 // of its vertices (or drops it): the face count is compared with the file's header (PLY, OFF) or facet
 // count (STL), and the result must pass checkManifold (copies show up as boundary edges); messages then
 // give OpenMesh's 0-based indices.
