@@ -305,7 +305,8 @@ void checkOff(const std::filesystem::path& path) {
   if (lines.empty() || lines[0][0].find("OFF") == std::string::npos) return;  // OpenMesh refuses it
   // Binary OFF: OpenMesh reserves its binary counts as they are (2 GB for a fuzzed header; found by
   // tests/fuzz/fuzz_surface_mesh). Nothing incise reads is binary OFF, so it is refused rather than checked.
-  if (std::find(lines[0].begin(), lines[0].end(), "BINARY") != lines[0].end())
+  // OpenMesh takes "BINARY" anywhere on the first line ("OFF\bBINARYfa6" too).
+  if (std::any_of(lines[0].begin(), lines[0].end(), [](const std::string& w) { return w.find("BINARY") != w.npos; }))
     fail(path.string() + ": binary OFF is not supported (ASCII OFF, PLY, STL or OBJ are)");
   // OpenMesh takes the counts from the line after the keyword line, whatever follows the keyword.
   const std::vector<std::string> header = lines.size() > 1 ? lines[1] : std::vector<std::string>();

@@ -320,6 +320,8 @@ TEST_CASE("surface_mesh: an OFF face with a bad vertex count, or counts the file
   const fs::path binary =
       dir.write("binary.off", std::string("OFF BINARY 513 \x98\xea\x35\x00\xb0\x60\x00\x00 3\n", 26));
   REQUIRE_THAT(loadError(binary), Catch::Contains("binary.off: binary OFF is not supported"));
+  const fs::path glued_binary = dir.write("glued-binary.off", "OFF\bBINARYfa6 8 0\n2 0 0\n-1 0 -1 0\n0 0 1\n");
+  REQUIRE_THAT(loadError(glued_binary), Catch::Contains("glued-binary.off: binary OFF is not supported"));
 }
 
 TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addVertex, addFace and copies",
