@@ -318,12 +318,16 @@ void checkOff(const std::filesystem::path& path) {
     fail(path.string() + ": OFF header: expected '<#vertices> <#faces> <#edges>' that the file's " +
          std::to_string(bytes) + " bytes can hold");
   const std::size_t first_face = 2 + static_cast<std::size_t>(counts[0]);
+  // Fewer lines than declared: OpenMesh read the missing faces' sizes from a failed stream (out of memory).
+  if (lines.size() < first_face + static_cast<std::size_t>(counts[1]))
+    fail(path.string() + ": OFF: the header declares " + std::to_string(counts[0]) + " vertices and " +
+         std::to_string(counts[1]) + " faces, the file has " + std::to_string(lines.size() - 2) + " lines for them");
   double x = 0.0;
-  for (std::size_t l = 2; l < lines.size() && l < first_face; ++l)
+  for (std::size_t l = 2; l < first_face; ++l)
     if (lines[l].size() < 3 || !streamNumber(lines[l][0], x) || !streamNumber(lines[l][1], x) ||
         !streamNumber(lines[l][2], x))
       fail(path.string() + ": OFF vertex " + std::to_string(l - 2) + " (0-based): expected 3 numbers");
-  for (std::size_t l = first_face; l < lines.size() && l < first_face + static_cast<std::size_t>(counts[1]); ++l) {
+  for (std::size_t l = first_face; l < first_face + static_cast<std::size_t>(counts[1]); ++l) {
     long long k = -1, index = 0;
     bool ok = wholeInteger(lines[l][0], k) && k >= 3 && k < static_cast<long long>(lines[l].size());
     for (long long j = 1; ok && j <= k; ++j)

@@ -306,7 +306,7 @@ TEST_CASE("surface_mesh: an OFF face with a bad vertex count, or counts the file
           "[cutting]") {
   TempDir dir;
   const std::string verts = "1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n";
-  const fs::path minus = dir.write("minus.off", "OFF\n6 8 0\n1 8 0\n" + verts + "0 0 -1\n3 0 2 4\n-1 0 0\n");
+  const fs::path minus = dir.write("minus.off", "OFF\n6 3 0\n1 8 0\n" + verts + "0 0 -1\n3 0 2 4\n-1 0 0\n");
   REQUIRE_THAT(loadError(minus), Catch::Contains("minus.off: OFF face 0 (0-based): its vertex count '0'"));
   const fs::path huge = dir.write("huge.off", "OFF\n6 2000000000 0\n" + verts);
   REQUIRE_THAT(loadError(huge), Catch::Contains("huge.off: OFF header: expected '<#vertices> <#faces> <#edges>'"));
@@ -322,6 +322,9 @@ TEST_CASE("surface_mesh: an OFF face with a bad vertex count, or counts the file
   REQUIRE_THAT(loadError(binary), Catch::Contains("binary.off: binary OFF is not supported"));
   const fs::path glued_binary = dir.write("glued-binary.off", "OFF\bBINARYfa6 8 0\n2 0 0\n-1 0 -1 0\n0 0 1\n");
   REQUIRE_THAT(loadError(glued_binary), Catch::Contains("glued-binary.off: binary OFF is not supported"));
+  const fs::path few = dir.write("few.off", "OFF\n6 8 0\n" + verts + "0 0 -1\n3 0 23 1 2 6\n3 3 1 4\n");
+  REQUIRE_THAT(loadError(few),
+               Catch::Contains("few.off: OFF: the header declares 6 vertices and 8 faces, the file has 8"));
 }
 
 TEST_CASE("surface_mesh: kinds default to Original and stay in sync through addVertex, addFace and copies",
