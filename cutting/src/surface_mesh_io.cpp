@@ -269,7 +269,9 @@ void checkPlyHeader(const std::filesystem::path& path) {
       fail(path.string() + ":" + std::to_string(number) + ": PLY header: " + problem + ", got '" + line + "'");
     if (t[0] == "format") ascii = t[1] == "ascii";
     if (t[0] == "element") elements.push_back({t[1], std::stoll(t[2]), {}});
-    if (t[0] == "property" && !elements.empty()) elements.back().lists.push_back(t[1] == "list");
+    if (t[0] == "property" && elements.empty())  // OpenMesh crashed on it (SEGV; found by fuzz_surface_mesh)
+      fail(path.string() + ":" + std::to_string(number) + ": PLY header: a property before any element");
+    if (t[0] == "property") elements.back().lists.push_back(t[1] == "list");
   }
   fail(path.string() + ": PLY header without end_header");
 }

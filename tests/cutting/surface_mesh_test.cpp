@@ -282,6 +282,9 @@ TEST_CASE("surface_mesh: a PLY header with a bad element line or without its end
                                     "ply\nformat binary_little_endian ly\nformat binary_little_endian "
                                     "1.0\nelement vertex 6\nend_header\n");
   REQUIRE_THAT(loadError(format), Catch::Contains("format.ply:2: PLY header: expected 'format ascii|binary"));
+  const fs::path orphan =
+      dir.write("orphan.ply", "ply\nformat binary_little_endian 1.0\n\nproperty float x\nend_header\n");
+  REQUIRE_THAT(loadError(orphan), Catch::Contains("orphan.ply:4: PLY header: a property before any element"));
   // The ASCII body: OpenMesh read on from a failed stream (the fuzzer's octahedron had its last faces cut short).
   const std::string header =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
