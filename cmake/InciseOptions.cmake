@@ -15,6 +15,18 @@ if(INCISE_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
+# Fuzzing (tests/fuzz/): every library gets libFuzzer's coverage instrumentation; the harnesses link the
+# fuzzer's main (-fsanitize=fuzzer). Needs clang and the sanitizers (INCISE_SANITIZE).
+if(INCISE_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "INCISE_FUZZ needs clang (-DCMAKE_CXX_COMPILER=clang++-14), not ${CMAKE_CXX_COMPILER_ID}")
+  endif()
+  if(NOT INCISE_SANITIZE)
+    message(FATAL_ERROR "INCISE_FUZZ needs INCISE_SANITIZE=ON (the harnesses run under ASan + UBSan)")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()
+
 function(incise_target_options target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
   # No silent fusing of a*b+c: whether GCC fuses depends on the inlining context, which would make the

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages incise builds and tests with (the viewer: GLFW, libepoxy, Dear ImGui, libpng;
-# its pictures: Xvfb and Mesa's llvmpipe through GLX or EGL, no GPU needed). Idempotent: only what is missing is installed.
+# its pictures: Xvfb and Mesa's llvmpipe through GLX or EGL, no GPU needed; the fuzz harnesses: clang 14 and
+# its runtime libraries (libFuzzer, the sanitizers: libclang-rt-14-dev is only recommended by clang-14), llvm-14's
+# llvm-symbolizer for the sanitizers' stacks). Idempotent: only what is missing is installed.
 # Nothing is fetched from anywhere but Debian's package archive.
 set -euo pipefail
 
@@ -12,6 +14,7 @@ packages=(
   libepoxy-dev libimgui-dev libstb-dev libpng-dev
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl1
   gnuplot-nox parallel xdotool
+  clang-14 libclang-rt-14-dev llvm-14
 )
 
 missing=()

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone on Debian 12: installs what is missing, builds (Release),
 # runs every test, then builds again with AddressSanitizer + UndefinedBehaviorSanitizer and runs the
-# suite under them. Exits non-zero if anything fails. Benchmarks are built but not run.
+# suite under them, then builds the libFuzzer harnesses (clang 14) and runs each for 30 s. Exits non-zero if
+# anything fails. Benchmarks are built but not run.
 #   scripts/test.sh            everything
 #   scripts/test.sh --quick    the Release pass only, without [slow] cases
 set -euo pipefail
@@ -47,3 +48,8 @@ cmake -S . -B build-asan -G Ninja "${sanitizer_flags[@]}" -DINCISE_SANITIZE=ON
 cmake --build build-asan -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE 'slow|gl' --repeat until-pass:3
+
+# Every parser's libFuzzer harness (tests/fuzz/) for 30 s, two at a time, under ASan + UBSan: a crash, leak,
+# sanitizer report, timeout or out-of-memory fails the script (scripts/fuzz_long.sh is the long run).
+echo "== Fuzzing: each libFuzzer harness for 30 s (clang 14, ASan + UBSan), two at a time"
+scripts/fuzz.sh --seconds 30 --jobs 2

@@ -34,6 +34,16 @@ json parseJsonFile(const std::filesystem::path& file) {
     const TextPosition p = positionOf(s, e.byte == 0 ? 0 : e.byte - 1);
     throw ScenarioError(file.string() + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) +
                         ": JSON syntax error");
+  } catch (const json::out_of_range& e) {
+    // A number beyond double's range ("1e400"; found by tests/fuzz/fuzz_wrap_scenario): nlohmann says
+    // "... number overflow parsing '1e400'" without a position, so the number's first occurrence is named.
+    const std::string what = e.what();
+    const std::size_t open = what.find('\''), close = what.rfind('\'');
+    const std::string number = open < close ? what.substr(open + 1, close - open - 1) : "";
+    const std::size_t at = number.empty() ? std::string::npos : s.find(number);
+    const TextPosition p = positionOf(s, at == std::string::npos ? 0 : at);
+    throw ScenarioError(file.string() + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) +
+                        ": JSON number out of range" + (number.empty() ? "" : " '" + number + "'"));
   }
 }
 

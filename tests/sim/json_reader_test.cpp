@@ -85,6 +85,20 @@ TEST_CASE("json_reader: parseJsonFile reads a document, reports a syntax error a
   REQUIRE_THAT(messageOf([&] { parseJsonFile(missing); }), Equals(missing.string() + ": cannot open"));
 }
 
+// Found by tests/fuzz/fuzz_wrap_scenario: a number beyond double's range escaped as nlohmann's out_of_range,
+// not a ScenarioError (the fuzzer's wrap scenario, cut down to the line that did it).
+TEST_CASE("json_reader: a number out of double's range is a ScenarioError naming it and its position", "[sim]") {
+  const TempDir dir;
+  const fs::path big = dir.write(
+      "big.json", "{\"model\": {\"mesh\": \"../meshes/tiny.obj\",\n  \"off0et_m\": [0.0, -1e3080.05, 1.0] }}\n");
+  REQUIRE_THROWS_AS(parseJsonFile(big), ScenarioError);
+  REQUIRE_THAT(messageOf([&] { parseJsonFile(big); }),
+               Equals(big.string() + ":2:21: JSON number out of range '-1e3080'"));
+  const fs::path huge = dir.write("huge.json", "1e400");
+  REQUIRE_THAT(messageOf([&] { parseJsonFile(huge); }),
+               Equals(huge.string() + ":1:1: JSON number out of range '1e400'"));
+}
+
 TEST_CASE("json_reader: numbers and integers with defaults and ranges, errors naming file and key path", "[sim]") {
   const JsonReader r = reader(R"({"b": 7, "half": 1.5, "n": 3, "s": "x", "neg": -2})", "a");
   CHECK(r.number("b", 0.0, 0.0, 10.0) == 7.0);
