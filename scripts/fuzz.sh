@@ -45,7 +45,7 @@ run_one() {
   [ -f "tests/fuzz/dict/$h.dict" ] && dict=(-dict="tests/fuzz/dict/$h.dict")
   t0=$(date +%s%N)
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "${nice_cmd[@]}" "$build/tests/fuzz/$h" -max_total_time="$seconds" -runs="$runs" -timeout=10 \
+    "${nice_cmd[@]}" "$build/tests/fuzz/$h" -max_total_time="$seconds" -runs="$runs" -timeout=30 \
     -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 "${dict[@]}" \
     -artifact_prefix="$build/fuzz-artifacts/$h/" "$build/fuzz-corpus/$h" "tests/fuzz/corpus/$h" > "$log" 2>&1 ||
     status=$?

@@ -341,10 +341,14 @@ double SurfaceCutter::snapDistance(VH v) const {
 bool SurfaceCutter::nearCut(VH v, const Eigen::Vector3d& uvw) const {
   // As TetCutter: the distance to the cut is about |u - 1/2| / |grad u|, grad u the first row of F0's
   // inverse Jacobian, computed only near the cut (Eq. (2) spaces the u-planes over (l - 1) alpha).
+  // Most bound vertices are far from the cut: ruled out against the largest snap distance (a tenth of the
+  // longest edge) before their own edges are measured.
   const double phi = std::abs(uvw[0] - 0.5);
-  const double snap_m = snapDistance(v);
   const IncisionOptions& o = options_.incision;
-  if (phi * (o.across_controls - 1) * o.alpha_m >= 4.0 * snap_m) return false;
+  const double across_m = phi * (o.across_controls - 1) * o.alpha_m;
+  if (across_m >= 4.0 * options_.snap_fraction * longest_edge_m_) return false;
+  const double snap_m = snapDistance(v);
+  if (across_m >= 4.0 * snap_m) return false;
   const double grad_u = incision_->rest().jacobian(uvw).inverse().row(0).norm();
   return std::isfinite(grad_u) && grad_u > 0.0 && phi / grad_u < snap_m;
 }
