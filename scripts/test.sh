@@ -28,7 +28,9 @@ if [ "$quick" = 1 ]; then
 fi
 # A failing test runs once more before it counts (--repeat until-pass:2): the picture tests failed once here
 # under load and passed on every rerun (cause not found; see the issue notes). A real failure fails twice.
-ctest --test-dir build --output-on-failure -j "$jobs" --repeat until-pass:2
+# Tests labelled "long" (the kill test's 100 seeds: 200 s) are left to a manual run (ctest -L long) to keep
+# the whole script near 45 minutes on 2 cores.
+ctest --test-dir build --output-on-failure -j "$jobs" --repeat until-pass:2 -LE long
 
 echo "== ThreadSanitizer build: the threaded tests (queue, triple buffer, loop, snapshots read while the loop runs,"
 echo "   the geometry stream followed by a reader thread, the HID device thread with hot-plug, alone and feeding the loop)"
