@@ -7,13 +7,15 @@
 #     --seconds S  time limit per harness (default 30); --runs N  also stop after N executions (default: none)
 #     --jobs J     harnesses run J at a time (default 1); --nice  under nice -n 19
 #     --no-build   run the harnesses already in build-fuzz/ (while another build of it is under way)
+#     --opt FLAGS  the compiler's optimisation flags (default "-O1 -g1"; scripts/test.sh builds with "-O0 -g0":
+#                  a cold clang + ASan build at -O1 takes about 20 min on 2 cores, too long for the suite)
 #     HARNESS      a subset (fuzz_trace_csv ...); default all seven
 # scripts/test.sh runs it with --seconds 30 --jobs 2; scripts/fuzz_long.sh is the long run. The corpus each
 # harness grows is kept in build-fuzz/fuzz-corpus/<harness>/ (the seeds, tests/fuzz/corpus/, are only read).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-seconds=30 runs=-1 jobs=1 nice_cmd=() harnesses=() build_step=1
+seconds=30 runs=-1 jobs=1 nice_cmd=() harnesses=() build_step=1 opt="-O1 -g1"
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) seconds=$2; shift 2 ;;
@@ -21,6 +23,7 @@ while [ $# -gt 0 ]; do
     --jobs) jobs=$2; shift 2 ;;
     --nice) nice_cmd=(nice -n 19); shift ;;
     --no-build) build_step=0; shift ;;
+    --opt) opt=$2; shift 2 ;;
     *) harnesses+=("$1"); shift ;;
   esac
 done
@@ -31,7 +34,7 @@ build=build-fuzz
 start=$(date +%s)
 if [ "$build_step" = 1 ]; then
   cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DINCISE_SANITIZE=ON -DINCISE_FUZZ=ON \
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$opt -DNDEBUG" -DINCISE_SANITIZE=ON -DINCISE_FUZZ=ON \
     -DINCISE_BUILD_TESTS=OFF -DINCISE_BUILD_BENCH=OFF > /dev/null
   cmake --build "$build" -j "$(nproc)" --target incise_fuzzers
   echo "fuzz: harnesses built in $(($(date +%s) - start)) s"
