@@ -363,6 +363,7 @@ void SurfaceCutter::snapOntoCut(VH v) {
   ++stats_.figures.back().seam_vertices;
   if (mesh_.kind(v) == VertexKind::Original) mesh_.setKind(v, VertexKind::Seam);
   setStencil(v);
+  dirty_.push_back(v);  // an end point snapped after its bind: moved (and journalled) with its new stencil
 }
 
 VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side, VertexKind kind) {
