@@ -1,5 +1,7 @@
 #include "json_reader.h"
 
+#include <system_error>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -146,7 +148,10 @@ std::vector<double> JsonReader::numbers(const char* key, std::size_t count, cons
 
 std::filesystem::path JsonReader::file(const char* key) const {
   const std::filesystem::path p = file_.parent_path() / text(key, nullptr);
-  if (!std::filesystem::exists(p)) fail("file " + p.string() + " does not exist", key);
+  std::error_code error;  // a name the system refuses (too long, ...) is a bad value, not a crash
+  const bool found = std::filesystem::exists(p, error);
+  if (error) fail("file " + p.string() + " cannot be looked up: " + error.message(), key);
+  if (!found) fail("file " + p.string() + " does not exist", key);
   return p;
 }
 
