@@ -1,11 +1,10 @@
 #include "json_reader.h"
 
-#include <system_error>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "incise/cutting/format.h"
 

@@ -227,6 +227,20 @@ TEST_CASE("json_reader: file() is relative to the scenario's folder and must exi
   CHECK_THAT(messageOf([&] { tissue.file("absent"); }), Equals(scenario.string() + ": tissue.absent: is missing"));
 }
 
+// Regression, found by fuzz_scenario's long run (tests/fuzz/corpus/fuzz_scenario/name-too-long.json): a name
+// the system refuses to look up (a component over NAME_MAX, 255 bytes on Linux) made std::filesystem::exists
+// throw filesystem_error out of the loader instead of a ScenarioError at the key.
+TEST_CASE("json_reader: file() with a name the system cannot look up is a ScenarioError at its key", "[sim]") {
+  const TempDir dir;
+  const std::string name(300, 'k');
+  const fs::path scenario = dir.write("cut.json", "{\"trace\": \"" + name + ".csv\"}");
+  const json doc = parseJsonFile(scenario);
+  const JsonReader root(scenario, doc, "");
+  const std::string message = messageOf([&] { root.file("trace"); });
+  CHECK_THAT(message, Contains(scenario.string() + ": trace: file "));
+  CHECK_THAT(message, Contains(name + ".csv cannot be looked up: "));
+}
+
 // Regression, once a bug: integer() reads any JSON integer with get<long long>(), and nlohmann casts an unsigned value above
 // LLONG_MAX without a check: 18446744073709551615 becomes -1 and passes the range [-5, 5], and
 // 9223372036854775808 is reported as "-9223372036854775808 is outside ...".
