@@ -20,24 +20,6 @@ using detail::kKeepIsolatedVertices;
 using detail::segmentKey;
 using detail::VH;
 
-double longestEdgeLength(const TriMesh& mesh) {
-  double longest = 0.0;
-  for (const auto e : mesh.edges())
-    if (!mesh.status(e).deleted()) longest = std::max(longest, mesh.calc_edge_length(e));
-  return longest;
-}
-
-double meanEdgeLength(const TriMesh& mesh) {
-  double sum = 0.0;
-  int count = 0;
-  for (const auto e : mesh.edges()) {
-    if (mesh.status(e).deleted()) continue;
-    sum += mesh.calc_edge_length(e);
-    ++count;
-  }
-  return count ? sum / count : 0.0;
-}
-
 }  // namespace
 
 SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
@@ -53,6 +35,11 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
                                 " is outside [0, 0.5)");
   if (!(options.contact_tolerance_m >= 0.0))
     throw std::invalid_argument("SurfaceCutter: contact_tolerance_m must be >= 0");
+  if (!(options.refine_edge_m >= 0.0 && std::isfinite(options.refine_edge_m)))
+    throw std::invalid_argument("SurfaceCutter: refine_edge_m must be finite and >= 0 (0: the default)");
+  if (options.max_refine_splits_per_column < 0)
+    throw std::invalid_argument("SurfaceCutter: max_refine_splits_per_column = " +
+                                std::to_string(options.max_refine_splits_per_column) + " must be >= 0");
   Incision::validateOptions(options.incision);
   const ManifoldReport report = checkManifold(mesh.mesh());
   if (!report.closed_two_manifold)
@@ -61,10 +48,14 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   m.add_property(vertex_data_, "incise:cutter");
   reserveHeadroom();
   stats_.figures.reserve(CutStats::kReservedIncisions);
-  const double edge_m = meanEdgeLength(m);
+  const EdgeLengths edges = edgeLengths(m);
+  const double edge_m = edges.mean_m;
   mean_edge_m_ = edge_m;
   contact_tolerance_m_ = options.contact_tolerance_m > 0.0 ? options.contact_tolerance_m : 3.0 * edge_m;
-  longest_edge_m_ = longestEdgeLength(m);
+  longest_edge_m_ = edges.longest_m;
+  refine_edge_m_ = refineEdgeLength(options);
+  refine_query_.reserve(1 << 14);
+  refine_faces_.reserve(1 << 15);
   // Cells about a lattice column wide: a column step's query box spans a few cells per axis whatever the
   // mesh's resolution (tiny cells would make the query probe thousands of empty cells on a 1M mesh).
   const IncisionOptions& io = options.incision;
@@ -291,6 +282,9 @@ bool SurfaceCutter::processColumn(int column, int& budget, CutStep& step) {
     candidates_.clear();
     fresh_.clear();
     next_candidate_ = 0;
+    // Before any of the column's vertices is bound: the faces it will cut are fine enough (a whole unit of
+    // work, never split across calls, so the mesh does not depend on the budget).
+    if (options_.refine != CutterOptions::Refine::Off) refineColumn(column, budget, step);
     grid_.query(incision_->columnBox(column), candidates_);  // ascending ids
   }
   for (; next_candidate_ < candidates_.size(); ++next_candidate_) {

@@ -358,4 +358,19 @@ std::string toJson(const MeshSummary& s) {
   return j.dump(2);
 }
 
+EdgeLengths edgeLengths(const TriMesh& mesh) {
+  EdgeLengths lengths;
+  double sum_m = 0.0;
+  int count = 0;
+  for (const auto e : mesh.edges()) {
+    if (mesh.status(e).deleted()) continue;
+    const double l_m = mesh.calc_edge_length(e);
+    sum_m += l_m;
+    lengths.longest_m = std::max(lengths.longest_m, l_m);
+    ++count;
+  }
+  lengths.mean_m = count ? sum_m / count : 0.0;
+  return lengths;
+}
+
 }  // namespace incise::cutting

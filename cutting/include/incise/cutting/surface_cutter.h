@@ -18,6 +18,9 @@
 //     `wall_rows` vertices per side down to one shared bottom vertex at the blade's depth, and two walls of
 //     triangles between consecutive columns, meeting at the bottom (the blade's V); at the seam's two ends
 //     the walls close in a fan. The mesh stays a closed two-manifold with its Euler characteristic.
+// Before step 1, where CutterOptions::refine asks for it, the skin faces within the column's control-point hull
+// that are coarser than the lattice are bisected along their longest edges (surface_cutter_refine.cpp), so a
+// coarse model is cut without subdividing all of it; the faces elsewhere stay as they were, bit for bit.
 // Then every vertex whose displacement changed is moved to rest + D(u, v, w) (Incision::displacementAt).
 // When an incision's work is done its IncisionFigures say where the groove runs along the stroke and, if
 // it is much shorter than the stroke, why (Shortfall: no contact, a mesh coarser than the lattice, ...):
@@ -155,6 +158,16 @@ class SurfaceCutter {
     return incision_ && incision_->finished() && next_column_ >= incision_->finalColumns();
   }
   void splitCrossings(const std::vector<TriMesh::VertexHandle>& fresh, CutStep& step);
+  // Local refinement ahead of the cut (surface_cutter_refine.cpp).
+  void refineColumn(int column, int& budget, CutStep& step);
+  bool refinable(TriMesh::FaceHandle f, const Eigen::AlignedBox3d& box) const;
+  TriMesh::HalfedgeHandle longestHalfedge(TriMesh::FaceHandle f, double* length_m = nullptr) const;
+  TriMesh::EdgeHandle terminalEdge(TriMesh::FaceHandle f) const;  // Rivara's LEPP from f
+  bool splittable(TriMesh::EdgeHandle e) const;
+  Eigen::Vector3d refinedPoint(TriMesh::HalfedgeHandle h) const;
+  Eigen::Vector3d restNormal(TriMesh::VertexHandle v) const;
+  bool onCrease(TriMesh::VertexHandle v, const Eigen::Vector3d& normal) const;
+  TriMesh::VertexHandle bisect(TriMesh::EdgeHandle e, CutStep& step);
   TriMesh::VertexHandle addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side,
                                        VertexKind kind);
   void walkChain();
@@ -205,6 +218,8 @@ class SurfaceCutter {
   std::vector<int> stencil_first_;
   std::vector<double> stencil_basis_;
   std::vector<int> changed_columns_, candidates_;
+  std::vector<int> refine_query_, refine_faces_;   // refineColumn's scratch (reserved at construction)
+  double refine_edge_m_ = 0.0;                     // refineEdgeLength(options_)
   mutable std::vector<int> query_;                 // scratch for intersect() and onSurface()
   mutable std::vector<std::uint32_t> face_stamp_;  // intersect(): the query that last tested each face
   mutable std::uint32_t face_query_ = 0;

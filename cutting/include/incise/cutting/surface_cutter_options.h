@@ -33,7 +33,30 @@ struct CutterOptions {
   // and no edge is split closer than that to an end point; so every piece of a split face keeps at least
   // that fraction of the face's area. In [0, 0.5); 0 = no snapping (splits at any crossing).
   double snap_fraction = 0.1;
+  // Local refinement ahead of the cut (a tissue coarse next to the lattice: the 3-5 mm triangles of a
+  // segmentation, a CAD export or a model library against a lattice 6 mm across): before a lattice column is
+  // cut, every skin face whose bounding box at rest meets the column's control-point hull and whose longest
+  // edge is longer than refineEdgeLength() is split by longest-edge bisection (Rivara's LEPP: the longest
+  // edge of the face's longest-edge propagation path is halved, so both faces across it are halved along
+  // their longest edge; conforming, no T-junction, angles bounded below by half the input's). Only where the
+  // cut goes, grown with the stroke, under the same per-call budget (one unit a split). Off: a coarse mesh
+  // is cut as it is, and the incision's figures say so (Shortfall::CoarseMesh).
+  //   Linear       the new vertex is the edge's midpoint: the surface's shape is kept exactly (flat stays flat)
+  //   PnTriangles  the midpoint of the edge's cubic in Vlachos et al.'s curved PN triangles (2001), from the
+  //                end points' normals at rest: a coarse curved model gets rounder where it is refined (an
+  //                edge with an end on a crease, a face around it over 30 degrees off its normal, is halved
+  //                straight: a CAD model's flat faces stay flat)
+  enum class Refine : std::uint8_t { Off, Linear, PnTriangles };
+  Refine refine = Refine::Linear;
+  double refine_edge_m = 0.0;               // longest edge kept (m); 0 = a quarter of the lattice's width
+                                            // across the cut, (l - 1) alpha / 4 (1.5 mm by default), so a face
+                                            // that the cut crosses has vertices inside the lattice
+  int max_refine_splits_per_column = 4096;  // a column's refinement stops there (counted: CutStats)
 };
+
+// The longest edge refinement keeps (CutterOptions::refine_edge_m, or its default), in metres.
+double refineEdgeLength(const CutterOptions& options) noexcept;
+const char* toString(CutterOptions::Refine refine) noexcept;
 
 // What one call did. Counts are for the call; totals live in CutStats.
 struct CutStep {
@@ -46,6 +69,7 @@ struct CutStep {
   int vertices_duplicated = 0;
   int wall_faces = 0;      // wall faces (re)built
   int vertices_moved = 0;  // re-deformed
+  int edges_refined = 0;   // edges bisected ahead of the cut (CutterOptions::refine)
 };
 
 // Why an incision's groove is much shorter than its stroke (IncisionFigures::shortfall): the first reason
@@ -74,6 +98,8 @@ struct IncisionFigures {
   int inversions_failed = 0;     // vertices in their own slab whose inversion did not converge
   int seam_vertices = 0;         // seam vertices made (edges split and vertices snapped)
   int crossings_outside = 0;     // crossing edges outside the blade's window (not split)
+  int refined_vertices = 0;      // vertices the local refinement added ahead of the cut (one an edge bisected)
+  int refined_faces = 0;         // faces it added (two an edge bisected on a closed mesh)
   // Set when the work is done:
   bool done = false;
   int columns = 0;                // lattice columns from the stroke's first station to its last
@@ -114,7 +140,13 @@ struct CutStats {
   int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
   int vertices_snapped = 0;   // vertices put on the cut (CutterOptions::snap_fraction), totals
   int splits_avoided = 0;     // crossings not split because they lay within the snap distance of an end
-  std::string failure;        // first internal failure, empty if none
+  int refined_vertices = 0;   // vertices and faces the local refinement added, totals (CutterOptions::refine)
+  int refined_faces = 0;
+  int refine_refused = 0;  // faces left coarse: every edge that would refine them touches the current
+                           // incision's bound vertices or a wall (the cut already passed there)
+  int refine_limited = 0;  // columns whose refinement stopped at max_refine_splits_per_column or at the
+                           // mesh's reserved headroom
+  std::string failure;     // first internal failure, empty if none
   // One entry per incision, in order (the current one last). Room for kReservedIncisions is reserved at
   // construction: more incisions than that grow the vector once in a while (amortised).
   std::vector<IncisionFigures> figures;

@@ -168,6 +168,13 @@ struct MeshSummary {
   bool closed_two_manifold;
 };
 
+// The mean and longest length of the non-deleted edges (metres; 0 and 0 without edges). Cost O(E).
+struct EdgeLengths {
+  double mean_m = 0.0;
+  double longest_m = 0.0;
+};
+EdgeLengths edgeLengths(const TriMesh& mesh);
+
 // Counts over non-deleted elements; manifold fields from checkManifold. Cost as checkManifold.
 MeshSummary summarize(const SurfaceMesh& mesh);
 // A JSON object with the field names as keys, pretty-printed with indent 2.

@@ -100,6 +100,7 @@ class TetCutter {
   TetView view(TetShape shape = TetShape::Deformed) const;
   const TetCutStats& stats() const noexcept { return stats_; }
   double snapToleranceM() const noexcept { return snap_m_; }
+  double medianEdgeM() const noexcept { return median_edge_m_; }  // of the tets it was built with
   // Tets in the current mesh (O(1)).
   int tetCount() const noexcept { return tet_count_; }
 
