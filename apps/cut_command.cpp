@@ -42,6 +42,13 @@ struct CutArgs {
   CutterOptions cutter;
 };
 
+// The --refine value (CLI11 has checked it is one of the three).
+CutterOptions::Refine refineMode(const std::string& name) {
+  return name == "off"  ? CutterOptions::Refine::Off
+         : name == "pn" ? CutterOptions::Refine::PnTriangles
+                        : CutterOptions::Refine::Linear;
+}
+
 Eigen::Vector3d vec(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
 [[noreturn]] void failWith(const std::string& message) { apps::failWith("cut", message); }
@@ -63,7 +70,18 @@ nlohmann::json optionsJson(const CutArgs& a) {
           {"spacing_m", i.spacing_m},
           {"order", i.order},
           {"retraction_time_s", i.retraction_time_s},
-          {"wall_rows", a.cutter.wall_rows}};
+          {"wall_rows", a.cutter.wall_rows},
+          {"refine", toString(a.cutter.refine)},
+          {"refine_edge_m", refineEdgeLength(a.cutter)}};
+}
+
+// What the cutter did: counts, what refinement added, and per incision where its groove runs.
+nlohmann::json statsJson(const CutStats& stats) {
+  return {{"edges_split", stats.edges_split},
+          {"seam_vertices_duplicated", stats.vertices_duplicated},
+          {"refined_vertices", stats.refined_vertices},
+          {"refined_faces", stats.refined_faces},
+          {"incision_figures", incisionFiguresJson(stats.figures)}};
 }
 
 int runCut(CutArgs& a) {
@@ -118,31 +136,28 @@ int runCut(CutArgs& a) {
   try {
     if (a.format != MeshFormat::Ply) saveObj(mesh, out / "cut.obj");
     if (a.format != MeshFormat::Obj) savePly(mesh, out / "cut.ply");
-    nlohmann::json report = {
-        {"options", optionsJson(a)},
-        {"mesh", nlohmann::json::parse(toJson(summary))},
-        {"euler_characteristic_before", euler_before},
-        {"samples", stroke.samples.size() + 1},
-        {"samples_not_accepted", skipped},
-        {"edges_split", cutter->stats().edges_split},
-        {"seam_vertices_duplicated", cutter->stats().vertices_duplicated},
-        {"incision_figures", incisionFiguresJson(cutter->stats().figures)},
-        {"per_sample", timingSummary(sample_us)},
-        {"failure", failure},
-    };
+    nlohmann::json report = statsJson(cutter->stats());
+    report.update({{"options", optionsJson(a)},
+                   {"mesh", nlohmann::json::parse(toJson(summary))},
+                   {"euler_characteristic_before", euler_before},
+                   {"samples", stroke.samples.size() + 1},
+                   {"samples_not_accepted", skipped},
+                   {"per_sample", timingSummary(sample_us)},
+                   {"failure", failure}});
     writeJsonAtomically(report, out / "summary.json");
   } catch (const std::exception& e) {
     failWith(e.what());
   }
   const bool ok = summary.closed_two_manifold && summary.euler_characteristic == euler_before && failure.empty();
   std::printf(
-      "incise cut: %zu samples, %d edges split, %d seam vertices opened, a groove of %.1f mm along %.1f mm of "
+      "incise cut: %zu samples, %d edges refined, %d edges split, %d seam vertices opened, a groove of %.1f mm along %.1f mm of "
       "stroke in contact; %d vertices, %d faces (%d wall); "
       "closed two-manifold: %s, Euler characteristic %d -> %d; per sample p99 %.1f us; wrote %s\n",
-      stroke.samples.size() + 1, cutter->stats().edges_split, cutter->stats().vertices_duplicated,
-      1e3 * totalGroove_m(cutter->stats().figures), 1e3 * totalStroke_m(cutter->stats().figures), summary.vertices,
-      summary.faces, summary.wall_faces, summary.closed_two_manifold ? "yes" : "NO", euler_before,
-      summary.euler_characteristic, timingSummary(sample_us)["p99_us"].get<double>(), a.out.c_str());
+      stroke.samples.size() + 1, cutter->stats().refined_vertices, cutter->stats().edges_split,
+      cutter->stats().vertices_duplicated, 1e3 * totalGroove_m(cutter->stats().figures),
+      1e3 * totalStroke_m(cutter->stats().figures), summary.vertices, summary.faces, summary.wall_faces,
+      summary.closed_two_manifold ? "yes" : "NO", euler_before, summary.euler_characteristic,
+      timingSummary(sample_us)["p99_us"].get<double>(), a.out.c_str());
   if (!failure.empty()) std::fprintf(stderr, "incise cut: the cut failed: %s\n", failure.c_str());
   return ok ? 0 : 1;
 }
@@ -174,6 +189,15 @@ void addCutCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--spacing", args->cutter.incision.spacing_m, "stroke resampling step (m)")->capture_default_str();
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--refine", [args](const std::string& name) { args->cutter.refine = refineMode(name); },
+         "local refinement ahead of the cut: linear (midpoints), pn (curved PN triangles) or off")
+      ->check(CLI::IsMember({"linear", "pn", "off"}))
+      ->default_str("linear");
+  cmd->add_option("--refine-edge", args->cutter.refine_edge_m,
+                  "longest edge refinement keeps near the cut (m); 0 = a quarter of the lattice's width")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option_function<std::string>(
          "--format", [args](const std::string& name) { args->format = meshFormat(name); }, "obj, ply or both")
       ->check(CLI::IsMember({"obj", "ply", "both"}))

@@ -22,6 +22,8 @@ nlohmann::json incisionFiguresJson(const std::vector<cutting::IncisionFigures>& 
                     {"lattice_columns", f.columns},
                     {"empty_columns", f.empty_columns},
                     {"seam_vertices", f.seam_vertices},
+                    {"refined_vertices", f.refined_vertices},
+                    {"refined_faces", f.refined_faces},
                     {"shortfall", cutting::toString(f.shortfall)},
                     {"why", cutting::describeShortfall(f)}});
   return list;

@@ -95,6 +95,8 @@ nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& o
       {"incisions", report.incisions},
       {"edges_split", stats.edges_split},
       {"seam_vertices_opened", stats.vertices_duplicated},
+      {"refined_vertices", stats.refined_vertices},
+      {"refined_faces", stats.refined_faces},
       {"cut_failure", replayFailure(stats, report)},
       {"incision_figures", incisionFiguresJson(stats.figures)},
       {"geometry_hash", hex(hash)},

@@ -36,6 +36,11 @@ void readIncision(const Reader& r, cutting::CutterOptions& c) {
   i.normal_controls = r.integer("normal_controls", i.normal_controls, 2, 63);
   i.max_columns = r.integer("max_columns", i.max_columns, 16, 1 << 20);
   c.wall_rows = r.integer("wall_rows", c.wall_rows, 1, 64);
+  const std::string refine = r.choice("refine", cutting::toString(c.refine), {"linear", "pn", "off"});
+  c.refine = refine == "off"  ? cutting::CutterOptions::Refine::Off
+             : refine == "pn" ? cutting::CutterOptions::Refine::PnTriangles
+                              : cutting::CutterOptions::Refine::Linear;
+  c.refine_edge_m = r.number("refine_edge_m", c.refine_edge_m, 0.0, 1.0);
 }
 
 void readTets(const Reader& r, TetTissueOptions& t) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -27,9 +28,34 @@ int workBudget(const WorldOptions& options) {
   return options.tets.enabled ? std::max(1, total / 2) : total;
 }
 
+// The surface cutter's options in this world: the frame's budget, and no local refinement in a tet tissue
+// (the tets are not bisected with it yet: the surface must keep matching their boundary; loadTissue refuses
+// a tet tissue too coarse to be cut without it).
 cutting::CutterOptions withBudget(cutting::CutterOptions cutter, const WorldOptions& options) {
   cutter.max_inversions_per_call = workBudget(options);
+  if (options.tets.enabled) cutter.refine = cutting::CutterOptions::Refine::Off;
   return cutter;
+}
+
+// A tet tissue is cut without local refinement (withBudget), so one whose surface (the tets' boundary, which
+// TetGen keeps) is coarse next to the lattice is refused at load rather than cut into a groove that falls
+// short: its mean edge must be at most half the lattice's width across the cut, where a face the cut
+// crosses still has vertices inside the lattice. Checked after TetGen, so a broken surface (open,
+// self-intersecting) is reported as such first. Throws std::invalid_argument.
+void requireFineTets(const cutting::SurfaceMesh& tissue, const cutting::TetCutter& tets,
+                     const cutting::IncisionOptions& lattice) {
+  const double width_m = (lattice.across_controls - 1) * lattice.alpha_m;
+  const cutting::EdgeLengths edges = cutting::edgeLengths(tissue.mesh());
+  if (edges.mean_m <= 0.5 * width_m) return;
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "the tet tissue (tissue.tets) is coarse next to the lattice: its boundary's edges are %.2f mm on "
+                "average (longest %.2f mm), its tets' median edge %.2f mm, the lattice %.2f mm across the cut; local "
+                "refinement does not split tets yet, so a tet tissue's surface must have a mean edge of at most "
+                "%.2f mm: raise tissue.subdivide or give a finer mesh",
+                1e3 * edges.mean_m, 1e3 * edges.longest_m, 1e3 * tets.medianEdgeM(), 1e3 * width_m,
+                1e3 * 0.5 * width_m);
+  throw std::invalid_argument(std::string("World: ") + text);
 }
 
 }  // namespace
@@ -52,6 +78,7 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
     cutting::TetCutterOptions tet_options = options.tets.cutter;
     tet_options.max_inversions_per_call = workBudget(options);
     tets_ = std::make_unique<cutting::TetCutter>(cutting::tetrahedralize(*tissue_, options.tets.mesh), tet_options);
+    requireFineTets(*tissue_, *tets_, options.cutter.incision);
   }
 }
 
