@@ -50,10 +50,28 @@ f 1 8 4
 f 2 3 7
 f 2 7 6
 OBJ
-check "cut on a mesh coarser than the lattice exits 1 and says why" expect_exit 1 "the mesh is coarse next to the lattice" \
-  -- "$incise" cut --mesh "$work/cadbox.obj" --scale 1 --subdivide 0 --start -0.02 0.05 0.003 --length 0.04 --out "$work/cadcut"
+# With local refinement off (--refine off) it is cut as it is:
+check "cut on a mesh coarser than the lattice, refinement off, exits 1 and says why" expect_exit 1 \
+  "the mesh is coarse next to the lattice" \
+  -- "$incise" cut --mesh "$work/cadbox.obj" --scale 1 --subdivide 0 --start -0.02 0.05 0.003 --length 0.04 \
+  --refine off --out "$work/cadcut"
 check "... its summary's failure names the empty lattice columns" grep -q '"failure": ".*80 of 80 lattice columns' "$work/cadcut/summary.json"
 check "... and the incision's shortfall" grep -q '"shortfall": "coarse_mesh"' "$work/cadcut/summary.json"
+# With it (the default, issue 15) the faces along the stroke are bisected until the lattice holds them: a
+# groove as long as the stroke within 2 mm, a closed mesh, and the summary gives what refinement added.
+check "cut on the same coarse box with local refinement cuts a groove" "$incise" cut --mesh "$work/cadbox.obj" \
+  --scale 1 --subdivide 0 --start -0.02 0.05 0.003 --length 0.04 --out "$work/cadrefined"
+check "... as long as its stroke, closed, with the faces and vertices refinement added" python3 -c "
+import json, sys
+s = json.load(open('$work/cadrefined/summary.json'))
+f = s['incision_figures'][0]
+ok = (s['failure'] == '' and s['mesh']['closed_two_manifold'] and s['refined_vertices'] > 0
+      and s['refined_faces'] == 2 * s['refined_vertices'] == 2 * f['refined_vertices']
+      and f['groove_length_m'] >= f['stroke_length_m'] - 0.002 and s['options']['refine'] == 'linear')
+sys.exit(0 if ok else 1)"
+check "cut --refine pn is accepted" "$incise" cut --mesh "$work/cadbox.obj" --scale 1 --subdivide 0 \
+  --start -0.02 0.05 0.003 --length 0.04 --refine pn --out "$work/cadpn"
+check "cut --refine with another word exits 2" expect_exit 2 "refine" -- "$incise" cut --refine cubic --out "$work/badrefine"
 
 # Meshes as other tools write them: the bunny as an OFF headed by CGAL's comments (the same cut as from the
 # OBJ) and as a binary STL whose 80-byte header begins with "solid" (float positions, corners welded).

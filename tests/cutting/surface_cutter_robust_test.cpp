@@ -1,6 +1,7 @@
 // The surface cutter on tissues and strokes nobody tuned it for (issue 14): the regression tests of the
 // findings (a stroke along a pad's grid line, a CAD-like box of large flat faces and long thin triangles, a
-// coarse closed model) and a seeded property test over icospheres, skin pads at several grid resolutions,
+// coarse closed model, cut unrefined) and a seeded property test over icospheres, skin pads at several grid
+// resolutions (a 4 mm one and a coarse icosphere cut through local refinement, issue 15),
 // a torus and the bunny, with random starts, directions, lengths, bends and depths. After every cut: a
 // closed two-manifold with its Euler characteristic, no zero-area or sliver face, no NaN, walls facing out
 // of the tissue (the volume drops by the wound, stays positive), the groove as deep as the blade within 5%,
@@ -169,6 +170,9 @@ struct Tissues {
   SurfaceMesh pad2 = makeSkinPad(Eigen::Vector3d(0.06, 0.02, 0.06), 0.0007);
   SurfaceMesh torus = makeTorus(0.03, 0.012, 180, 72);
   SurfaceMesh bunny2 = testing::bunny(2);
+  // Coarse next to the lattice (6 mm across): cut through local refinement (issue 15).
+  SurfaceMesh coarse_sphere = makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);  // 4-7 mm edges
+  SurfaceMesh coarse_pad = makeSkinPad(Eigen::Vector3d(0.1, 0.02, 0.1), 0.004);
 };
 
 const Tissues& tissues() {
@@ -183,7 +187,7 @@ Case randomCase(std::mt19937& rng, int index) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const auto between = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
   Case c;
-  const int kind = index % 5;
+  const int kind = index % 7;
   const double angle = between(0.0, 2.0 * M_PI);
   c.path.direction = Eigen::Vector3d(std::cos(angle), 0.0, std::sin(angle));
   c.path.length_m = between(0.004, 0.03);
@@ -206,12 +210,20 @@ Case randomCase(std::mt19937& rng, int index) {
     case 3:
       c.tissue = &t.torus, c.what = "torus (R 3 cm, r 1.2 cm)", centre = {0.03, 0.0}, radius_m = 0.004;
       break;
-    default:
+    case 4:
       c.tissue = &t.bunny2, c.what = "bunny (2 subdivisions)", centre = {-0.005, 0.015}, radius_m = 0.006;
+      break;
+    case 5:
+      c.tissue = &t.coarse_sphere, c.what = "coarse icosphere (3 subdivisions, r 5 cm), refined", radius_m = 0.01;
+      break;
+    default:
+      c.tissue = &t.coarse_pad, c.what = "skin pad, 4 mm grid, refined", radius_m = 0.025;
+      if (index % 2) c.path.direction = Eigen::Vector3d::UnitX();
       break;
   }
   Eigen::Vector2d start = centre + radius_m * Eigen::Vector2d(between(-1, 1), between(-1, 1));
   if (kind == 1 && index % 3 == 0) start = {std::round(1e3 * between(-0.02, 0.0)) * 1e-3, 0.0};  // a grid line
+  if (kind == 6 && index % 2) start = {std::round(250 * between(-0.02, 0.0)) * 4e-3, 0.0};       // a grid line
   c.path.start_m = Eigen::Vector3d(start.x(), 0.05, start.y());
   if (kind == 3) c.path.length_m = std::min(c.path.length_m, 0.012), c.path.bend_m = 0.0;
   std::ostringstream what;
@@ -253,9 +265,10 @@ StrokePathOptions alongX(const Eigen::Vector3d& start_m, double length_m) {
   return path;
 }
 
-IncisionFigures cutFigures(SurfaceMesh& mesh, const StrokePathOptions& path, ManifoldReport& after) {
+IncisionFigures cutFigures(SurfaceMesh& mesh, const StrokePathOptions& path, ManifoldReport& after,
+                           const CutterOptions& options = CutterOptions{}) {
   const Stroke stroke = strokeAlongPath(mesh, path);
-  SurfaceCutter cutter(mesh, CutterOptions{});
+  SurfaceCutter cutter(mesh, options);
   cutter.begin(stroke.first, stroke.blade_direction);
   for (const StrokeSample& s : stroke.samples) cutter.extend(s);
   cutter.finish();
@@ -263,6 +276,13 @@ IncisionFigures cutFigures(SurfaceMesh& mesh, const StrokePathOptions& path, Man
   after = checkManifold(mesh.mesh());
   REQUIRE(cutter.stats().failure.empty());
   return cutter.stats().figures.back();
+}
+
+// Local refinement off (issue 15 refines coarse meshes along the stroke): the mesh is cut as it is.
+CutterOptions unrefined() {
+  CutterOptions options;
+  options.refine = CutterOptions::Refine::Off;
+  return options;
 }
 
 }  // namespace
@@ -283,16 +303,17 @@ TEST_CASE("surface_cutter: a stroke exactly along a pad's grid line cuts clean (
   CHECK(f.groove_length_m > f.stroke_length_m - 0.002);
 }
 
-TEST_CASE("surface_cutter: a CAD-like box of large flat faces and long thin triangles says why it cannot cut",
-          "[cutting]") {
+TEST_CASE(
+    "surface_cutter: a CAD-like box of large flat faces and long thin triangles, unrefined, says why it cannot cut",
+    "[cutting]") {
   // Was: no opening, six zero-area faces, an empty failure. A 10 cm box of 12 triangles, and one whose
   // faces are 40 long thin strips: the lattice (6 mm across) holds no vertex.
-  for (const Eigen::Vector3i divisions : {Eigen::Vector3i(1, 1, 1), Eigen::Vector3i(1, 1, 40)}) {
+  for (const Eigen::Vector3i& divisions : {Eigen::Vector3i(1, 1, 1), Eigen::Vector3i(1, 1, 40)}) {
     SurfaceMesh box =
         makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.02, -0.05), Eigen::Vector3d(0.05, 0, 0.05)), divisions);
     const SurfaceMesh original = box;
     ManifoldReport after;
-    const IncisionFigures f = cutFigures(box, alongX({-0.02, 0.05, 0.003}, 0.04), after);
+    const IncisionFigures f = cutFigures(box, alongX({-0.02, 0.05, 0.003}, 0.04), after, unrefined());
     REQUIRE(after.closed_two_manifold);
     REQUIRE(after.degenerate_faces == 0);
     REQUIRE(f.shortfall == Shortfall::CoarseMesh);
@@ -302,12 +323,13 @@ TEST_CASE("surface_cutter: a CAD-like box of large flat faces and long thin tria
   }
 }
 
-TEST_CASE("surface_cutter: a coarse closed model (4-7 mm edges on 10 cm) reports a shortfall, never success",
-          "[cutting]") {
+TEST_CASE(
+    "surface_cutter: a coarse closed model (4-7 mm edges on 10 cm), unrefined, reports a shortfall, never success",
+    "[cutting]") {
   // Was (a scanned fist, 3.5 cm stroke): one edge split, no wall, exit 0.
   SurfaceMesh sphere = makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);
   ManifoldReport after;
-  const IncisionFigures f = cutFigures(sphere, alongX({-0.0175, 0.1, 0.0011}, 0.035), after);
+  const IncisionFigures f = cutFigures(sphere, alongX({-0.0175, 0.1, 0.0011}, 0.035), after, unrefined());
   REQUIRE(after.closed_two_manifold);
   REQUIRE(f.groove_length_m < 0.5 * f.stroke_length_m);
   REQUIRE(f.shortfall == Shortfall::CoarseMesh);

@@ -140,3 +140,17 @@ TEST_CASE("scenario: hid-recording sources, their mappings and how they were mad
                                                        "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})")),
                       Contains("pose_source.six_dof.start_orientation: must be a unit quaternion"));
 }
+
+TEST_CASE("scenario: local refinement's keys", "[sim]") {
+  const sim::Scenario refined = sim::loadScenario(scenarioFile("refine", R"({
+    "tissue": {"mesh": "meshes/bunny.obj", "scale": 0.01},
+    "incision": {"refine": "pn", "refine_edge_m": 0.001},
+    "pose_source": {"kind": "strokes", "strokes": [{}]}})"));
+  REQUIRE(refined.world.cutter.refine == cutting::CutterOptions::Refine::PnTriangles);
+  REQUIRE(refined.world.cutter.refine_edge_m == 0.001);
+  REQUIRE(sim::loadScenario(scenarioFile("good", kGood)).world.cutter.refine == cutting::CutterOptions::Refine::Linear);
+  REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile("refineword", R"({
+    "tissue": {"mesh": "meshes/bunny.obj"}, "incision": {"refine": "cubic"},
+    "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
+                      Contains("incision.refine: must be \"linear\", \"pn\" or \"off\", got \"cubic\""));
+}

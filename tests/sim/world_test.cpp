@@ -137,3 +137,34 @@ TEST_CASE("world: bad parameters are refused at construction", "[sim]") {
   bad.cutter.incision.depth_m = 0.0;
   REQUIRE_THROWS_WITH(sim::World(tissue, bad), Contains("depth_m = 0"));
 }
+
+TEST_CASE("world: a tet tissue too coarse for the lattice is refused at load; a fine one is not refined", "[sim]") {
+  // Issue 15: local refinement does not bisect tets yet, so a tet tissue must come fine enough, and its surface
+  // is never refined (it must keep matching the tets' boundary).
+  sim::WorldOptions options;
+  options.tets.enabled = true;
+  const cutting::SurfaceMesh coarse = cutting::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
+  REQUIRE_THROWS_WITH(sim::World(coarse, options),
+                      Contains("the tet tissue (tissue.tets) is coarse next to the lattice") &&
+                          Contains("3.83 mm on average") && Contains("its tets' median edge") &&
+                          Contains("6.00 mm across the cut") && Contains("at most 3.00 mm"));
+  // Subdivided once (1.9 mm edges, as scenarios/bunny-tets.json) it loads; a stroke then cuts both, and the
+  // surface, whose edges are longer than refinement's 1.5 mm in places, is not refined. Without tets it is.
+  options.tets.mesh.max_volume_m3 = 5e-9;
+  options.tool.cut_button = 0;
+  const cutting::SurfaceMesh fine = cutting::subdivided(coarse, 1);
+  sim::StrokeSpec stroke;
+  stroke.start_m = Eigen::Vector3d(-0.012, 0.0, 0.015);
+  stroke.length_m = 0.03;
+  const std::vector<devices::PoseSample> poses = sim::posesForStrokes(fine, {stroke}, options, 1000.0);
+  for (const bool tets : {true, false}) {
+    options.tets.enabled = tets;
+    sim::World world(fine, options);
+    REQUIRE((world.tets() != nullptr) == tets);
+    for (const devices::PoseSample& pose : poses) world.step(std::span(&pose, 1), 0.001, pose.time_s);
+    for (double t = poses.back().time_s; t < poses.back().time_s + 0.2; t += 0.001) world.cut(t);
+    REQUIRE(world.cutter().stats().vertices_duplicated > 20);
+    if (tets) REQUIRE(world.cutter().stats().refined_vertices == 0);
+    if (!tets) REQUIRE(world.cutter().stats().refined_vertices > 0);
+  }
+}
