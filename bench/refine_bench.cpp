@@ -2,8 +2,8 @@
 // sample by sample (5 cm/s, 1 kHz) with refinement on and against the same stroke on a mesh fine enough
 // beforehand (refinement off there):
 //  - coarse: a 10 cm icosphere of 4-7 mm edges (642 vertices), a 3.5 cm stroke over its top, refined along
-//    the stroke; against the same sphere Loop-subdivided twice first (16x the faces everywhere, as a user
-//    had to before);
+//    the stroke (to the default 1.5 mm, and to 2 mm); against the same sphere Loop-subdivided twice first
+//    (16x the faces everywhere, as a user had to before);
 //  - bunny: the 235,136-triangle bunny (3 Loop subdivisions, 0.5 mm edges: nothing to refine) and the 5 cm
 //    stroke over its back, with refinement on (its checks alone) and off.
 // Every configuration runs kRuns times, interleaved, at the simulation's budget (32 inversions a call) and
@@ -34,7 +34,8 @@ struct Config {
   const char* name;
   const SurfaceMesh* mesh;
   CutterOptions::Refine refine;
-  bool bunny;  // the bunny's back stroke, else the sphere's top stroke
+  bool bunny;                  // the bunny's back stroke, else the sphere's top stroke
+  double refine_edge_m = 0.0;  // CutterOptions::refine_edge_m (0: the default, 1.5 mm)
 };
 
 Stroke strokeFor(const Config& c, const SurfaceMesh& mesh) {
@@ -59,6 +60,7 @@ Run cutOnce(const Config& c, int budget) {
   CutterOptions options;
   options.max_inversions_per_call = budget;
   options.refine = c.refine;
+  options.refine_edge_m = c.refine_edge_m;
   SurfaceCutter cutter(mesh, options);
   Run run;
   run.sample_us.reserve(stroke.samples.size() + 1);
@@ -95,6 +97,7 @@ nlohmann::json summarize(const Config& c, int budget, const std::vector<Run>& ru
   return {{"mesh", c.name},
           {"triangles", c.mesh->mesh().n_faces()},
           {"refine", toString(c.refine)},
+          {"refine_edge_m", c.refine_edge_m > 0.0 ? c.refine_edge_m : refineEdgeLength(CutterOptions{})},
           {"max_inversions_per_call", budget},
           {"runs", runs.size()},
           {"samples", r.sample_us.size()},
@@ -117,6 +120,9 @@ int main() {
   const SurfaceMesh bunny = subdivided(loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01), 3);
   const std::vector<std::pair<Config, Config>> pairs = {
       {{"icosphere r 5 cm, 3 subdivisions (4-7 mm edges)", &sphere, CutterOptions::Refine::Linear, false},
+       {"the same, Loop-subdivided twice beforehand", &sphere_subdivided, CutterOptions::Refine::Off, false}},
+      // Refined to 2 mm: about the pre-subdivided mesh's own density (its edges are 1-2 mm).
+      {{"icosphere r 5 cm, 3 subdivisions, refined to 2 mm", &sphere, CutterOptions::Refine::Linear, false, 0.002},
        {"the same, Loop-subdivided twice beforehand", &sphere_subdivided, CutterOptions::Refine::Off, false}},
       {{"bunny, 3 Loop subdivisions", &bunny, CutterOptions::Refine::Linear, true},
        {"bunny, 3 Loop subdivisions", &bunny, CutterOptions::Refine::Off, true}},

@@ -23,7 +23,7 @@ using detail::VH;
 }  // namespace
 
 SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
-    : mesh_(mesh), options_(options), grid_(1.0) {
+    : mesh_(mesh), options_(options), grid_(1.0), coarse_grid_(1.0) {
   if (options.max_inversions_per_call < 0)
     throw std::invalid_argument("SurfaceCutter: max_inversions_per_call = " +
                                 std::to_string(options.max_inversions_per_call) + " must be >= 0");
@@ -46,7 +46,6 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
     throw MeshError("SurfaceCutter: the tissue surface is not a closed two-manifold: " + report.first_problem);
   TriMesh& m = mesh_.mesh();
   m.add_property(vertex_data_, "incise:cutter");
-  reserveHeadroom();
   stats_.figures.reserve(CutStats::kReservedIncisions);
   const EdgeLengths edges = edgeLengths(m);
   const double edge_m = edges.mean_m;
@@ -57,10 +56,16 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   refine_query_.reserve(1 << 14);
   refine_faces_.reserve(1 << 15);
   // Cells about a lattice column wide: a column step's query box spans a few cells per axis whatever the
-  // mesh's resolution (tiny cells would make the query probe thousands of empty cells on a 1M mesh).
+  // mesh's resolution (tiny cells would make the query probe thousands of empty cells on a 1M mesh). With
+  // refinement, the mesh along the cut becomes as fine as refine_edge_m whatever it was: cells for that.
   const IncisionOptions& io = options.incision;
-  grid_ = VertexGrid(std::max({2.0 * edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
+  const bool refine = options.refine != CutterOptions::Refine::Off;
+  const double cell_edge_m = refine ? std::min(edge_m, refine_edge_m_) : edge_m;
+  grid_ = VertexGrid(std::max({2.0 * cell_edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
   for (const auto v : m.vertices()) grid_.insert(v.idx(), toEigen(m.point(v)));
+  coarse_grid_ = VertexGrid(std::max({2.0 * edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
+  if (refine) initCoarse();
+  reserveHeadroom();  // after every property is added: OpenMesh reserves the properties there are
 }
 
 void SurfaceCutter::reserveHeadroom() {
@@ -82,11 +87,16 @@ void SurfaceCutter::recordChanges(bool on) {
 }
 
 bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
-  const Eigen::Vector3d r = Eigen::Vector3d::Constant(contact_tolerance_m_);
-  query_.clear();
-  grid_.query(Eigen::AlignedBox3d(p - r, p + r), query_);
-  for (int id : query_)  // rest positions, as intersect(): independent of the cut's progress
-    if ((restPosition(VH(id)) - p).norm() <= contact_tolerance_m_) return true;
+  // Near vertices first: on a mesh refined along the cut, a box of the whole tolerance (3 coarse edges)
+  // holds hundreds of refined vertices; where one is within a refined edge, that settles it.
+  const double near_m = std::min(contact_tolerance_m_, 2.0 * refine_edge_m_);
+  for (const double radius_m : {near_m, contact_tolerance_m_}) {
+    const Eigen::Vector3d r = Eigen::Vector3d::Constant(radius_m);
+    query_.clear();
+    grid_.query(Eigen::AlignedBox3d(p - r, p + r), query_);
+    for (int id : query_)  // rest positions, as intersect(): independent of the cut's progress
+      if ((restPosition(VH(id)) - p).norm() <= contact_tolerance_m_) return true;
+  }
   return false;
 }
 
@@ -129,11 +139,15 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   }
   incision_ = std::move(incision);
   ++incision_index_;
+  // The previous incision's vertices are at rest where it left them now: their edges' lengths changed.
+  if (options_.refine != CutterOptions::Refine::Off)
+    for (const VH v : all_bound_) updateCoarseAround(v);
   ++stats_.incisions;
   stats_.figures.push_back({});
   last_accepted_m_ = first.point_m;
   next_column_ = options_.incision.order - 1;  // the first slab of the v domain
   column_started_ = false;
+  refining_ = false;
   time_s_ = first.time_s;
   cells_.assign(static_cast<size_t>(options_.incision.max_columns), {});
   all_bound_.clear();
@@ -282,10 +296,15 @@ bool SurfaceCutter::processColumn(int column, int& budget, CutStep& step) {
     candidates_.clear();
     fresh_.clear();
     next_candidate_ = 0;
-    // Before any of the column's vertices is bound: the faces it will cut are fine enough (a whole unit of
-    // work, never split across calls, so the mesh does not depend on the budget).
-    if (options_.refine != CutterOptions::Refine::Off) refineColumn(column, budget, step);
-    grid_.query(incision_->columnBox(column), candidates_);  // ascending ids
+    // Before any of the column's vertices is bound, the faces it will cut are made fine enough.
+    refining_ = options_.refine != CutterOptions::Refine::Off && beginRefine(column);
+    if (!refining_) grid_.query(incision_->columnBox(column), candidates_);  // ascending ids
+  }
+  if (refining_) {
+    // Paused and resumed in the same order whatever the budget (nothing else changes the mesh meanwhile).
+    if (!continueRefine(budget, step)) return false;
+    refining_ = false;
+    grid_.query(incision_->columnBox(column), candidates_);
   }
   for (; next_candidate_ < candidates_.size(); ++next_candidate_) {
     const VH v(candidates_[next_candidate_]);
@@ -531,11 +550,20 @@ std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, c
   // where it was when the incision began. That surface does not depend on how far the current cut's
   // work has got, so contact (and so the cut) is the same whichever frame handles a pose.
   if (!a.allFinite() || !b.allFinite()) return std::nullopt;
-  Eigen::AlignedBox3d box(a.cwiseMin(b), a.cwiseMax(b));
-  box.min().array() -= longest_edge_m_;
-  box.max().array() += longest_edge_m_;
+  // A crossed face has every corner within its longest edge of the segment. Without refinement: every vertex
+  // within the mesh's longest edge. With it (coarse flags kept): every vertex within refine_edge_m (the faces
+  // of uncoarse corners), and the coarse vertices within the longest edge (every other face has one).
+  const Eigen::AlignedBox3d segment(a.cwiseMin(b), a.cwiseMax(b));
+  const bool flagged = options_.refine != CutterOptions::Refine::Off;
+  const auto grown = [&](double margin_m) {
+    Eigen::AlignedBox3d box = segment;
+    box.min().array() -= margin_m;
+    box.max().array() += margin_m;
+    return box;
+  };
   query_.clear();
-  grid_.query(box, query_);
+  grid_.query(grown(flagged ? refine_edge_m_ : longest_edge_m_), query_);
+  if (flagged && coarse_vertices_ > 0) coarse_grid_.query(grown(longest_edge_m_), query_);
   const TriMesh& m = mesh_.mesh();
   if (face_stamp_.size() < m.n_faces()) face_stamp_.resize(m.n_faces() + m.n_faces() / 4, 0);
   if (++face_query_ == 0) {

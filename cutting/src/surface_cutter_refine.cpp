@@ -14,11 +14,15 @@
 // lies on the edge at rest (Linear) or on the edge's PN-triangle cubic (PnTriangles, Vlachos, Peters, Boyd and
 // Mitchell, "Curved PN triangles", I3D 2001), and is an Original vertex: the faces are still the skin, only finer.
 //
+// Which vertices have an edge longer than the limit is kept per vertex (a flag, set at construction, updated
+// around every split and, when an incision begins, around the vertices the previous one moved), so a mesh
+// fine everywhere costs one comparison a column, and a column elsewhere fine a look at a flag per vertex.
 // Threads: the sim thread (the cutter's owner). Cost per column: O(vertices within the longest edge of the
-// column's hull) for the query, plus O(log faces) a split for the deduplicating sort; a split is O(1) and is
-// charged one unit of the call's budget. Allocation: none once the scratch has grown to a column's faces
-// (reserved at construction) and while the mesh has headroom (reserveHeadroom); refinement stops for the
-// column rather than grow the mesh's arrays (CutStats::refine_limited).
+// column's hull) for the query while any vertex is flagged, plus O(valence^2) a split; a split is charged one
+// unit of the call's budget, and a column's refinement pauses where the budget ends and resumes in the next
+// call in the same order (the mesh does not depend on the budget). Allocation: none once the scratch has
+// grown to a column's faces (reserved at construction) and while the mesh has headroom (reserveHeadroom);
+// refinement stops for the column rather than grow the mesh's arrays (CutStats::refine_limited).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -77,12 +81,13 @@ HH SurfaceCutter::longestHalfedge(FH f, double* length_m) const {
 bool SurfaceCutter::refinable(FH f, const Eigen::AlignedBox3d& box) const {
   const TriMesh& m = mesh_.mesh();
   if (m.status(f).deleted() || mesh_.kind(f) == FaceKind::Wall) return false;
-  double longest_m = 0.0;
-  longestHalfedge(f, &longest_m);
-  if (!(longest_m > refine_edge_m_)) return false;
-  Eigen::AlignedBox3d bounds;
-  for (auto v = m.cfv_iter(f); v.is_valid(); ++v) bounds.extend(restPosition(*v));
-  return bounds.intersects(box);
+  auto c = m.cfv_iter(f);
+  const Eigen::Vector3d a = restPosition(*c), b = restPosition(*++c), d = restPosition(*++c);
+  Eigen::AlignedBox3d bounds(a);
+  bounds.extend(b).extend(d);
+  if (!bounds.intersects(box)) return false;  // the cheaper test first
+  const double limit2 = refine_edge_m_ * refine_edge_m_;
+  return (b - a).squaredNorm() > limit2 || (d - b).squaredNorm() > limit2 || (a - d).squaredNorm() > limit2;
 }
 
 EH SurfaceCutter::terminalEdge(FH f) const {
@@ -159,6 +164,8 @@ VH SurfaceCutter::bisect(EH e, CutStep& step) {
   const VH v = mesh_.addVertex(p, VertexKind::Original);
   m.split_copy(e, v);  // the new faces take their split faces' kinds (Original or an earlier cut's Split)
   grid_.insert(v.idx(), p);
+  m.property(coarse_, v) = 0;
+  updateCoarseAround(v);  // the halved edge's ends, the new vertex and the faces' far corners
   vertexChanged(v);
   for (auto f = m.vf_iter(v); f.is_valid(); ++f) faceChanged(*f);
   IncisionFigures& figures = stats_.figures.back();
@@ -170,30 +177,80 @@ VH SurfaceCutter::bisect(EH e, CutStep& step) {
   return v;
 }
 
-void SurfaceCutter::refineColumn(int column, int& budget, CutStep& step) {
+void SurfaceCutter::initCoarse() {
   TriMesh& m = mesh_.mesh();
-  const Eigen::AlignedBox3d box = incision_->columnBox(column);
+  m.add_property(coarse_, "incise:coarse");
+  m.add_property(coarse_at_, "incise:coarse_at");
+  m.add_property(coarse_reach_, "incise:coarse_reach");
+  coarse_vertices_ = 0;
+  for (const auto v : m.vertices()) {
+    m.property(coarse_, v) = 0;
+    updateCoarse(v);
+  }
+}
+
+void SurfaceCutter::updateCoarse(VH v) {
+  TriMesh& m = mesh_.mesh();
+  double longest_m = 0.0;
+  const Eigen::Vector3d p = restPosition(v);
+  for (auto n = m.cvv_iter(v); n.is_valid(); ++n) longest_m = std::max(longest_m, (restPosition(*n) - p).norm());
+  const std::uint8_t coarse = longest_m > refine_edge_m_;
+  m.property(coarse_reach_, v) = longest_m;
+  std::uint8_t& flag = m.property(coarse_, v);
+  Eigen::Vector3d& at = m.property(coarse_at_, v);
+  if (coarse && !flag) {
+    at = p;
+    coarse_grid_.insert(v.idx(), at);
+  } else if (!coarse && flag) {
+    coarse_grid_.remove(v.idx(), at);
+  } else if (coarse && p != at) {  // moved by an earlier incision
+    coarse_grid_.move(v.idx(), at, p);
+    at = p;
+  }
+  coarse_vertices_ += coarse - flag;
+  flag = coarse;
+}
+
+void SurfaceCutter::updateCoarseAround(VH v) {
+  updateCoarse(v);
+  for (auto n = mesh_.mesh().cvv_iter(v); n.is_valid(); ++n) updateCoarse(*n);
+}
+
+bool SurfaceCutter::beginRefine(int column) {
+  refine_faces_.clear();
+  refine_splits_ = 0;
+  if (coarse_vertices_ == 0) return false;  // nothing coarse anywhere: no query at all
+  const TriMesh& m = mesh_.mesh();
+  refine_box_ = incision_->columnBox(column);
   // Every face meeting the hull has a vertex within its longest edge of it.
-  Eigen::AlignedBox3d reach = box;
+  Eigen::AlignedBox3d reach = refine_box_;
   reach.min().array() -= longest_edge_m_;
   reach.max().array() += longest_edge_m_;
   refine_query_.clear();
-  grid_.query(reach, refine_query_);
-  refine_faces_.clear();
+  coarse_grid_.query(reach, refine_query_);  // a coarse face has coarse corners
   for (const int id : refine_query_) {
-    if (m.status(VH(id)).deleted()) continue;
-    for (auto f = m.cvf_iter(VH(id)); f.is_valid(); ++f)
-      if (refinable(*f, box)) refine_faces_.push_back(f->idx());
+    const VH v(id);
+    // Its faces reach no farther from it than its longest edge.
+    const double reach_m = m.property(coarse_reach_, v);
+    if (refine_box_.squaredExteriorDistance(m.property(coarse_at_, v)) > reach_m * reach_m) continue;
+    for (auto f = m.cvf_iter(v); f.is_valid(); ++f)
+      if (refinable(*f, refine_box_)) refine_faces_.push_back(f->idx());
   }
   std::sort(refine_faces_.begin(), refine_faces_.end(), std::greater<>());  // the smallest index on top
   refine_faces_.erase(std::unique(refine_faces_.begin(), refine_faces_.end()), refine_faces_.end());
-  int splits = 0;
+  return !refine_faces_.empty();
+}
+
+bool SurfaceCutter::continueRefine(int& budget, CutStep& step) {
+  TriMesh& m = mesh_.mesh();
   while (!refine_faces_.empty()) {
+    if (budget <= 0) return false;  // resume here next call
     const FH f(refine_faces_.back());
     refine_faces_.pop_back();
-    if (!refinable(f, box)) continue;
-    if (splits >= options_.max_refine_splits_per_column || m.n_vertices() + 1 >= reserved_vertices_) {
+    if (!refinable(f, refine_box_)) continue;
+    if (refine_splits_ >= options_.max_refine_splits_per_column || m.n_vertices() + 1 >= reserved_vertices_) {
       ++stats_.refine_limited;
+      refine_faces_.clear();
       break;
     }
     EH e = terminalEdge(f);
@@ -203,12 +260,13 @@ void SurfaceCutter::refineColumn(int column, int& budget, CutStep& step) {
       continue;
     }
     const VH v = bisect(e, step);
-    ++splits;
+    ++refine_splits_;
+    --budget;
     refine_faces_.push_back(f.idx());  // f (or what is left of it) may still be coarse
     for (auto g = m.vf_iter(v); g.is_valid(); ++g)
-      if (*g != f && refinable(*g, box)) refine_faces_.push_back(g->idx());
+      if (*g != f && refinable(*g, refine_box_)) refine_faces_.push_back(g->idx());
   }
-  budget -= splits;
+  return true;
 }
 
 }  // namespace incise::cutting

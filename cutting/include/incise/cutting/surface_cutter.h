@@ -158,8 +158,13 @@ class SurfaceCutter {
     return incision_ && incision_->finished() && next_column_ >= incision_->finalColumns();
   }
   void splitCrossings(const std::vector<TriMesh::VertexHandle>& fresh, CutStep& step);
-  // Local refinement ahead of the cut (surface_cutter_refine.cpp).
-  void refineColumn(int column, int& budget, CutStep& step);
+  // Local refinement ahead of the cut (surface_cutter_refine.cpp): beginRefine collects the column's coarse
+  // faces (false: none), continueRefine bisects them within the budget (false: spent, resume next call).
+  bool beginRefine(int column);
+  bool continueRefine(int& budget, CutStep& step);
+  void updateCoarse(TriMesh::VertexHandle v);        // recomputes v's coarse flag (an edge longer than the limit)
+  void updateCoarseAround(TriMesh::VertexHandle v);  // v's and its neighbours'
+  void initCoarse();
   bool refinable(TriMesh::FaceHandle f, const Eigen::AlignedBox3d& box) const;
   TriMesh::HalfedgeHandle longestHalfedge(TriMesh::FaceHandle f, double* length_m = nullptr) const;
   TriMesh::EdgeHandle terminalEdge(TriMesh::FaceHandle f) const;  // Rivara's LEPP from f
@@ -218,10 +223,22 @@ class SurfaceCutter {
   std::vector<int> stencil_first_;
   std::vector<double> stencil_basis_;
   std::vector<int> changed_columns_, candidates_;
-  std::vector<int> refine_query_, refine_faces_;   // refineColumn's scratch (reserved at construction)
-  double refine_edge_m_ = 0.0;                     // refineEdgeLength(options_)
-  mutable std::vector<int> query_;                 // scratch for intersect() and onSurface()
-  mutable std::vector<std::uint32_t> face_stamp_;  // intersect(): the query that last tested each face
+  std::vector<int> refine_query_, refine_faces_;  // the column's refinement: scratch, and the faces left to
+                                                  // refine (a stack; reserved at construction)
+  double refine_edge_m_ = 0.0;                    // refineEdgeLength(options_)
+  Eigen::AlignedBox3d refine_box_;                // the column's control-point hull being refined
+  bool refining_ = false;                         // next_column_'s refinement is under way
+  int refine_splits_ = 0;                         // edges it has bisected
+  // Per vertex: it has an edge longer than refine_edge_m_ at rest (stale only upwards: a vertex flagged may
+  // have none left, which costs a look; one unflagged has none), and how many are flagged: refinement looks
+  // only at the faces of flagged vertices, and not at all while none is.
+  OpenMesh::VPropHandleT<std::uint8_t> coarse_;
+  int coarse_vertices_ = 0;
+  VertexGrid coarse_grid_;                             // the flagged vertices, at rest
+  OpenMesh::VPropHandleT<Eigen::Vector3d> coarse_at_;  // where each is in coarse_grid_
+  OpenMesh::VPropHandleT<double> coarse_reach_;        // each vertex's longest edge at rest (m)
+  mutable std::vector<int> query_;                     // scratch for intersect() and onSurface()
+  mutable std::vector<std::uint32_t> face_stamp_;      // intersect(): the query that last tested each face
   mutable std::uint32_t face_query_ = 0;
   CutStats stats_;
   MeshChanges changes_;
