@@ -69,6 +69,15 @@ ok = (s['failure'] == '' and s['mesh']['closed_two_manifold'] and s['refined_ver
       and s['refined_faces'] == 2 * s['refined_vertices'] == 2 * f['refined_vertices']
       and f['groove_length_m'] >= f['stroke_length_m'] - 0.002 and s['options']['refine'] == 'linear')
 sys.exit(0 if ok else 1)"
+# The shipped bunny as it is, not subdivided (3.8 mm edges at 10 cm: coarser than the lattice): refined along
+# the stroke, a groove as long as it; without refinement, no groove and a reason.
+check "cut on the bunny not subdivided cuts through refinement" "$incise" cut --subdivide 0 --out "$work/bunny0"
+check "... a groove within 2 mm of the stroke, refinement counted" python3 -c "
+import json, sys
+s = json.load(open('$work/bunny0/summary.json')); f = s['incision_figures'][0]
+sys.exit(0 if s['refined_vertices'] > 100 and f['groove_length_m'] >= f['stroke_length_m'] - 0.002 else 1)"
+check "cut on the bunny not subdivided, refinement off, exits 1 and says why" expect_exit 1 "coarse next to the lattice" \
+  -- "$incise" cut --subdivide 0 --refine off --out "$work/bunny0off"
 check "cut --refine pn is accepted" "$incise" cut --mesh "$work/cadbox.obj" --scale 1 --subdivide 0 \
   --start -0.02 0.05 0.003 --length 0.04 --refine pn --out "$work/cadpn"
 check "cut --refine with another word exits 2" expect_exit 2 "refine" -- "$incise" cut --refine cubic --out "$work/badrefine"
