@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bunny_stroke.h"
+#include "cut_timing.h"
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
 #include "machine_info.h"
@@ -33,19 +34,10 @@ nlohmann::json runMesh(const SurfaceMesh& base, int subdivisions, int budget) {
   CutterOptions options;
   options.max_inversions_per_call = budget;
   SurfaceCutter cutter(mesh, options);
-  std::vector<double> sample_us;
-  sample_us.reserve(stroke.samples.size() + 1);
-  auto start = Clock::now();
-  cutter.begin(stroke.first, stroke.blade_direction);
-  sample_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
-  for (const StrokeSample& sample : stroke.samples) {
-    start = Clock::now();
-    cutter.extend(sample);
-    sample_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
-  }
+  const std::vector<double> sample_us = incise::bench::timeSamples(cutter, stroke);
   int trailing_calls = 0;  // calls' worth of carried work still to do when the stroke ends (and after finish)
   while (cutter.pending() && trailing_calls < 1000) cutter.advance(stroke.samples.back().time_s), ++trailing_calls;
-  start = Clock::now();
+  const auto start = Clock::now();
   cutter.finish();
   const double finish_us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
   // The columns the end of the stroke made final, still under the budget: the cut reaches the last sample.

@@ -10,12 +10,12 @@
 // unlimited; reported: the median over runs of the per-sample p50 / p99 / max, the refinement's vertices,
 // the groove against the stroke, and the ratio of p99s. Target: refined p99 within 10% of the pre-subdivided.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "bunny_stroke.h"
+#include "cut_timing.h"
 #include "incise/cutting/shapes.h"
 #include "incise/cutting/stroke_path.h"
 #include "incise/cutting/surface_cutter.h"
@@ -25,7 +25,6 @@ namespace {
 
 using namespace incise::cutting;
 using incise::bench::percentile;
-using Clock = std::chrono::steady_clock;
 
 constexpr double kTargetRatio = 1.10;
 constexpr int kRuns = 5;
@@ -63,15 +62,7 @@ Run cutOnce(const Config& c, int budget) {
   options.refine_edge_m = c.refine_edge_m;
   SurfaceCutter cutter(mesh, options);
   Run run;
-  run.sample_us.reserve(stroke.samples.size() + 1);
-  auto start = Clock::now();
-  cutter.begin(stroke.first, stroke.blade_direction);
-  run.sample_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
-  for (const StrokeSample& sample : stroke.samples) {
-    start = Clock::now();
-    cutter.extend(sample);
-    run.sample_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
-  }
+  run.sample_us = incise::bench::timeSamples(cutter, stroke);
   cutter.finish(FinishWork::Later);
   for (int calls = 0; cutter.pending() && calls < 100000; ++calls) cutter.advance(stroke.samples.back().time_s);
   cutter.advance(stroke.samples.back().time_s + 1.0);
