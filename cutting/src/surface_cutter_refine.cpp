@@ -17,14 +17,13 @@
 // Which vertices have an edge longer than the limit is kept per vertex (a flag, set at construction, updated
 // around every split and, when an incision begins, around the vertices the previous one moved), so a mesh
 // fine everywhere costs one comparison a column, and a column elsewhere fine a look at a flag per vertex.
-// Threads: the sim thread (the cutter's owner). Cost per column: O(vertices within the longest edge of the
-// column's hull) for the query while any vertex is flagged, plus O(valence^2) a split; a split is charged one
+// Threads: the sim thread (the cutter's owner). Cost per column: O(coarse vertices within the longest edge of
+// the column's hull) for the query while any vertex is flagged, plus O(valence^2) a split; a split is charged one
 // unit of the call's budget, and a column's refinement pauses where the budget ends and resumes in the next
 // call in the same order (the mesh does not depend on the budget). Allocation: none once the scratch has
 // grown to a column's faces (reserved at construction) and while the mesh has headroom (reserveHeadroom);
 // refinement stops for the column rather than grow the mesh's arrays (CutStats::refine_limited).
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "incise/cutting/surface_cutter.h"
@@ -62,7 +61,7 @@ const char* toString(CutterOptions::Refine refine) noexcept {
   return "unknown";
 }
 
-HH SurfaceCutter::longestHalfedge(FH f, double* length_m) const {
+HH SurfaceCutter::longestHalfedge(FH f) const {
   // Ties go to the smaller edge index, so "longer" is a strict order and the propagation path cannot cycle.
   const TriMesh& m = mesh_.mesh();
   HH best;
@@ -74,7 +73,6 @@ HH SurfaceCutter::longestHalfedge(FH f, double* length_m) const {
       best = *h;
     }
   }
-  if (length_m) *length_m = best_m;
   return best;
 }
 

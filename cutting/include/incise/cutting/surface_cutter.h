@@ -166,7 +166,7 @@ class SurfaceCutter {
   void updateCoarseAround(TriMesh::VertexHandle v);  // v's and its neighbours'
   void initCoarse();
   bool refinable(TriMesh::FaceHandle f, const Eigen::AlignedBox3d& box) const;
-  TriMesh::HalfedgeHandle longestHalfedge(TriMesh::FaceHandle f, double* length_m = nullptr) const;
+  TriMesh::HalfedgeHandle longestHalfedge(TriMesh::FaceHandle f) const;
   TriMesh::EdgeHandle terminalEdge(TriMesh::FaceHandle f) const;  // Rivara's LEPP from f
   bool splittable(TriMesh::EdgeHandle e) const;
   Eigen::Vector3d refinedPoint(TriMesh::HalfedgeHandle h) const;
