@@ -1,9 +1,14 @@
 // `incise bench [SCENARIO...] [--seconds S]`: the latency benchmark. Replays each scenario in real time at
 // its rate, over and over on a fresh tissue, until S seconds of frames have run, and prints JSON: per
 // scenario the frame, haptic and cut times (p50 / p99 / p99.9 / max), pose-to-visible latency in frames,
-// deadline misses, the targets, and the machine.
+// deadline misses told apart into overruns (a frame longer than the period: our cost) and late wake-ups
+// (the loop started late: the VM or the scheduler), the world's queue and contact-proxy counters, the
+// targets (issue 17: frame p99 <= 250 us at 1 kHz, 150 us at 4 kHz; haptic p99 <= 20 us, max <= 100 us; no
+// overrun), and the machine.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include "commands.h"
 #include "data_dir.h"
@@ -18,23 +23,65 @@ namespace {
 
 struct BenchArgs {
   std::vector<std::string> scenarios{shippedFile("bunny-straight.json"), shippedFile("bunny-curved.json"),
-                                     shippedFile("bunny-crossing.json")};
+                                     shippedFile("bunny-crossing.json"), shippedFile("bunny-tets.json"),
+                                     shippedFile("bunny-crossing-4khz.json")};
   double seconds = 60.0;
   std::int64_t spin_us = 200;  // sleep_until wakes up to ~1 ms late on this VM; a haptic loop spins the rest
 };
+
+constexpr double kHapticP99TargetUs = 20.0, kHapticMaxTargetUs = 100.0, kPoseToVisibleTargetFrames = 3.0;
+// The frame's p99 target: 250 us at 1 kHz, 150 us at 4 kHz (60% of its period).
+double frameTargetUs(std::int64_t period_us) {
+  return period_us >= 1000 ? 250.0 : 0.6 * static_cast<double>(period_us);
+}
 
 nlohmann::json summary(const sim::SampleSummary& s) {
   return {{"p50", s.p50}, {"p99", s.p99}, {"p999", s.p999}, {"max", s.max}, {"count", s.count}};
 }
 
+// The world's counters, summed over the replays.
+void addCounters(nlohmann::json& sum, const sim::WorldCounters& c) {
+  const auto add = [&](const char* key, std::int64_t value) { sum[key] = sum.value(key, std::int64_t{0}) + value; };
+  add("proxy_misses", c.proxy_misses);
+  add("proxy_refills", c.proxy_refills);
+  add("proxy_overflows", c.proxy_overflows);
+  add("swept_contacts", c.swept_contacts);
+  add("incisions_waited", c.waits);
+  add("frames_waited", c.waited_frames);
+  add("catch_ups", c.catch_ups);
+  sum["proxy_largest"] = std::max(sum.value("proxy_largest", 0), c.proxy_largest);
+  sum["queue_peak"] = std::max(sum.value("queue_peak", 0), c.queue_peak);
+}
+
+nlohmann::json verdict(const sim::LatencySummary& s, std::int64_t period_us) {
+  return {{"frame_us_p99", s.frame_us.p99 <= frameTargetUs(period_us)},
+          {"haptic_us_p99", s.haptic_us.p99 <= kHapticP99TargetUs},
+          {"haptic_us_max", s.haptic_us.max <= kHapticMaxTargetUs},
+          {"pose_to_visible_frames_p99", s.pose_to_visible_frames.p99 <= kPoseToVisibleTargetFrames},
+          {"overrun_misses", s.overrun_misses == 0}};
+}
+
+sim::ReplayOptions benchOptions(const LoadedScenario& run, sim::LatencyStats& stats, std::int64_t spin_us) {
+  sim::ReplayOptions options;
+  options.pace = sim::ReplayPace::RealTime;
+  options.period_us = run.scenario.periodUs();
+  options.settle_s = run.scenario.settle_s;
+  options.stats = &stats;
+  options.spin_us = std::min(spin_us, options.period_us / 2);
+  options.pin_threads = true;
+  options.realtime_priority = true;  // SCHED_FIFO when the process may have it
+  return options;
+}
+
 nlohmann::json benchScenario(const std::string& path, double seconds, std::int64_t spin_us) {
-  sim::LatencyStats stats(static_cast<std::size_t>(seconds * 1000.0 * 1.2) + 10000);
   std::string name;
   int replays = 0;
   double wall_s = 0.0;
-  std::int64_t overruns = 0;
+  std::int64_t overruns = 0, period_us = 1000;
+  nlohmann::json counters = nlohmann::json::object();
+  std::unique_ptr<sim::LatencyStats> stats;
   Progress progress("bench " + std::filesystem::path(path).stem().string(), seconds);
-  while (static_cast<double>(stats.frames()) * 1e-3 < seconds) {
+  while (!stats || static_cast<double>(stats->frames()) * 1e-6 * static_cast<double>(period_us) < seconds) {
     LoadedScenario run;
     try {
       run = loadScenarioRun(path);
@@ -42,23 +89,23 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
       failWith("bench", e.what());
     }
     name = run.scenario.name;
-    sim::ReplayOptions options;
-    options.pace = sim::ReplayPace::RealTime;
-    options.period_us = run.scenario.periodUs();
-    options.settle_s = run.scenario.settle_s;
-    options.stats = &stats;
-    options.spin_us = spin_us;
-    options.pin_threads = true;
-    options.realtime_priority = true;  // SCHED_FIFO when the process may have it
-    const sim::ReplayReport report = sim::replay(*run.world, run.poses, options);
+    period_us = run.scenario.periodUs();
+    if (!stats)
+      stats = std::make_unique<sim::LatencyStats>(static_cast<std::size_t>(seconds * 1.2e6 / period_us) + 10000);
+    const sim::ReplayReport report = sim::replay(*run.world, run.poses, benchOptions(run, *stats, spin_us));
     wall_s += report.wall_s;
     overruns += report.loop.overruns;
+    addCounters(counters, run.world->counters());
     ++replays;
-    progress.update(static_cast<double>(stats.frames()) * 1e-3);
+    progress.update(static_cast<double>(stats->frames()) * 1e-6 * static_cast<double>(period_us));
   }
   progress.finish();
-  const sim::LatencySummary s = stats.summary();
+  const sim::LatencySummary s = stats->summary();
+  const nlohmann::json meets = verdict(s, period_us);
+  bool all = true;
+  for (const auto& item : meets.items()) all = all && item.value().get<bool>();
   return {{"scenario", name},
+          {"period_us", period_us},
           {"replays", replays},
           {"frames", s.frames},
           {"wall_s", wall_s},
@@ -68,9 +115,13 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
           {"period_error_us", summary(s.period_error_us)},
           {"pose_to_visible_frames", summary(s.pose_to_visible_frames)},
           {"deadline_misses", s.deadline_misses},
+          {"overrun_misses", s.overrun_misses},
+          {"late_wakeup_misses", s.late_wakeup_misses},
           {"loop_overruns", overruns},
-          {"meets_targets", s.frame_us.p99 <= 500.0 && s.haptic_us.p99 <= 50.0 && s.pose_to_visible_frames.p99 <= 3.0 &&
-                                s.deadline_misses == 0}};
+          {"world", counters},
+          {"frame_us_p99_target", frameTargetUs(period_us)},
+          {"meets", meets},
+          {"meets_targets", all}};
 }
 
 }  // namespace
@@ -86,14 +137,17 @@ void addBenchCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0.1, 3600.0));
   cmd->callback([args] {
-    nlohmann::json report = {
-        {"benchmark", "realtime_replay_latency"},
-        {"targets",
-         {{"frame_us_p99", 500}, {"haptic_us_p99", 50}, {"pose_to_visible_frames_p99", 3}, {"deadline_misses", 0}}},
-        {"seconds_per_scenario", args->seconds},
-        {"spin_us", args->spin_us},
-        {"machine", bench::machineInfo()},
-        {"results", nlohmann::json::array()}};
+    nlohmann::json report = {{"benchmark", "realtime_replay_latency"},
+                             {"targets",
+                              {{"frame_us_p99", "250 at 1 kHz, 60% of the period above (150 at 4 kHz)"},
+                               {"haptic_us_p99", kHapticP99TargetUs},
+                               {"haptic_us_max", kHapticMaxTargetUs},
+                               {"pose_to_visible_frames_p99", kPoseToVisibleTargetFrames},
+                               {"overrun_misses", 0}}},
+                             {"seconds_per_scenario", args->seconds},
+                             {"spin_us", args->spin_us},
+                             {"machine", bench::machineInfo()},
+                             {"results", nlohmann::json::array()}};
     for (const auto& path : args->scenarios)
       report["results"].push_back(benchScenario(path, args->seconds, args->spin_us));
     std::printf("%s\n", report.dump(2).c_str());

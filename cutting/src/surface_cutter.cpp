@@ -7,7 +7,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "face_walk.h"
 #include "incise/cutting/volume_inversion.h"
 #include "surface_cutter_internal.h"
 
@@ -100,16 +99,20 @@ bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
   return false;
 }
 
-void SurfaceCutter::settle() noexcept {
+void SurfaceCutter::settle() noexcept { settleStep(true); }
+
+bool SurfaceCutter::settleStep(bool unlimited) noexcept {
   if (active()) finish(FinishWork::Later);
-  // The incision's carried work is done now, whatever the budget, and its wound set to its final, settled
-  // opening: a state that depends on the samples alone, not on how far frames had advanced its time
-  // response when the next stroke began.
-  if (incision_) time_s_ = std::numeric_limits<double>::max();
-  unlimited_ = true;
-  if (incision_) process(CutStep{});
-  while (pending()) process(CutStep{});
+  if (!incision_) return true;
+  // The incision's carried work is done (within this call's budget unless unlimited), and its wound set to
+  // its final, settled opening: a state that depends on the samples alone, not on how far frames had
+  // advanced its time response when the next stroke began, nor on how many calls the work took (the work's
+  // order does not depend on the budget).
+  time_s_ = std::numeric_limits<double>::max();
+  unlimited_ = unlimited;
+  process(CutStep{});
   unlimited_ = false;
+  return !pending();
 }
 
 CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept {
@@ -543,41 +546,6 @@ void SurfaceCutter::redeform(CutStep& step) {
 
 Eigen::Vector3d SurfaceCutter::restPosition(VH v) const {
   return bound(v) ? data(v).rest_m : toEigen(mesh_.mesh().point(v));
-}
-
-std::optional<SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
-  // Against the surface at rest for the current incision: its own walls left out, every other vertex
-  // where it was when the incision began. That surface does not depend on how far the current cut's
-  // work has got, so contact (and so the cut) is the same whichever frame handles a pose.
-  if (!a.allFinite() || !b.allFinite()) return std::nullopt;
-  // A crossed face has every corner within its longest edge of the segment. Without refinement: every vertex
-  // within the mesh's longest edge. With it (coarse flags kept): every vertex within refine_edge_m (the faces
-  // of uncoarse corners), and the coarse vertices within the longest edge (every other face has one).
-  const Eigen::AlignedBox3d segment(a.cwiseMin(b), a.cwiseMax(b));
-  const bool flagged = options_.refine != CutterOptions::Refine::Off;
-  const auto grown = [&](double margin_m) {
-    Eigen::AlignedBox3d box = segment;
-    box.min().array() -= margin_m;
-    box.max().array() += margin_m;
-    return box;
-  };
-  query_.clear();
-  grid_.query(grown(flagged ? refine_edge_m_ : longest_edge_m_), query_);
-  if (flagged && coarse_vertices_ > 0) coarse_grid_.query(grown(longest_edge_m_), query_);
-  const TriMesh& m = mesh_.mesh();
-  if (face_stamp_.size() < m.n_faces()) face_stamp_.resize(m.n_faces() + m.n_faces() / 4, 0);
-  if (++face_query_ == 0) {
-    std::fill(face_stamp_.begin(), face_stamp_.end(), 0u);
-    face_query_ = 1;
-  }
-  return detail::firstCrossing(
-      m, query_, a, b, [&](VH v) { return restPosition(v); },
-      [&](FH f) {
-        std::uint32_t& stamp = face_stamp_[static_cast<size_t>(f.idx())];
-        if (stamp == face_query_) return true;  // a face is met from each of its vertices: test it once
-        stamp = face_query_;
-        return mesh_.kind(f) == FaceKind::Wall;  // every wound's wall: contact is with the skin
-      });
 }
 
 std::optional<SurfaceCutter::Binding> SurfaceCutter::binding(TriMesh::VertexHandle v) const {

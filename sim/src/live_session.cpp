@@ -68,7 +68,7 @@ void LiveSession::frame(const FrameInfo& info) noexcept {
   last_frame_ = info.frame;
   if (!stopping_.load(std::memory_order_acquire)) return;
   const bool all_taken = sim_.posesTaken() + sim_.posesDropped() >= pushed_.load(std::memory_order_acquire);
-  if (all_taken && !world_.cutter().pending() &&
+  if (all_taken && !world_.pending() &&
       sim_.frameTime(info.frame) >= last_pose_s_.load(std::memory_order_acquire) + options_.settle_s)
     loop_.requestStop();
 }

@@ -73,15 +73,17 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   if (sink_) sink_->apply(haptic.force_N, t_s);
   const auto haptic_end = Clock::now();
 
-  // Columns this frame's poses made final: remember when, to measure when they are cut.
+  // The cut phase takes the poses and makes lattice columns final; remember when their poses came (this
+  // frame, less however long they waited in the world's queue), to measure when the columns are cut.
   const cutting::SurfaceCutter& cutter = world_.cutter();
+  const auto lag_frames = static_cast<std::int64_t>(std::llround(world_.cutLagS() / dt_s_));  // before: the most
+  world_.cut(t_s);
+  const auto cut_end = Clock::now();
   resetOnNewIncision();
   if (cutter.columnsFinal() > last_final_ && pending_size_ < pending_.size()) {
     last_final_ = cutter.columnsFinal();
-    pending_[(pending_head_ + pending_size_++) % pending_.size()] = {last_final_, info.frame};
+    pending_[(pending_head_ + pending_size_++) % pending_.size()] = {last_final_, info.frame - lag_frames};
   }
-  world_.cut(t_s);
-  const auto cut_end = Clock::now();
   const int visible = poseToVisible(info.frame);
   if (geometry_) geometry_->publish(world_, info.frame);
   const auto geometry_end = Clock::now();
@@ -118,6 +120,7 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   timing.period_error_us = info.period_error_us;
   timing.pose_to_visible_frames = visible;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
+  timing.overrun = timing.frame_us > period_us_;
   stats_->record(timing);
   if (times_)
     times_->tryPush({info.frame, static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us),
@@ -170,8 +173,8 @@ struct ReplayRun {
     if (sim.frameTime(info.frame) >= stop_s) stop.store(true, std::memory_order_relaxed);
     if (stop.load(std::memory_order_relaxed)) return true;
     return fed.load(std::memory_order_acquire) == trace.size() &&
-           sim.posesTaken() + sim.posesDropped() == static_cast<std::int64_t>(trace.size()) &&
-           !world.cutter().pending() && sim.frameTime(info.frame) >= end_s;
+           sim.posesTaken() + sim.posesDropped() == static_cast<std::int64_t>(trace.size()) && !world.pending() &&
+           sim.frameTime(info.frame) >= end_s;
   }
   double stop_s = std::numeric_limits<double>::infinity();
   std::atomic<std::int64_t> paused_frames{0};

@@ -72,6 +72,9 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
                                 " is outside [-1, 31]");
   if (!(options.cut_budget_us > 0.0 && options.us_per_inversion > 0.0))
     throw std::invalid_argument("World: cut_budget_us and us_per_inversion must be > 0");
+  probe_m_ = std::min(options.tool.blade_length_m, options.cutter.incision.depth_m + 0.002);
+  queued_.resize(kQueuedPoses);
+  proxy_ = std::make_unique<ContactProxy>();
   tissue_ = std::make_unique<cutting::SurfaceMesh>(std::move(tissue));
   cutter_ = std::make_unique<cutting::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
   if (options.tets.enabled) {
@@ -102,29 +105,56 @@ void World::followTets(cutting::TetBudget budget) noexcept {
   if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, budget);
 }
 
-void World::contact(const devices::PoseSample& pose, HapticState& state) noexcept {
-  const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d(0.0, 0.0, -1.0);  // handle -> tip
+Eigen::Vector3d World::handleOf(const devices::PoseSample& pose) const noexcept {
   // Only the blade's last part can meet the surface while it cuts (the tip is at most a little deeper
-  // than the cut): probing that part keeps the query local, and so the haptic step short.
-  const double probe_m = std::min(options_.tool.blade_length_m, options_.cutter.incision.depth_m + 0.002);
-  const Eigen::Vector3d handle = pose.tip_m - probe_m * axis;
-  state.tip_m = pose.tip_m;
-  state.orientation = pose.orientation;
-  state.contact = false;
-  state.cutting = false;
+  // than the cut): probing that part keeps the query local.
+  return pose.tip_m - probe_m_ * (pose.orientation * Eigen::Vector3d(0.0, 0.0, -1.0));
+}
+
+bool World::buttonDown(const devices::PoseSample& pose) const noexcept {
+  return options_.tool.cut_button < 0 || ((pose.buttons >> options_.tool.cut_button) & 1u) != 0;
+}
+
+World::Contact World::exactContact(const devices::PoseSample& pose) const noexcept {
+  Contact c;
   std::optional<cutting::SurfacePoint> hit;
   try {
-    hit = cutter_->intersect(handle, pose.tip_m);
+    hit = cutter_->intersect(handleOf(pose), pose.tip_m);
   } catch (...) {  // allocation in the grid query: treat as no contact this pose
     hit.reset();
+  }
+  if (!hit) return c;
+  c.penetration_m = std::max(0.0, (hit->point_m - pose.tip_m).dot(hit->normal));
+  c.contact = c.penetration_m > 0.0;
+  c.point_m = hit->point_m;
+  c.normal = hit->normal;
+  c.cutting = c.contact && buttonDown(pose);
+  return c;
+}
+
+void World::hapticContact(const devices::PoseSample& pose, HapticState& state) noexcept {
+  const Eigen::Vector3d handle = handleOf(pose);
+  state.tip_m = pose.tip_m;
+  state.orientation = pose.orientation;
+  if (!proxy_->covers(handle, pose.tip_m)) {
+    state.proxy_miss = true;
+    ++counters_.proxy_misses;
+    return;
+  }
+  std::optional<ProxyHit> hit = proxy_->firstCrossing(handle, pose.tip_m);
+  const Eigen::Vector3d moved = pose.tip_m - haptic_tip_m_;
+  if (!hit && has_haptic_tip_ && moved.squaredNorm() > 0.0 && proxy_->covers(haptic_tip_m_, pose.tip_m)) {
+    hit = proxy_->firstCrossing(haptic_tip_m_, pose.tip_m);  // the tip went through the skin since last frame
+    if (hit && hit->normal.dot(moved) >= 0.0) hit.reset();   // ... inwards
+    state.swept = hit.has_value();
+    if (state.swept) ++counters_.swept_contacts;
   }
   if (!hit) return;
   state.penetration_m = std::max(0.0, (hit->point_m - pose.tip_m).dot(hit->normal));
   state.contact = state.penetration_m > 0.0;
   state.contact_m = hit->point_m;
   state.normal = hit->normal;
-  const bool button = options_.tool.cut_button < 0 || ((pose.buttons >> options_.tool.cut_button) & 1u) != 0;
-  state.cutting = state.contact && button;
+  state.cutting = state.contact && buttonDown(pose);
 }
 
 Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& velocity) const noexcept {
@@ -139,6 +169,13 @@ Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& ve
   return magnitude > t.max_force_N ? Eigen::Vector3d(f * (t.max_force_N / magnitude)) : f;
 }
 
+bool World::queuePose(const devices::PoseSample& pose) noexcept {
+  if (queued_size_ == queued_.size()) return false;
+  queued_[(queued_head_ + queued_size_) % queued_.size()] = pose;
+  ++queued_size_;
+  return true;
+}
+
 HapticState World::updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept {
   HapticState state;
   for (const devices::PoseSample& pose : poses) {
@@ -147,39 +184,107 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
       ++state.poses_rejected;
       continue;
     }
-    ++state.poses;
-    contact(pose, state);
-    const cutting::StrokeSample sample{state.contact_m, state.normal, pose.time_s};
-    if (state.cutting) {
-      if (!cutter_->active()) {
-        if (tets_) {  // the tets catch up with the previous incision before begin() replaces it
-          cutter_->settle();
-          followTets(cutting::TetBudget::All);
-        }
-        cutter_->begin(sample, pose.orientation * Eigen::Vector3d::UnitX());
-      } else {
-        cutter_->addSample(sample,
-                           cutting::SampleOrigin::OnSurface);  // on the surface by contact; the work is done in cut()
-      }
-    } else if (cutter_->active()) {
-      cutter_->finish(cutting::FinishWork::Later);  // the blade left the tissue (or the button was released)
+    if (!queuePose(pose)) {
+      ++state.poses_rejected;
+      ++counters_.poses_overflowed;
+      continue;
     }
+    ++state.poses;
     if (has_pose_) velocity_m_per_s_ = (pose.tip_m - last_pose_.tip_m) / (pose.time_s - last_pose_.time_s);
     last_pose_ = pose;
     has_pose_ = true;
   }
-  if (state.poses == 0 && has_pose_) {  // no new pose: the tool stays where it was
-    contact(last_pose_, state);
+  if (has_pose_) {  // the newest pose (with none new, the tool stays where it was)
+    hapticContact(last_pose_, state);
+    haptic_tip_m_ = last_pose_.tip_m;
+    has_haptic_tip_ = true;
   }
   state.force_N = force(state, velocity_m_per_s_);
   (void)dt_s;
   return state;
 }
 
+void World::cutPose(const devices::PoseSample& pose) noexcept {
+  last_cut_pose_s_ = pose.time_s;
+  const Contact c = exactContact(pose);
+  if (c.cutting) {
+    const cutting::StrokeSample sample{c.point_m, c.normal, pose.time_s};
+    if (!cutter_->active()) {  // a new incision: it begins once the previous one's work is done
+      begin_waiting_ = true;
+      begin_sample_ = sample;
+      begin_direction_ = pose.orientation * Eigen::Vector3d::UnitX();
+    } else {
+      cutter_->addSample(sample, cutting::SampleOrigin::OnSurface);  // on the surface by contact
+    }
+  } else if (cutter_->active()) {
+    cutter_->finish(cutting::FinishWork::Later);  // the blade left the tissue (or the button was released)
+  }
+}
+
+bool World::readyToBegin(bool at_once) noexcept {
+  // The previous incision's work in the order begin() did it at once: the surface cut and settled, then
+  // the tets caught up with it (a follow after the settle, so they see its final opening).
+  if (!surface_settled_) surface_settled_ = cutter_->settleStep(at_once);
+  if (!surface_settled_) return false;
+  if (tets_) {
+    followTets(at_once ? cutting::TetBudget::All : cutting::TetBudget::PerCall);
+    if (tets_->pending()) return false;
+  }
+  surface_settled_ = false;
+  return true;
+}
+
+bool World::takeQueuedPoses(bool at_once) noexcept {
+  while (true) {
+    if (begin_waiting_) {
+      if (!readyToBegin(at_once)) {
+        ++counters_.waited_frames;
+        if (!wait_counted_) ++counters_.waits;
+        wait_counted_ = true;
+        return false;
+      }
+      cutter_->begin(begin_sample_, begin_direction_);
+      begin_waiting_ = wait_counted_ = false;
+    }
+    if (queued_size_ == 0) return true;
+    const devices::PoseSample pose = queued_[queued_head_];
+    queued_head_ = (queued_head_ + 1) % queued_.size();
+    --queued_size_;
+    cutPose(pose);
+  }
+}
+
+void World::refreshProxy() noexcept {
+  if (!has_pose_) return;
+  const Eigen::Vector3d handle = handleOf(last_pose_);
+  const int stamp = cutter_->stats().incisions;
+  const bool skin_moved = options_.cutter.refine == cutting::CutterOptions::Refine::PnTriangles &&
+                          cutter_->stats().refined_vertices != proxy_refined_;
+  if (!skin_moved && !proxy_->refillDue(handle, last_pose_.tip_m, stamp)) return;
+  proxy_->refill(*cutter_, handle, last_pose_.tip_m, kProxyReachM, stamp);
+  proxy_refined_ = cutter_->stats().refined_vertices;
+  counters_.proxy_refills = proxy_->refills();
+  counters_.proxy_overflows = proxy_->overflows();
+  counters_.proxy_largest = proxy_->largest();
+}
+
 cutting::CutStep World::cut(double t_s) noexcept {
-  const cutting::CutStep step = cutter_->advance(t_s);
-  followTets(cutting::TetBudget::PerCall);
+  counters_.queue_peak = std::max(counters_.queue_peak, static_cast<int>(queued_size_));
+  const bool at_once = queued_size_ > queued_.size() / 2;  // the queue must not fill: do the waiting work now
+  if (at_once && begin_waiting_) ++counters_.catch_ups;
+  cutting::CutStep step;
+  if (takeQueuedPoses(at_once)) {
+    step = cutter_->advance(t_s);
+    followTets(cutting::TetBudget::PerCall);
+  }
+  refreshProxy();
   return step;
+}
+
+bool World::pending() const noexcept { return queued_size_ > 0 || begin_waiting_ || cutter_->pending(); }
+
+double World::cutLagS() const noexcept {
+  return queued_size_ > 0 || begin_waiting_ ? last_pose_.time_s - last_cut_pose_s_ : 0.0;
 }
 
 }  // namespace incise::sim

@@ -105,6 +105,26 @@ TEST_CASE("latency_stats: the summary of no frames is all zeros", "[sim]") {
   CHECK(s.frame_us.max == 0.0);
 }
 
+TEST_CASE("latency_stats: a miss is an overrun (the frame's own cost) or a late wake-up", "[sim]") {
+  // Issue 17: a VM's late wake-ups are told apart from frames that took longer than the period.
+  LatencyStats stats(100);
+  for (int i = 0; i < 10; ++i) {
+    FrameTiming t = uniform(100.0, /*missed=*/i % 2 == 0);  // frames 0, 2, 4, 6, 8 miss
+    t.overrun = i % 4 == 0;                                 // 0, 4, 8 of them by their own time
+    stats.record(t);
+  }
+  const LatencySummary s = stats.summary();
+  CHECK(s.deadline_misses == 5);
+  CHECK(s.overrun_misses == 3);
+  CHECK(stats.overrunMisses() == 3);
+  CHECK(s.late_wakeup_misses == 2);
+  const nlohmann::json j = nlohmann::json::parse(incise::sim::toJson(s));
+  CHECK(j.at("overrun_misses") == 3);
+  CHECK(j.at("late_wakeup_misses") == 2);
+  stats.clear();
+  CHECK(stats.summary().overrun_misses == 0);
+}
+
 TEST_CASE("latency_stats: negative samples keep their own maximum", "[sim]") {
   LatencyStats stats(4);
   stats.record(uniform(-5.0));

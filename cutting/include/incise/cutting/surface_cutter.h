@@ -73,6 +73,12 @@ class SurfaceCutter {
   // budget and sets its wound to its final, settled opening. A follower of the incision (TetCutter) calls
   // it, then catches up, before begin() replaces the incision. Idempotent. Never throws.
   void settle() noexcept;
+  // settle() a call's share at a time: finishes the current incision, does its carried work within the
+  // per-call budget (all of it when `unlimited`) and sets its wound to its final opening; true once nothing
+  // is carried (then the incision is settled: the same bytes as settle(), whatever the number of calls), and
+  // with no incision. A follower (TetCutter) catches up after it returns true, and begin() comes after that.
+  // Never throws.
+  bool settleStep(bool unlimited = false) noexcept;
   // Adds stroke samples to the current incision and processes every column they make final (within the
   // per-call budget). A sample off the surface finishes the incision. Never throws.
   CutStep extend(const StrokeSample& sample) noexcept;
@@ -102,6 +108,12 @@ class SurfaceCutter {
   // its seam from the wall onto the skin and cut nothing beyond the lip).
   // Cost O(vertices within one edge of the segment). No allocation once warmed up.
   std::optional<SurfacePoint> intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
+  // The skin faces around `box` as intersect() sees them (at rest for the current incision, walls left out):
+  // every face with a corner within the query margin of the box (the longest edge, or refine_edge_m with
+  // coarse vertices indexed apart), written to out[0 ..) up to its size. Returns how many there are (more
+  // than out.size(): the rest were left out). For a haptic contact proxy (sim::ContactProxy). Cost O(vertices
+  // in the grown box + their faces); no allocation once warmed up; 0 for a non-finite or empty box.
+  int skinNear(const Eigen::AlignedBox3d& box, std::span<SkinTriangle> out) const;
   // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
   bool pending() const noexcept { return incision_ && !failed_ && next_column_ < incision_->finalColumns(); }
   const Incision* incision() const noexcept { return incision_.get(); }
@@ -193,6 +205,9 @@ class SurfaceCutter {
   static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
   size_t reserved_vertices_ = 0;                       // what reserveHeadroom last reserved room for
   bool onSurface(const Eigen::Vector3d& p) const;
+  void queryRest(
+      const Eigen::AlignedBox3d& box) const;         // query_: vertices whose faces may meet the box; a new face stamp
+  bool skipForContact(TriMesh::FaceHandle f) const;  // seen in this query already, or a wall
 
   SurfaceMesh& mesh_;
   CutterOptions options_;

@@ -7,6 +7,7 @@
 // for a non-finite p; never throws.
 #pragma once
 
+#include <array>
 #include <optional>
 
 #include <Eigen/Core>
@@ -21,6 +22,12 @@ struct SurfacePoint {
   Eigen::Vector3d normal;
   TriMesh::FaceHandle face;
   double distance_m;
+};
+
+// A triangle copied out of a mesh (a contact proxy's face): corners counter-clockwise, outward unit normal.
+struct SkinTriangle {
+  std::array<Eigen::Vector3d, 3> corners_m;
+  Eigen::Vector3d normal;
 };
 
 // The closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, §5.1.5).

@@ -28,7 +28,8 @@ struct FrameTiming {
   double period_error_us = 0.0;  // how late the frame started vs its deadline
   double geometry_us = 0.0;      // the geometry stream's publish (0 without a stream)
   int pose_to_visible_frames = -1;
-  bool deadline_missed = false;
+  bool deadline_missed = false;  // period_error_us + frame_us over the period: the next deadline was missed
+  bool overrun = false;          // frame_us alone over the period: our own cost, not a late wake-up
 };
 
 // One quantity. count, p50, p99, p999 (nearest-rank on the stored samples: the smallest sample with at
@@ -53,6 +54,10 @@ struct LatencySummary {
   std::int64_t frames = 0;           // every record() call
   std::int64_t frames_stored = 0;    // min(frames, capacity)
   std::int64_t deadline_misses = 0;  // every recorded frame with deadline_missed
+  // ... of which the frame itself took longer than the period (our cost), and those that missed only
+  // because they started late (the VM or the scheduler woke the loop late: period_error_us).
+  std::int64_t overrun_misses = 0;
+  std::int64_t late_wakeup_misses = 0;
 };
 
 class LatencyStats {
@@ -75,18 +80,19 @@ class LatencyStats {
   std::size_t capacity() const noexcept { return capacity_; }
   std::int64_t frames() const noexcept { return frames_; }
   std::int64_t deadlineMisses() const noexcept { return deadline_misses_; }
+  std::int64_t overrunMisses() const noexcept { return overrun_misses_; }
 
  private:
   std::size_t capacity_;
   std::vector<FrameTiming> samples_;  // reserved to capacity_, never grown past it
   std::int64_t frames_ = 0;
-  std::int64_t deadline_misses_ = 0;
+  std::int64_t deadline_misses_ = 0, overrun_misses_ = 0;
   // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible, geometry.
   std::array<double, 6> max_{};
   std::array<std::int64_t, 6> max_count_{};
 };
 
-// {"frames", "frames_stored", "deadline_misses", then per quantity {"count", "p50", "p99", "p999", "max",
+// {"frames", "frames_stored", "deadline_misses", "overrun_misses", "late_wakeup_misses", then per quantity {"count", "p50", "p99", "p999", "max",
 // "mean"} under "haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames",
 // "geometry_us"}, keys in that
 // order, indented by `indent` spaces (-1: one line).

@@ -1,35 +1,50 @@
 // The simulated world: the tissue (a surface mesh cut by local DFFD incisions) and the scalpel, advanced
-// one frame at a time by the sim thread (ARCHITECTURE.md, "Data flow and threads", steps 1-3).
+// one frame at a time by the sim thread (ARCHITECTURE.md, "Data flow and threads" and "One frame").
 //
 // A frame is two calls, so that the caller can time them separately without the world reading a clock:
-//   updateTool(poses, dt_s)  every pose that arrived this frame, oldest first: the tool moves to each in
-//                            turn; contact with the tissue is found for each (the blade's last
-//                            depth + 2 mm as a segment towards its tip, against the skin through the
-//                            cutter's spatial index: wound walls are left out, so a blade crossing an
-//                            open groove is in its air, lifts out of the incision, and starts a new one
-//                            at the far lip); each pose in contact with the cut button held becomes a
-//                            stroke sample (the entry point, the surface normal, the pose's time); the
-//                            haptic force is computed from the newest pose: a penalty spring along the
-//                            contact normal with damping, plus a constant cutting resistance against the
-//                            blade's tangential motion while it cuts, clamped to max_force_N;
-//   cut(t_s)                 the cutter's carried work for this frame, bounded by the work budget derived
-//                            from cut_budget_us, and the wound's opening at time t_s; then, with a tet
-//                            tissue, the tet cutter's work for the same incision under the same budget.
-// The cut depends only on the pose samples (their positions and times), never on which frame handled
-// them: replaying a trace as fast as possible or in real time gives the same geometry.
+//   updateTool(poses, dt_s)  the haptic part, and nothing else (issue 17): every pose that arrived this
+//                            frame, oldest first, is checked (non-finite, or not after the previous one in
+//                            time: skipped and counted) and queued for the cut phase; then one contact, from
+//                            the newest pose, against the ContactProxy (contact_proxy.h: a few hundred skin
+//                            triangles around the blade that the cut phase keeps current), the blade's
+//                            last depth + 2 mm as a segment towards its tip, and when that finds nothing a
+//                            swept test from the previous frame's tip to this one (a fast stroke cannot
+//                            tunnel through the skin); the haptic force: a penalty spring along the contact
+//                            normal with damping, plus a constant cutting resistance against the blade's
+//                            tangential motion while it cuts, clamped to max_force_N. No mesh, no grid, no
+//                            cutting work: O(poses + proxy triangles), a few microseconds;
+//   cut(t_s)                 the cut phase: the queued poses in order, each with its exact contact against
+//                            the skin (SurfaceCutter::intersect, wound walls left out: a blade crossing an
+//                            open groove is in its air and starts a new incision at the far lip); a pose in
+//                            contact with the cut button held is a stroke sample (entry point, normal, time).
+//                            A pose that starts an incision while the previous one still has work (columns
+//                            not cut, the wound not settled, the tets behind) waits, with every pose after
+//                            it, while that work is done within this and later frames' budgets, and begins
+//                            it then; then the cutter's carried work for this frame (the budget from
+//                            cut_budget_us) and the wound's opening at t_s, the tets' work for the same
+//                            incision under the same budget, and the proxy refilled around the newest pose
+//                            when the blade nears its edge or a new incision changed the skin at rest.
+// The cut depends only on the pose samples (their positions and times) and their order, never on which
+// frame handled them or how long an incision waited: replaying a trace as fast as possible or in real time
+// gives the same geometry, and the same as when begin() did the previous incision's work at once.
+// Overflow: the poses queue in a fixed ring (kQueuedPoses); a cut phase that starts with it over half full
+// does the waiting work at once, whatever the budget (counted in counters().catch_ups: the same geometry);
+// a pose that finds the ring full (more than kQueuedPoses in one updateTool call) is rejected and counted.
 //
 // Units: metres, seconds, newtons. The blade points along the tool's local -z axis (the tip is the pose
 // position) and its cutting edge faces the local +x axis (the stroke direction at first contact).
-// Threads: one owner, the sim thread. Cost: updateTool O(poses * vertices near the blade); cut as
-// SurfaceCutter under its budget. Allocation: none per frame beyond the cutter's mesh growth (reserved).
+// Threads: one owner, the sim thread. Cost: updateTool O(poses + ContactProxy::kCapacity); cut as
+// SurfaceCutter under its budget plus one exact contact per pose and, now and then, a proxy refill.
+// Allocation: the ring and the proxy at construction; per frame none beyond the cutters' own.
 // Failure: the constructor throws (std::invalid_argument for bad parameters, cutting::MeshError for a
-// tissue that is not a closed two-manifold, intersects itself or that TetGen refuses); updateTool and cut never throw (bad poses are skipped and
-// counted).
+// tissue that is not a closed two-manifold, intersects itself or that TetGen refuses); updateTool and cut
+// never throw (bad poses are skipped and counted).
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -38,6 +53,7 @@
 #include "incise/cutting/tet_cutter_options.h"
 #include "incise/cutting/tetrahedralize_options.h"
 #include "incise/devices/pose_sample.h"
+#include "incise/sim/contact_proxy.h"
 
 // OpenMesh stays out of sim's public headers: the tissue and its cutters are held through pointers, and
 // a caller that reads them includes incise/cutting/surface_mesh.h, surface_cutter.h or tet_cutter.h.
@@ -88,7 +104,23 @@ struct HapticState {
   Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // the tool's (blade along local -z)
   int poses = 0;                                                    // poses used this frame
-  int poses_rejected = 0;                                           // non-finite or not after the previous one in time
+  int poses_rejected = 0;   // non-finite, not after the previous one in time, or the queue full
+  bool swept = false;       // the contact came from the swept test (the probe itself was through the skin)
+  bool proxy_miss = false;  // the probe was outside the proxy's region: no contact could be found this frame
+};
+
+// What the world counted since it was made (the haptic part's proxy and the cut phase's queue).
+struct WorldCounters {
+  std::int64_t proxy_misses = 0;      // haptic frames whose probe was outside the proxy (the tool jumped)
+  std::int64_t proxy_refills = 0;     // cut phases that refilled it
+  std::int64_t proxy_overflows = 0;   // refills that found more than ContactProxy::kCapacity faces
+  int proxy_largest = 0;              // the most faces a refill found
+  std::int64_t swept_contacts = 0;    // haptic contacts found by the swept test
+  std::int64_t waits = 0;             // incisions that waited for the previous one's work
+  std::int64_t waited_frames = 0;     // cut phases spent on that work
+  std::int64_t catch_ups = 0;         // cut phases that did it at once (the queue over half full)
+  std::int64_t poses_overflowed = 0;  // poses rejected because the queue was full
+  int queue_peak = 0;                 // the most poses queued at the start of a cut phase
 };
 
 struct StepResult {
@@ -114,6 +146,14 @@ class World {
 
   HapticState updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept;
   cutting::CutStep cut(double t_s) noexcept;
+  // Cutting work left for later frames: queued poses, an incision waiting to begin, or columns not cut.
+  bool pending() const noexcept;
+  // Simulated time between the newest pose the haptic part took and the newest one the cut phase has
+  // handled (0 when nothing waits): how far the cut lags the tool.
+  double cutLagS() const noexcept;
+  const WorldCounters& counters() const noexcept { return counters_; }
+  static constexpr int kQueuedPoses = 8192;
+  static constexpr double kProxyReachM = 0.004;  // 4 mm: 4 m/s for a frame at 1 kHz before a refill
 
   const cutting::SurfaceMesh& tissue() const noexcept { return *tissue_; }
   const cutting::SurfaceCutter& cutter() const noexcept { return *cutter_; }
@@ -129,7 +169,20 @@ class World {
   void clearMeshChanges() noexcept;
 
  private:
-  void contact(const devices::PoseSample& pose, HapticState& state) noexcept;
+  struct Contact {
+    bool contact = false, cutting = false;
+    double penetration_m = 0.0;
+    Eigen::Vector3d point_m = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+  };
+  Eigen::Vector3d handleOf(const devices::PoseSample& pose) const noexcept;  // the probe's far end
+  bool buttonDown(const devices::PoseSample& pose) const noexcept;
+  Contact exactContact(const devices::PoseSample& pose) const noexcept;  // cut phase: SurfaceCutter::intersect
+  void hapticContact(const devices::PoseSample& pose, HapticState& state) noexcept;  // the proxy
+  bool queuePose(const devices::PoseSample& pose) noexcept;
+  bool takeQueuedPoses(bool at_once) noexcept;  // false: an incision waits for the previous one's work
+  void cutPose(const devices::PoseSample& pose) noexcept;
+  bool readyToBegin(bool at_once) noexcept;
+  void refreshProxy() noexcept;
   void followTets(cutting::TetBudget budget) noexcept;
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
@@ -137,9 +190,23 @@ class World {
   std::unique_ptr<cutting::SurfaceCutter> cutter_;
   std::unique_ptr<cutting::TetCutter> tets_;
   WorldOptions options_;
+  double probe_m_ = 0.0;  // the blade's part that can meet the skin: its depth + 2 mm (at most its length)
+  // The haptic part's state: the newest pose, the tool's velocity, the previous frame's tip.
   devices::PoseSample last_pose_{};
   bool has_pose_ = false;
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();
+  bool has_haptic_tip_ = false;
+  std::unique_ptr<ContactProxy> proxy_;
+  // The cut phase's queue (a ring of kQueuedPoses) and the incision that waits to begin.
+  std::vector<devices::PoseSample> queued_;
+  std::size_t queued_head_ = 0, queued_size_ = 0;
+  double last_cut_pose_s_ = 0.0;
+  bool begin_waiting_ = false, surface_settled_ = false, wait_counted_ = false;
+  cutting::StrokeSample begin_sample_{};
+  Eigen::Vector3d begin_direction_ = Eigen::Vector3d::UnitX();
+  int proxy_refined_ = 0;  // the cutter's refined vertices at the last refill (PN midpoints move the skin)
+  WorldCounters counters_;
 };
 
 }  // namespace incise::sim
