@@ -46,8 +46,8 @@ class ContactProxy {
   // Cut phase: the skin within `reach_m` of the box around segment a-b (the blade's probe), from `cutter`.
   // `stamp` names the surface it was taken from (World: the incision count); refills() asks whether a new
   // one is due.
-  void refill(const cutting::SurfaceCutter& cutter, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-              double reach_m, int stamp) noexcept;
+  void refill(const cutting::SurfaceCutter& cutter, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double reach_m,
+              int stamp) noexcept;
   // Due when segment a-b is not within the region shrunk by half the reach (the blade got close to its
   // edge) or the surface is another one.
   bool refillDue(const Eigen::Vector3d& a, const Eigen::Vector3d& b, int stamp) const noexcept;
