@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "incise/cutting/format.h"
 #include "incise/cutting/shapes.h"
 #include "json_reader.h"
 
@@ -177,8 +178,16 @@ void readMeshes(const Reader& root, WrapScenario& s) {
 void readLattice(const Reader& l, cutting::GlobalDffdOptions& o) {
   o.order = l.integer("order", o.order, 2, 8);
   if (l.has("controls")) {
+    // Whole numbers in [order, 4096] (GlobalDffd's bounds), checked before the cast to int: a number beyond
+    // int's range made the cast undefined (found by fuzz_wrap_scenario).
     const Eigen::Vector3d c = l.vector("controls", Eigen::Vector3d::Zero());
-    for (int a = 0; a < 3; ++a) o.controls[static_cast<std::size_t>(a)] = static_cast<int>(c[a]);
+    for (int a = 0; a < 3; ++a) {
+      if (!(c[a] >= o.order && c[a] <= 4096 && c[a] == std::floor(c[a])))
+        l.fail("[" + std::to_string(a) + "] = " + cutting::formatNumber(c[a]) + " is not a whole number in [" +
+                   std::to_string(o.order) + ", 4096]",
+               "controls");
+      o.controls[static_cast<std::size_t>(a)] = static_cast<int>(c[a]);
+    }
   }
   o.margin_m = l.number("margin_m", o.margin_m, 0.0, 100.0);
   o.kernel = l.choice("kernel", "bspline", {"bspline", "gaussian"}) == "gaussian"

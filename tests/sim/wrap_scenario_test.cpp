@@ -116,6 +116,19 @@ TEST_CASE("wrap scenario: bad scenarios name the file and the key, the line or t
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("notobject", "[1, 2]")),
                       Contains("notobject.json: the document must be a JSON object"));
   REQUIRE_THROWS_AS(sim::loadWrapScenario("/nonexistent/wrap.json"), sim::ScenarioError);
+  // fuzz_wrap_scenario's finding: a control count beyond int's range was cast to int (undefined behaviour).
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile(
+          "controls",
+          scene(
+              kBar,
+              R"(, "lattice": { "controls": [6666666666666666666666666666666666666666666666666666666666666666666656, 16, 16] })"))),
+      Contains("controls.json: lattice.controls: [0] = ") && Contains("is not a whole number in [4, 4096]"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("controls2", scene(kBar, R"(, "lattice": { "controls": [16, 12.5, 8] })"))),
+      Contains("controls2.json: lattice.controls: [1] = 12.5 is not a whole number in [4, 4096]"));
+  CHECK(sim::loadWrapScenario(wrapFile("controls3", scene(kBar, R"(, "lattice": { "controls": [4, 4096, 8] })")))
+            .options.controls == std::array<int, 3>{4, 4096, 8});
 }
 
 TEST_CASE("wrap scenario: a mesh that cannot be loaded names the file, and the obstacle", "[sim]") {
