@@ -116,6 +116,19 @@ TEST_CASE("wrap scenario: bad scenarios name the file and the key, the line or t
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("notobject", "[1, 2]")),
                       Contains("notobject.json: the document must be a JSON object"));
   REQUIRE_THROWS_AS(sim::loadWrapScenario("/nonexistent/wrap.json"), sim::ScenarioError);
+  // fuzz_wrap_scenario's finding: a control count beyond int's range was cast to int (undefined behaviour).
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile(
+          "controls",
+          scene(
+              kBar,
+              R"(, "lattice": { "controls": [6666666666666666666666666666666666666666666666666666666666666666666656, 16, 16] })"))),
+      Contains("controls.json: lattice.controls: [0] = ") && Contains("is not a whole number in [4, 4096]"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("controls2", scene(kBar, R"(, "lattice": { "controls": [16, 12.5, 8] })"))),
+      Contains("controls2.json: lattice.controls: [1] = 12.5 is not a whole number in [4, 4096]"));
+  CHECK(sim::loadWrapScenario(wrapFile("controls3", scene(kBar, R"(, "lattice": { "controls": [4, 4096, 8] })")))
+            .options.controls == std::array<int, 3>{4, 4096, 8});
 }
 
 TEST_CASE("wrap scenario: a mesh that cannot be loaded names the file, and the obstacle", "[sim]") {
@@ -130,4 +143,67 @@ TEST_CASE("wrap scenario: a mesh that cannot be loaded names the file, and the o
   CHECK_NOTHROW(sim::loadWrapScenario(
       wrapFile("bunny", R"({ "model": { "mesh": "meshes/bunny.obj", "scale": 0.01 }, "obstacles": [ )" + kBar +
                             R"( ], "treatment": "capped" })")));
+}
+
+namespace {
+
+// The triangles of the model `shape` (a JSON object's keys after "shape") once loaded.
+std::size_t modelFaces(const std::string& name, const std::string& shape) {
+  return sim::loadWrapScenario(
+             wrapFile(name, R"({ "model": { "shape": )" + shape + " }, \"obstacles\": [ " + kBar + " ] }"))
+      .model.mesh()
+      .n_faces();
+}
+
+}  // namespace
+
+// The loader's cap, 2^18 = 262,144 triangles a model or obstacle (wrap_scenario.cpp: kMaxWrapTriangles),
+// from each shape's formula before it is built: accepted at the largest size within it (the built mesh has
+// the formula's count), refused one step above, at the key that makes the shape large.
+TEST_CASE("wrap scenario: a shape or mesh over 262,144 triangles is refused before it is built", "[sim]") {
+  const auto model = [](const std::string& shape) {
+    return R"({ "model": { "shape": )" + shape + " }, \"obstacles\": [ " + kBar + " ] }";
+  };
+  CHECK(modelFaces("box147", R"("box", "divisions": 147)") == 12u * 147 * 147);  // 259,308
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("box148", model(R"("box", "divisions": 148)"))),
+                      Contains("box148.json: model.divisions: a box of 148 divisions has 262,848 triangles; a shape "
+                               "may have at most 262,144"));
+  CHECK(modelFaces("sphere6", R"("sphere", "subdivisions": 6)") == 20u * 4096);  // 81,920
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("sphere7", model(R"("sphere", "subdivisions": 7)"))),
+                      Contains("sphere7.json: model.subdivisions: a sphere of 7 subdivisions has 327,680 triangles"));
+  // Cylinders: 2 segments (rings + 2 cap_rings - 1), exactly 262,144 three ways.
+  CHECK(modelFaces("cyl", R"("cylinder", "segments": 1024, "rings": 125, "cap_rings": 2)") == 262144u);
+  CHECK(modelFaces("cylr", R"("cylinder", "segments": 4, "rings": 32767, "cap_rings": 1)") == 262144u);
+  CHECK(modelFaces("cylc", R"("cylinder", "segments": 4, "rings": 1, "cap_rings": 16384)") == 262144u);
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("cyl+", model(R"("cylinder", "segments": 1024, "rings": 126, "cap_rings": 2)"))),
+      Contains("cyl+.json: model.segments: a cylinder of 1,024 segments, 126 rings and 2 cap rings "
+               "has 264,192 triangles"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("cylr+", model(R"("cylinder", "segments": 4, "rings": 32768, "cap_rings": 1)"))),
+      Contains("cylr+.json: model.rings: ") && Contains("has 262,152 triangles"));
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("cylc+", model(R"("cylinder", "segments": 4, "rings": 1, "cap_rings": 16385)"))),
+      Contains("cylc+.json: model.cap_rings: ") && Contains("has 262,160 triangles"));
+  // Prisms: 2 points rings + 2 (points - 2); 65,537 points in one ring is exactly the cap.
+  CHECK(modelFaces("prism", R"("prism", "points": 65537, "rings": 1, "height_m": 0.5)") == 262144u);
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("prism+", model(R"("prism", "points": 65538, "rings": 1)"))),
+                      Contains("prism+.json: model.points: a prism of 65,538 points and 1 ring has 262,148 triangles"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("prismr", model(R"("prism", "points": 25, "rings": 5500)"))),
+                      Contains("prismr.json: model.rings: ") && Contains("has 275,046 triangles"));
+  // The robot: 1032 d^2 - 120 d.
+  CHECK(modelFaces("robot15", R"("robot", "detail": 15)") == 1032u * 225 - 120 * 15);  // 230,400
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("robot16", model(R"("robot", "detail": 16)"))),
+                      Contains("robot16.json: model.detail: a robot of detail 16 has 262,272 triangles"));
+  // An obstacle's key path; a mesh file's triangles times 4^subdivide (the bunny's 3,674: 3 times is 235,136).
+  REQUIRE_THROWS_WITH(
+      sim::loadWrapScenario(wrapFile("obstacle", scene(R"({ "name": "ball", "shape": "sphere", "subdivisions": 8 })"))),
+      Contains("obstacle.json: obstacles[0].subdivisions: a sphere of 8 subdivisions has 1,310,720 triangles"));
+  const std::string bunny = R"({ "model": { "mesh": "meshes/bunny.obj", "scale": 0.01, "subdivide": )";
+  CHECK(sim::loadWrapScenario(wrapFile("bunny3", bunny + "3 }, \"obstacles\": [ " + kBar + " ] }"))
+            .model.mesh()
+            .n_faces() == 235136u);
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("bunny4", bunny + "4 }, \"obstacles\": [ " + kBar + " ] }")),
+                      Contains("bunny4.json: model.subdivide: bunny.obj (3,674 triangles) subdivided 4 times has "
+                               "940,544 triangles; a mesh may have at most 262,144"));
 }

@@ -17,7 +17,11 @@
 // cutting/shapes.h, files via loadSurfaceMesh, subdivided as asked): O(their size); allocates.
 // Failure: loadWrapScenario throws ScenarioError with "file:line:column: JSON syntax error" for JSON
 // syntax and "file: key.path: ..." for a missing, mistyped or out-of-range value, a missing file or a
-// model validateModel refuses; "file: obstacle 'name': ..." for an obstacle mesh that cannot be made.
+// model validateModel refuses; "file: obstacle 'name': ..." for an obstacle mesh that cannot be made. A model
+// or obstacle of more than 262,144 (2^18) triangles is refused at the key that makes it so, from the shape's
+// parameters or the file's faces times 4^subdivide, before it is built ("file: model.subdivisions: a sphere
+// of 7 subdivisions has 327,680 triangles; a shape may have at most 262,144"): a wrap scene is meant to run
+// in real time, a few milliseconds a frame, and larger meshes cannot.
 #pragma once
 
 #include <cstdint>
