@@ -73,7 +73,7 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
   if (!(options.cut_budget_us > 0.0 && options.us_per_inversion > 0.0))
     throw std::invalid_argument("World: cut_budget_us and us_per_inversion must be > 0");
   probe_m_ = std::min(options.tool.blade_length_m, options.cutter.incision.depth_m + 0.002);
-  queued_.resize(kQueuedPoses);
+  queued_ = std::make_unique<PoseQueue<kQueuedPoses>>();
   proxy_ = std::make_unique<ContactProxy>();
   tissue_ = std::make_unique<cutting::SurfaceMesh>(std::move(tissue));
   cutter_ = std::make_unique<cutting::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
@@ -116,18 +116,22 @@ bool World::buttonDown(const devices::PoseSample& pose) const noexcept {
 }
 
 World::Contact World::exactContact(const devices::PoseSample& pose) const noexcept {
-  Contact c;
   std::optional<cutting::SurfacePoint> hit;
   try {
     hit = cutter_->intersect(handleOf(pose), pose.tip_m);
   } catch (...) {  // allocation in the grid query: treat as no contact this pose
     hit.reset();
   }
-  if (!hit) return c;
-  c.penetration_m = std::max(0.0, (hit->point_m - pose.tip_m).dot(hit->normal));
+  return hit ? contactAt(pose, hit->point_m, hit->normal) : Contact{};
+}
+
+World::Contact World::contactAt(const devices::PoseSample& pose, const Eigen::Vector3d& point_m,
+                                const Eigen::Vector3d& normal) const noexcept {
+  Contact c;
+  c.penetration_m = std::max(0.0, (point_m - pose.tip_m).dot(normal));
   c.contact = c.penetration_m > 0.0;
-  c.point_m = hit->point_m;
-  c.normal = hit->normal;
+  c.point_m = point_m;
+  c.normal = normal;
   c.cutting = c.contact && buttonDown(pose);
   return c;
 }
@@ -150,11 +154,12 @@ void World::hapticContact(const devices::PoseSample& pose, HapticState& state) n
     if (state.swept) ++counters_.swept_contacts;
   }
   if (!hit) return;
-  state.penetration_m = std::max(0.0, (hit->point_m - pose.tip_m).dot(hit->normal));
-  state.contact = state.penetration_m > 0.0;
-  state.contact_m = hit->point_m;
-  state.normal = hit->normal;
-  state.cutting = state.contact && buttonDown(pose);
+  const Contact c = contactAt(pose, hit->point_m, hit->normal);
+  state.penetration_m = c.penetration_m;
+  state.contact = c.contact;
+  state.contact_m = c.point_m;
+  state.normal = c.normal;
+  state.cutting = c.cutting;
 }
 
 Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& velocity) const noexcept {
@@ -169,13 +174,6 @@ Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& ve
   return magnitude > t.max_force_N ? Eigen::Vector3d(f * (t.max_force_N / magnitude)) : f;
 }
 
-bool World::queuePose(const devices::PoseSample& pose) noexcept {
-  if (queued_size_ == queued_.size()) return false;
-  queued_[(queued_head_ + queued_size_) % queued_.size()] = pose;
-  ++queued_size_;
-  return true;
-}
-
 HapticState World::updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept {
   HapticState state;
   for (const devices::PoseSample& pose : poses) {
@@ -184,7 +182,7 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
       ++state.poses_rejected;
       continue;
     }
-    if (!queuePose(pose)) {
+    if (!queued_->push(pose)) {
       ++state.poses_rejected;
       ++counters_.poses_overflowed;
       continue;
@@ -246,10 +244,8 @@ bool World::takeQueuedPoses(bool at_once) noexcept {
       cutter_->begin(begin_sample_, begin_direction_);
       begin_waiting_ = wait_counted_ = false;
     }
-    if (queued_size_ == 0) return true;
-    const devices::PoseSample pose = queued_[queued_head_];
-    queued_head_ = (queued_head_ + 1) % queued_.size();
-    --queued_size_;
+    devices::PoseSample pose;
+    if (!queued_->pop(pose)) return true;
     cutPose(pose);
   }
 }
@@ -269,8 +265,9 @@ void World::refreshProxy() noexcept {
 }
 
 cutting::CutStep World::cut(double t_s) noexcept {
-  counters_.queue_peak = std::max(counters_.queue_peak, static_cast<int>(queued_size_));
-  const bool at_once = queued_size_ > queued_.size() / 2;  // the queue must not fill: do the waiting work now
+  const std::size_t queued = queued_->sizeApprox();  // exact: this thread is both ends
+  counters_.queue_peak = std::max(counters_.queue_peak, static_cast<int>(queued));
+  const bool at_once = queued > kQueuedPoses / 2;  // the queue must not fill: do the waiting work now
   if (at_once && begin_waiting_) ++counters_.catch_ups;
   cutting::CutStep step;
   if (takeQueuedPoses(at_once)) {
@@ -281,10 +278,10 @@ cutting::CutStep World::cut(double t_s) noexcept {
   return step;
 }
 
-bool World::pending() const noexcept { return queued_size_ > 0 || begin_waiting_ || cutter_->pending(); }
+bool World::pending() const noexcept { return queued_->sizeApprox() > 0 || begin_waiting_ || cutter_->pending(); }
 
 double World::cutLagS() const noexcept {
-  return queued_size_ > 0 || begin_waiting_ ? last_pose_.time_s - last_cut_pose_s_ : 0.0;
+  return queued_->sizeApprox() > 0 || begin_waiting_ ? last_pose_.time_s - last_cut_pose_s_ : 0.0;
 }
 
 }  // namespace incise::sim

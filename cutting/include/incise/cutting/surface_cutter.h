@@ -111,7 +111,7 @@ class SurfaceCutter {
   // The skin faces around `box` as intersect() sees them (at rest for the current incision, walls left out):
   // every face with a corner within the query margin of the box (the longest edge, or refine_edge_m with
   // coarse vertices indexed apart), written to out[0 ..) up to its size. Returns how many there are (more
-  // than out.size(): the rest were left out). For a haptic contact proxy (sim::ContactProxy). Cost O(vertices
+  // than out.size(): the rest were left out). For a haptic loop's local contact proxy. Cost O(vertices
   // in the grown box + their faces); no allocation once warmed up; 0 for a non-finite or empty box.
   int skinNear(const Eigen::AlignedBox3d& box, std::span<SkinTriangle> out) const;
   // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
@@ -205,8 +205,8 @@ class SurfaceCutter {
   static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
   size_t reserved_vertices_ = 0;                       // what reserveHeadroom last reserved room for
   bool onSurface(const Eigen::Vector3d& p) const;
-  void queryRest(
-      const Eigen::AlignedBox3d& box) const;         // query_: vertices whose faces may meet the box; a new face stamp
+  // query_: the vertices whose faces may meet the box; a new face stamp for skipForContact.
+  void queryRest(const Eigen::AlignedBox3d& box) const;
   bool skipForContact(TriMesh::FaceHandle f) const;  // seen in this query already, or a wall
 
   SurfaceMesh& mesh_;

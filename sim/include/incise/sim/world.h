@@ -27,15 +27,15 @@
 // The cut depends only on the pose samples (their positions and times) and their order, never on which
 // frame handled them or how long an incision waited: replaying a trace as fast as possible or in real time
 // gives the same geometry, and the same as when begin() did the previous incision's work at once.
-// Overflow: the poses queue in a fixed ring (kQueuedPoses); a cut phase that starts with it over half full
+// Overflow: the poses queue in a fixed PoseQueue (kQueuedPoses); a cut phase that starts with it over half full
 // does the waiting work at once, whatever the budget (counted in counters().catch_ups: the same geometry);
-// a pose that finds the ring full (more than kQueuedPoses in one updateTool call) is rejected and counted.
+// a pose that finds the queue full (more than kQueuedPoses in one updateTool call) is rejected and counted.
 //
 // Units: metres, seconds, newtons. The blade points along the tool's local -z axis (the tip is the pose
 // position) and its cutting edge faces the local +x axis (the stroke direction at first contact).
 // Threads: one owner, the sim thread. Cost: updateTool O(poses + ContactProxy::kCapacity); cut as
 // SurfaceCutter under its budget plus one exact contact per pose and, now and then, a proxy refill.
-// Allocation: the ring and the proxy at construction; per frame none beyond the cutters' own.
+// Allocation: the queue and the proxy at construction; per frame none beyond the cutters' own.
 // Failure: the constructor throws (std::invalid_argument for bad parameters, cutting::MeshError for a
 // tissue that is not a closed two-manifold, intersects itself or that TetGen refuses); updateTool and cut
 // never throw (bad poses are skipped and counted).
@@ -44,7 +44,6 @@
 #include <cstdint>
 #include <memory>
 #include <span>
-#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -54,6 +53,7 @@
 #include "incise/cutting/tetrahedralize_options.h"
 #include "incise/devices/pose_sample.h"
 #include "incise/sim/contact_proxy.h"
+#include "incise/sim/pose_queue.h"
 
 // OpenMesh stays out of sim's public headers: the tissue and its cutters are held through pointers, and
 // a caller that reads them includes incise/cutting/surface_mesh.h, surface_cutter.h or tet_cutter.h.
@@ -152,7 +152,7 @@ class World {
   // handled (0 when nothing waits): how far the cut lags the tool.
   double cutLagS() const noexcept;
   const WorldCounters& counters() const noexcept { return counters_; }
-  static constexpr int kQueuedPoses = 8192;
+  static constexpr std::size_t kQueuedPoses = 8192;
   static constexpr double kProxyReachM = 0.004;  // 4 mm: 4 m/s for a frame at 1 kHz before a refill
 
   const cutting::SurfaceMesh& tissue() const noexcept { return *tissue_; }
@@ -177,8 +177,9 @@ class World {
   Eigen::Vector3d handleOf(const devices::PoseSample& pose) const noexcept;  // the probe's far end
   bool buttonDown(const devices::PoseSample& pose) const noexcept;
   Contact exactContact(const devices::PoseSample& pose) const noexcept;  // cut phase: SurfaceCutter::intersect
+  Contact contactAt(const devices::PoseSample& pose, const Eigen::Vector3d& point_m,
+                    const Eigen::Vector3d& normal) const noexcept;  // the tip's penetration at a skin point
   void hapticContact(const devices::PoseSample& pose, HapticState& state) noexcept;  // the proxy
-  bool queuePose(const devices::PoseSample& pose) noexcept;
   bool takeQueuedPoses(bool at_once) noexcept;  // false: an incision waits for the previous one's work
   void cutPose(const devices::PoseSample& pose) noexcept;
   bool readyToBegin(bool at_once) noexcept;
@@ -198,9 +199,9 @@ class World {
   Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();
   bool has_haptic_tip_ = false;
   std::unique_ptr<ContactProxy> proxy_;
-  // The cut phase's queue (a ring of kQueuedPoses) and the incision that waits to begin.
-  std::vector<devices::PoseSample> queued_;
-  std::size_t queued_head_ = 0, queued_size_ = 0;
+  // The cut phase's queue (the project's PoseQueue, here with one thread at both ends) and the incision that
+  // waits to begin.
+  std::unique_ptr<PoseQueue<kQueuedPoses>> queued_;
   double last_cut_pose_s_ = 0.0;
   bool begin_waiting_ = false, surface_settled_ = false, wait_counted_ = false;
   cutting::StrokeSample begin_sample_{};
