@@ -47,7 +47,10 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, int divisions) {
   return makeBox(box, Eigen::Vector3i::Constant(divisions));
 }
 
-SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divisions) {
+namespace {
+
+// makeBox's argument checks (shapes.h); returns its face count, 4 (n_x n_y + n_y n_z + n_z n_x).
+double checkBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divisions) {
   constexpr const char* who = "makeBox";
   requireFinite(who, "box min corner", box.min());
   requireFinite(who, "box max corner", box.max());
@@ -63,12 +66,17 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divis
   const Eigen::Array3d n = divisions.cast<double>().array();
   const double faces = 4.0 * (n[0] * n[1] + n[1] * n[2] + n[2] * n[0]);
   requireFaceBudget(who, faces, "divisions = " + formatPoint(Eigen::Vector3d(n.matrix())));
+  return faces;
+}
+
+// The faces of the box (checked by checkBox, which gave `faces`) appended to `out`, in makeBox's vertex and
+// face order.
+void appendBox(Builder& out, const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divisions, double faces) {
   const long long m = std::max({divisions[0], divisions[1], divisions[2]}) + 1LL;
 
   // Surface vertices of the lattice, numbered as they are first met.
   std::unordered_map<long long, int> index;
   index.reserve(static_cast<std::size_t>(faces / 2 + 2));
-  Builder out(who, static_cast<long long>(faces / 2 + 2), static_cast<long long>(faces));
   auto coordinate = [&](int a, int i) {
     // The last grid line is the max corner exactly, not min + n * step.
     const int na = divisions[a];
@@ -102,6 +110,14 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divis
       }
     }
   }
+}
+
+}  // namespace
+
+SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divisions) {
+  const double faces = checkBox(box, divisions);
+  Builder out("makeBox", static_cast<long long>(faces / 2 + 2), static_cast<long long>(faces));
+  appendBox(out, box, divisions, faces);
   return out.finish();
 }
 
@@ -121,8 +137,11 @@ SurfaceMesh makeSkinPad(const Eigen::Vector3d& size_m, double grid_m) {
   return makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-half.x(), -size_m.y(), -half.z()), half), divisions);
 }
 
-SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vector3d& axis_m, double radius_m,
-                         int segments, int rings, int cap_rings) {
+namespace {
+
+// makeCylinder's argument checks (shapes.h).
+void checkCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vector3d& axis_m, double radius_m, int segments,
+                   int rings, int cap_rings) {
   constexpr const char* who = "makeCylinder";
   requireFinite(who, "base_centre_m", base_centre_m);
   requireFinite(who, "axis_m", axis_m);
@@ -138,7 +157,12 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
   requireFaceBudget(who, 2 * s * (static_cast<double>(rings) + 2.0 * cap_rings - 1),
                     "segments = " + std::to_string(segments) + ", rings = " + std::to_string(rings) +
                         ", cap_rings = " + std::to_string(cap_rings));
+}
 
+// The cylinder (checked by checkCylinder) appended to `out`, in makeCylinder's vertex and face order, its
+// vertices numbered from out.vertices() on.
+void appendCylinder(Builder& out, const Eigen::Vector3d& base_centre_m, const Eigen::Vector3d& axis_m, double radius_m,
+                    int segments, int rings, int cap_rings) {
   const Eigen::Vector3d w = axis_m.normalized();
   const auto [u, v] = frameAround(w);
   std::vector<Eigen::Vector3d> direction(static_cast<std::size_t>(segments));
@@ -147,7 +171,7 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
     direction[static_cast<std::size_t>(k)] = std::cos(angle) * u + std::sin(angle) * v;
   }
   const long long S = segments;
-  Builder out(who, S * (rings + 1 + 2LL * (cap_rings - 1)) + 2, 2 * S * (rings + 2LL * cap_rings - 1));
+  const int base = out.vertices();
   auto centreAt = [&](int ring) {
     return ring == rings ? Eigen::Vector3d(base_centre_m + axis_m)
                          : Eigen::Vector3d(base_centre_m + (static_cast<double>(ring) / rings) * axis_m);
@@ -157,7 +181,7 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
     const Eigen::Vector3d centre = centreAt(r);
     for (int k = 0; k < segments; ++k) out.vertex(centre + radius_m * direction[static_cast<std::size_t>(k)]);
   }
-  auto side = [&](int r, int k) { return static_cast<int>(r * S + (k % segments)); };
+  auto side = [&](int r, int k) { return base + static_cast<int>(r * S + (k % segments)); };
   // Going along k turns from u towards v, so (along k) x (along the axis) points outward.
   for (int r = 0; r < rings; ++r) {
     for (int k = 0; k < segments; ++k) out.quad(side(r, k), side(r, k + 1), side(r + 1, k + 1), side(r + 1, k));
@@ -190,6 +214,16 @@ SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vect
       }
     }
   }
+}
+
+}  // namespace
+
+SurfaceMesh makeCylinder(const Eigen::Vector3d& base_centre_m, const Eigen::Vector3d& axis_m, double radius_m,
+                         int segments, int rings, int cap_rings) {
+  checkCylinder(base_centre_m, axis_m, radius_m, segments, rings, cap_rings);
+  const long long S = segments;
+  Builder out("makeCylinder", S * (rings + 1 + 2LL * (cap_rings - 1)) + 2, 2 * S * (rings + 2LL * cap_rings - 1));
+  appendCylinder(out, base_centre_m, axis_m, radius_m, segments, rings, cap_rings);
   return out.finish();
 }
 
@@ -274,24 +308,31 @@ SurfaceMesh makeRobot(double height_m, int detail) {
   if (detail > 200) fail(who, "detail = " + std::to_string(detail) + " is > 200");
   const double h = height_m;
   const int d = detail;
+  const long long dd = d;
   const int segments = 12 * d;
+  // The seven parts straight into one mesh: the same vertices and faces, in the same order, as merge() of the
+  // parts made one by one (tests/cutting/shapes_test.cpp compares them), without building each part's mesh
+  // and normals first (a wrap scenario's default robot is 65,088 triangles).
+  Builder out(who, 516 * dd * dd - 60 * dd + 14, 1032 * dd * dd - 120 * dd);
   auto upright = [&](double x, double z0, double z1, double radius, int rings) {
-    return makeCylinder({x * h, 0, z0 * h}, {0, 0, (z1 - z0) * h}, radius * h, segments, rings, d);
+    const Eigen::Vector3d base(x * h, 0, z0 * h), axis(0, 0, (z1 - z0) * h);
+    checkCylinder(base, axis, radius * h, segments, rings, d);
+    appendCylinder(out, base, axis, radius * h, segments, rings, d);
   };
   auto box = [&](double half_x, double half_y, double z0, double z1, int divisions) {
-    return makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-half_x * h, -half_y * h, z0 * h),
-                                       Eigen::Vector3d(half_x * h, half_y * h, z1 * h)),
-                   divisions);
+    const Eigen::AlignedBox3d b(Eigen::Vector3d(-half_x * h, -half_y * h, z0 * h),
+                                Eigen::Vector3d(half_x * h, half_y * h, z1 * h));
+    const Eigen::Vector3i n = Eigen::Vector3i::Constant(divisions);
+    appendBox(out, b, n, checkBox(b, n));
   };
-  std::vector<SurfaceMesh> parts;
-  parts.push_back(upright(-0.10, 0.00, 0.45, 0.07, 6 * d));  // legs
-  parts.push_back(upright(0.10, 0.00, 0.45, 0.07, 6 * d));
-  parts.push_back(box(0.20, 0.10, 0.46, 0.80, 4 * d));       // torso
-  parts.push_back(upright(-0.27, 0.42, 0.78, 0.05, 5 * d));  // arms
-  parts.push_back(upright(0.27, 0.42, 0.78, 0.05, 5 * d));
-  parts.push_back(upright(0.00, 0.81, 0.85, 0.04, d));  // neck
-  parts.push_back(box(0.09, 0.09, 0.86, 1.00, 2 * d));  // head
-  return merge(parts);
+  upright(-0.10, 0.00, 0.45, 0.07, 6 * d);  // legs
+  upright(0.10, 0.00, 0.45, 0.07, 6 * d);
+  box(0.20, 0.10, 0.46, 0.80, 4 * d);       // torso
+  upright(-0.27, 0.42, 0.78, 0.05, 5 * d);  // arms
+  upright(0.27, 0.42, 0.78, 0.05, 5 * d);
+  upright(0.00, 0.81, 0.85, 0.04, d);  // neck
+  box(0.09, 0.09, 0.86, 1.00, 2 * d);  // head
+  return out.finish();
 }
 
 }  // namespace incise::cutting

@@ -41,7 +41,8 @@ inline void requireFaceBudget(const char* who, double faces, const std::string& 
   }
 }
 
-// Collects vertices and triangles straight into a SurfaceMesh (every kind Original).
+// Collects vertices and triangles straight into a SurfaceMesh (every kind Original); several shapes may be
+// appended to one Builder (makeRobot), each numbering its vertices from vertices() on.
 class Builder {
  public:
   Builder(const char* who, long long vertices, long long faces) : who_(who) {
@@ -49,6 +50,8 @@ class Builder {
                          static_cast<std::size_t>(faces));
   }
   int vertex(const Eigen::Vector3d& p) { return mesh_.mesh().add_vertex(toOpenMesh(p)).idx(); }
+  // The number of vertices added so far: the index the next vertex gets.
+  int vertices() const { return static_cast<int>(mesh_.mesh().n_vertices()); }
   // Counter-clockwise seen from outside.
   void triangle(int a, int b, int c) {
     auto& m = mesh_.mesh();

@@ -463,6 +463,45 @@ TEST_CASE("shapes: makeRobot has 7 disjoint closed parts and >= 30000 vertices a
   CHECK(makeRobot(height, kRobotDetail30k - 1).mesh().n_vertices() < 30000u);
 }
 
+// makeRobot builds its parts straight into one mesh; the parts made one by one and merged are the reference:
+// the same points (bit for bit), the same faces with the same corners in the same order, the same normals.
+TEST_CASE("shapes: makeRobot is the merge of its seven parts, bit for bit", "[cutting]") {
+  for (const int detail : {1, 3}) {
+    INFO("detail " << detail);
+    const double h = 1.7;
+    const int d = detail;
+    auto upright = [&](double x, double z0, double z1, double radius, int rings) {
+      return makeCylinder({x * h, 0, z0 * h}, {0, 0, (z1 - z0) * h}, radius * h, 12 * d, rings, d);
+    };
+    auto box = [&](double half_x, double half_y, double z0, double z1, int divisions) {
+      return makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-half_x * h, -half_y * h, z0 * h),
+                                         Eigen::Vector3d(half_x * h, half_y * h, z1 * h)),
+                     divisions);
+    };
+    const SurfaceMesh reference =
+        merge({upright(-0.10, 0.00, 0.45, 0.07, 6 * d), upright(0.10, 0.00, 0.45, 0.07, 6 * d),
+               box(0.20, 0.10, 0.46, 0.80, 4 * d), upright(-0.27, 0.42, 0.78, 0.05, 5 * d),
+               upright(0.27, 0.42, 0.78, 0.05, 5 * d), upright(0.00, 0.81, 0.85, 0.04, d),
+               box(0.09, 0.09, 0.86, 1.00, 2 * d)});
+    const SurfaceMesh robot = makeRobot(h, detail);
+    const TriMesh& a = robot.mesh();
+    const TriMesh& b = reference.mesh();
+    REQUIRE(a.n_vertices() == b.n_vertices());
+    REQUIRE(a.n_faces() == b.n_faces());
+    REQUIRE(a.n_edges() == b.n_edges());
+    for (const auto v : a.vertices()) {
+      REQUIRE(a.point(v) == b.point(v));
+      REQUIRE(a.normal(v) == b.normal(v));
+    }
+    for (const auto f : a.faces()) {
+      std::vector<int> ca, cb;
+      for (const auto v : a.fv_range(f)) ca.push_back(v.idx());
+      for (const auto v : b.fv_range(b.face_handle(static_cast<unsigned>(f.idx())))) cb.push_back(v.idx());
+      REQUIRE(ca == cb);
+    }
+  }
+}
+
 TEST_CASE("shapes: bad arguments are refused with their value", "[cutting]") {
   const double nan = std::nan("");
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();

@@ -102,7 +102,8 @@ std::vector<Eigen::Vector2d> faceSilhouette(double height_m, int points);
 // added (a non-manifold part). Cost O(total V + F).
 SurfaceMesh merge(const std::vector<SurfaceMesh>& parts);
 
-// A humanoid robot of 7 separate closed components made with merge(), standing on z = 0 with its height
+// A humanoid robot of 7 separate closed components (the mesh merge() makes of them, built in one pass without
+// the parts' own meshes), standing on z = 0 with its height
 // height_m along z (finite, > 0; the head's top at z = height_m), facing +y, its width along x, centred on
 // x = y = 0. Parts (h = height_m, in merge order): legs, cylinders of radius 0.07h at x = -/+0.10h from
 // z = 0 to 0.45h; torso box [-0.20h, 0.20h] x [-0.10h, 0.10h] x [0.46h, 0.80h]; arms, cylinders of radius
