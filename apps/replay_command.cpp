@@ -97,6 +97,7 @@ nlohmann::json reportJson(const LoadedScenario& run, const sim::ReplayOptions& o
       {"seam_vertices_opened", stats.vertices_duplicated},
       {"refined_vertices", stats.refined_vertices},
       {"refined_faces", stats.refined_faces},
+      {"reserve_overflows", stats.reserve_overflows},
       {"cut_failure", replayFailure(stats, report)},
       {"incision_figures", incisionFiguresJson(stats.figures)},
       {"geometry_hash", hex(hash)},

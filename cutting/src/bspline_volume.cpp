@@ -249,6 +249,12 @@ const Eigen::Vector3d& BSplineVolume::control(int i, int j, int k) const {
   return controls_[static_cast<size_t>(controlIndex(i, j, k))];
 }
 
+void BSplineVolume::fillControls(const Eigen::Vector3d& p) {
+  if (!p.allFinite())
+    throw std::invalid_argument("BSplineVolume::fillControls: point " + formatPoint(p) + " is not finite");
+  std::fill(controls_.begin(), controls_.end(), p);
+}
+
 void BSplineVolume::setControl(int i, int j, int k, const Eigen::Vector3d& p) {
   checkIndex(i, j, k);
   if (!p.allFinite())

@@ -147,10 +147,7 @@ Incision::Incision(const IncisionOptions& options, const StrokeSample& first, co
                                     {2, 2, 2})),
       displacement_(rest_) {
   Layout lattice = layout(options);
-  if (!finite(first) || first.normal.norm() < 1e-12) refuse("the first sample must be finite with a non-zero normal");
-  if (!blade_direction.allFinite() || blade_direction.cross(first.normal).norm() < 1e-12 * blade_direction.norm())
-    refuse("blade_direction must be finite, non-zero and not parallel to the surface normal");
-  blade_direction_ = blade_direction.normalized();
+  checkStart(first, blade_direction);
   const int o = options.order;
   const int n = options.normal_controls;
   across_offsets_ = std::move(lattice.across_offsets);
@@ -173,6 +170,7 @@ Incision::Incision(const IncisionOptions& options, const StrokeSample& first, co
   displacement_ = BSplineVolume({o, o, o}, {u_cut, v_knots, w_knots}, std::move(zeros));
   column_opening_.assign(static_cast<size_t>(options.max_columns), 0.0);
   frames_.resize(static_cast<size_t>(options.max_columns));
+  stations_.reserve(static_cast<size_t>(options.max_columns));  // extend() ends the stroke before more
 
   // The blade's depth in w: solve sum_k N_k(w) (floor(n/2) - k) beta = -depth by bisection on [1/2, 1].
   double lo = 0.5, hi = 1.0;
@@ -186,10 +184,32 @@ Incision::Incision(const IncisionOptions& options, const StrokeSample& first, co
     (offset > -options.depth_m ? lo : hi) = mid;
   }
   bottom_w_ = 0.5 * (lo + hi);
+  startAt(first, blade_direction);
+}
 
+void Incision::checkStart(const StrokeSample& first, const Eigen::Vector3d& blade_direction) const {
+  if (!finite(first) || first.normal.norm() < 1e-12) refuse("the first sample must be finite with a non-zero normal");
+  if (!blade_direction.allFinite() || blade_direction.cross(first.normal).norm() < 1e-12 * blade_direction.norm())
+    refuse("blade_direction must be finite, non-zero and not parallel to the surface normal");
+}
+
+void Incision::startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction) {
+  blade_direction_ = blade_direction.normalized();
   last_sample_ = first;
   addStation({first.point_m, first.normal.normalized(), first.time_s});
-  to_next_station_m_ = options.spacing_m;
+  to_next_station_m_ = options_.spacing_m;
+}
+
+void Incision::restart(const StrokeSample& first, const Eigen::Vector3d& blade_direction) {
+  checkStart(first, blade_direction);
+  rest_.fillControls(Eigen::Vector3d::Zero());
+  displacement_.fillControls(Eigen::Vector3d::Zero());
+  std::fill(column_opening_.begin(), column_opening_.end(), 0.0);
+  std::fill(frames_.begin(), frames_.end(), Frame{});
+  stations_.clear();
+  first_unsettled_ = 0;
+  finished_ = false;
+  startAt(first, blade_direction);
 }
 
 SampleStatus Incision::extend(const StrokeSample& sample) noexcept {

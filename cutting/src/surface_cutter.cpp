@@ -15,8 +15,6 @@ namespace incise::cutting {
 namespace {
 
 using detail::FH;
-using detail::kKeepIsolatedVertices;
-using detail::segmentKey;
 using detail::VH;
 
 }  // namespace
@@ -39,6 +37,9 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   if (options.max_refine_splits_per_column < 0)
     throw std::invalid_argument("SurfaceCutter: max_refine_splits_per_column = " +
                                 std::to_string(options.max_refine_splits_per_column) + " must be >= 0");
+  if (options.reserved_bound_vertices < 64)
+    throw std::invalid_argument("SurfaceCutter: reserved_bound_vertices = " +
+                                std::to_string(options.reserved_bound_vertices) + " must be >= 64");
   Incision::validateOptions(options.incision);
   const ManifoldReport report = checkManifold(mesh.mesh());
   if (!report.closed_two_manifold)
@@ -65,6 +66,7 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   coarse_grid_ = VertexGrid(std::max({2.0 * edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
   if (refine) initCoarse();
   reserveHeadroom();  // after every property is added: OpenMesh reserves the properties there are
+  reserveIncisionArrays();
 }
 
 void SurfaceCutter::reserveHeadroom() {
@@ -72,8 +74,12 @@ void SurfaceCutter::reserveHeadroom() {
   // keep room for a long cut's new elements, topped up between incisions, never during one.
   TriMesh& m = mesh_.mesh();
   if (m.n_vertices() + kHeadroomVertices / 2 <= reserved_vertices_) return;  // room left: no copy
+  if (reserved_vertices_ > 0) ++stats_.reserve_overflows;                    // a top-up after load
   reserved_vertices_ = kHeadroomVertices + m.n_vertices();
   m.reserve(reserved_vertices_, m.n_edges() + 3 * kHeadroomVertices, m.n_faces() + 2 * kHeadroomVertices);
+  // The grids likewise: the new vertices' entries, and the cells vertices move into.
+  grid_.reserve(kHeadroomVertices);
+  coarse_grid_.reserve(kHeadroomVertices);
 }
 
 void SurfaceCutter::recordChanges(bool on) {
@@ -127,17 +133,23 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
     refused.sample = SampleStatus::RefusedNormal;
     return refused;
   }
-  std::unique_ptr<Incision> incision;
+  // The lattice: the previous incision's, settled above, or the one made at construction, started over.
+  const bool had_previous = incision_ != nullptr;
+  std::unique_ptr<Incision> incision = had_previous ? std::move(incision_) : std::move(spare_);
   try {
-    incision = std::make_unique<Incision>(options_.incision, first, blade_direction);
-  } catch (const std::exception& e) {  // options were validated at construction: only allocation is left
+    if (incision)
+      incision->restart(first, blade_direction);
+    else
+      incision = std::make_unique<Incision>(options_.incision, first, blade_direction);
+  } catch (const std::exception& e) {                   // the sample was checked above: only allocation is left
+    if (had_previous) incision_ = std::move(incision);  // a throwing restart changed nothing
     fail(std::string("SurfaceCutter::begin: ") + e.what());
     refused.failed = true;
     return refused;
   }
   reserveHeadroom();
   // The previous incision's vertices have moved: the grid indexes where they are now.
-  if (incision_) {
+  if (had_previous) {
     for (const VH v : all_bound_) grid_.move(v.idx(), data(v).rest_m, toEigen(mesh_.mesh().point(v)));
   }
   incision_ = std::move(incision);
@@ -152,12 +164,15 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   column_started_ = false;
   refining_ = false;
   time_s_ = first.time_s;
-  cells_.assign(static_cast<size_t>(options_.incision.max_columns), {});
+  std::fill(cell_first_.begin(), cell_first_.end(), -1);
+  std::fill(cell_last_.begin(), cell_last_.end(), -1);
+  cell_next_.clear();
+  cell_vertex_.clear();
   all_bound_.clear();
   seam_created_.clear();
-  chain_.clear();
-  columns_.clear();
-  strips_.clear();
+  chain_.reset(4 * static_cast<std::size_t>(options_.incision.max_columns));
+  wall_columns_used_ = 0;
+  strips_used_ = 0;
   dirty_.clear();
   stencil_count_.clear();
   stencil_first_.clear();
@@ -286,9 +301,9 @@ bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
   d.side = r.uvw[0] < 0.5 ? -1 : 1;
   setStencil(v);
   if (options_.snap_fraction > 0.0 && insideCut(r.uvw) && nearCut(v, r.uvw)) snapOntoCut(v);  // no sliver
-  cells_[static_cast<size_t>(std::floor(r.uvw[1]))].push_back(v);
-  all_bound_.push_back(v);
-  dirty_.push_back(v);
+  addToCell(static_cast<int>(std::floor(r.uvw[1])), v);
+  pushReserved(all_bound_, v);
+  pushReserved(dirty_, v);
   return true;
 }
 
@@ -313,7 +328,7 @@ bool SurfaceCutter::processColumn(int column, int& budget, CutStep& step) {
     const VH v(candidates_[next_candidate_]);
     if (mesh_.mesh().status(v).deleted() || bound(v)) continue;
     if (budget <= 0) return false;  // resume here next call
-    if (bindVertex(v, column, budget)) fresh_.push_back(v), ++step.vertices_bound;
+    if (bindVertex(v, column, budget)) pushReserved(fresh_, v), ++step.vertices_bound;
   }
   splitCrossings(fresh_, step);
   column_started_ = false;
@@ -374,12 +389,12 @@ void SurfaceCutter::snapOntoCut(VH v) {
   d.uvw[0] = 0.5;
   d.side = 0;
   d.seam = true;
-  seam_created_.push_back(v);
+  pushReserved(seam_created_, v);
   ++stats_.vertices_snapped;
   ++stats_.figures.back().seam_vertices;
   if (mesh_.kind(v) == VertexKind::Original) mesh_.setKind(v, VertexKind::Seam);
   setStencil(v);
-  dirty_.push_back(v);  // an end point snapped after its bind: moved (and journalled) with its new stencil
+  pushReserved(dirty_, v);  // an end point snapped after its bind: moved (and journalled) with its new stencil
 }
 
 VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side, VertexKind kind) {
@@ -391,9 +406,9 @@ VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vec
   d.incision = incision_index_;
   d.side = static_cast<std::int8_t>(side);
   setStencil(v);
-  cells_[static_cast<size_t>(std::clamp(std::floor(uvw[1]), 0.0, double(cells_.size() - 1)))].push_back(v);
-  all_bound_.push_back(v);
-  dirty_.push_back(v);
+  addToCell(static_cast<int>(std::clamp(std::floor(uvw[1]), 0.0, double(cell_first_.size() - 1))), v);
+  pushReserved(all_bound_, v);
+  pushReserved(dirty_, v);
   grid_.insert(v.idx(), rest_m);
   vertexChanged(v);
   return v;
@@ -401,18 +416,15 @@ VH SurfaceCutter::addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vec
 
 void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) {
   TriMesh& m = mesh_.mesh();
-  struct Crossing {
-    double key;
-    int edge;
-  };
-  std::vector<Crossing> crossings;
+  std::vector<Crossing>& crossings = crossings_;
+  crossings.clear();
   for (const VH a : fresh) {
     for (auto h = m.voh_iter(a); h.is_valid(); ++h) {
       const VH b = m.to_vertex_handle(*h);
       if (!bound(b)) continue;
       const int sa = data(a).side, sb = data(b).side;
       if (!((sa == -1 && sb == 1) || (sa == 1 && sb == -1))) continue;
-      crossings.push_back({std::max(data(a).uvw[1], data(b).uvw[1]), m.edge_handle(*h).idx()});
+      pushReserved(crossings, Crossing{std::max(data(a).uvw[1], data(b).uvw[1]), m.edge_handle(*h).idx()});
     }
   }
   std::sort(crossings.begin(), crossings.end(),
@@ -454,7 +466,7 @@ void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) 
       faceChanged(*f);
     }
     data(v).seam = true;
-    seam_created_.push_back(v);
+    pushReserved(seam_created_, v);
     ++stats_.figures.back().seam_vertices;
     ++step.edges_split;
     ++stats_.edges_split;
@@ -465,7 +477,7 @@ void SurfaceCutter::walkChain() {
   TriMesh& m = mesh_.mesh();
   if (chain_.empty()) {
     if (seam_created_.empty()) return;
-    chain_.push_back(seam_created_.front());
+    if (!chain_.pushBack(seam_created_.front())) ++stats_.reserve_overflows;
     data(chain_.front()).chained = true;
   }
   // Extend at the tip (larger v preferred) and at the start (smaller v preferred).
@@ -480,11 +492,7 @@ void SurfaceCutter::walkChain() {
       }
       if (!next.is_valid()) break;
       data(next).chained = true;
-      if (at_tip) {
-        chain_.push_back(next);
-      } else {
-        chain_.push_front(next);
-      }
+      if (!(at_tip ? chain_.pushBack(next) : chain_.pushFront(next))) ++stats_.reserve_overflows;
     }
   }
 }
@@ -510,8 +518,10 @@ void SurfaceCutter::setStencil(VH v) {
   const int size = incision_->stencilSize();
   if (d.stencil < 0) {
     d.stencil = static_cast<int>(stencil_count_.size());
-    stencil_count_.push_back(0);
+    pushReserved(stencil_count_, std::uint8_t{0});
+    if (stencil_first_.size() + 2 > stencil_first_.capacity()) ++stats_.reserve_overflows;
     stencil_first_.resize(stencil_first_.size() + 2);
+    if (stencil_basis_.size() + 2 * static_cast<size_t>(size) > stencil_basis_.capacity()) ++stats_.reserve_overflows;
     stencil_basis_.resize(stencil_basis_.size() + 2 * static_cast<size_t>(size));
   }
   const size_t s = static_cast<size_t>(d.stencil);
@@ -537,9 +547,11 @@ void SurfaceCutter::redeform(CutStep& step) {
     ++step.vertices_moved;
   };
   const int order = options_.incision.order;
+  const int cells = static_cast<int>(cell_first_.size());
   for (const int column : changed_columns_)
-    for (int cell = column; cell < std::min<int>(column + order, static_cast<int>(cells_.size())); ++cell)
-      for (const VH v : cells_[static_cast<size_t>(cell)]) move(v);
+    for (int cell = column; cell < std::min(column + order, cells); ++cell)
+      for (int i = cell_first_[static_cast<size_t>(cell)]; i >= 0; i = cell_next_[static_cast<size_t>(i)])
+        move(cell_vertex_[static_cast<size_t>(i)]);
   for (const VH v : dirty_) move(v);
   dirty_.clear();
 }

@@ -105,16 +105,16 @@ void SurfaceCutter::diagnose() noexcept {
   f.done = true;
   const double spacing_m = options_.incision.spacing_m;
   const double start_v = incision_->startV(), end_v = incision_->lastStationV();
-  const int last = std::min(static_cast<int>(std::ceil(end_v)), static_cast<int>(cells_.size()));
+  const int last = std::min(static_cast<int>(std::ceil(end_v)), static_cast<int>(cell_first_.size()));
   for (int c = static_cast<int>(std::floor(start_v)); c < last; ++c) {
     ++f.columns;
-    if (!cells_[static_cast<size_t>(c)].empty()) continue;
+    if (!cellEmpty(c)) continue;
     if (f.empty_columns++ == 0) f.first_empty_at_m = std::max(0.0, (c - start_v) * spacing_m);
   }
   double v0 = INFINITY, v1 = -INFINITY;
-  for (const TriMesh::VertexHandle v : chain_) {
-    v0 = std::min(v0, data(v).uvw[1]);
-    v1 = std::max(v1, data(v).uvw[1]);
+  for (std::size_t i = 0; i < chain_.size(); ++i) {
+    v0 = std::min(v0, data(chain_[i]).uvw[1]);
+    v1 = std::max(v1, data(chain_[i]).uvw[1]);
   }
   if (!chain_.empty()) {
     f.groove_start_m = std::max(0.0, (v0 - start_v) * spacing_m);

@@ -11,58 +11,49 @@
 
 namespace incise::cutting {
 
+using detail::deleteFace;
 using detail::FH;
-using detail::kKeepIsolatedVertices;
-using detail::segmentKey;
 using detail::VH;
 
 bool SurfaceCutter::duplicate(VH c) {
   TriMesh& m = mesh_.mesh();
   // The faces around c in counter-clockwise order with their side (from their other vertices).
-  struct Around {
-    FH face;
-    int side;
-  };
-  std::vector<Around> around;
+  around_.clear();
   for (auto f = m.vf_ccwiter(c); f.is_valid(); ++f) {
     int side = 0;
     for (auto v = m.fv_iter(*f); v.is_valid(); ++v)
       if (*v != c && sideOf(*v) != 0) side = sideOf(*v);
-    around.push_back({*f, side});
+    pushReserved(around_, Around{*f, side});
   }
-  const auto minus = std::find_if(around.begin(), around.end(), [](const Around& a) { return a.side == -1; });
-  if (minus == around.end() ||
-      std::none_of(around.begin(), around.end(), [](const Around& a) { return a.side == 1; })) {
+  const auto minus = std::find_if(around_.begin(), around_.end(), [](const Around& a) { return a.side == -1; });
+  if (minus == around_.end() ||
+      std::none_of(around_.begin(), around_.end(), [](const Around& a) { return a.side == 1; })) {
     fail("seam vertex " + std::to_string(c.idx()) + " does not separate two sides");
     return false;
   }
-  std::rotate(around.begin(), minus, around.end());  // the + faces now form one run
-  struct Triangle {
-    VH v[3];
-    FaceKind kind;
-  };
-  std::vector<Triangle> plus;
-  for (const Around& a : around) {
+  std::rotate(around_.begin(), minus, around_.end());  // the + faces now form one run
+  plus_.clear();
+  for (const Around& a : around_) {
     if (a.side != 1) continue;
-    Triangle t;
+    PlusTriangle t;
     int i = 0;
     for (auto v = m.fv_ccwiter(a.face); v.is_valid() && i < 3; ++v) t.v[i++] = *v;
     t.kind = mesh_.kind(a.face);
-    plus.push_back(t);
+    pushReserved(plus_, t);
   }
-  for (const Around& a : around)
+  for (const Around& a : around_)
     if (a.side == 1) {
       faceChanged(a.face);
-      m.delete_face(a.face, kKeepIsolatedVertices);
+      deleteFace(m, a.face);
     }
   VertexData copy = data(c);
   const VH c_plus = addBoundVertex(copy.rest_m, copy.uvw, 1, VertexKind::Seam);
   data(c).side = -1;
   data(c).doubled = true;
   setStencil(c);  // now evaluated on the u < 1/2 side: move it even if no column changes again
-  dirty_.push_back(c);
+  pushReserved(dirty_, c);
   data(c_plus).seam = false;
-  for (Triangle& t : plus) {
+  for (PlusTriangle& t : plus_) {
     for (VH& v : t.v)
       if (v == c) v = c_plus;
     const FH added = mesh_.mesh().add_face(t.v[0], t.v[1], t.v[2]);
@@ -74,10 +65,16 @@ bool SurfaceCutter::duplicate(VH c) {
     mesh_.setKind(m.find_halfedge(t.v[0], t.v[1]).is_valid() ? m.face_handle(m.find_halfedge(t.v[0], t.v[1])) : FH(),
                   t.kind);
   }
-  WallColumn column;
+  if (wall_columns_used_ == wall_columns_.size()) {
+    ++stats_.reserve_overflows;
+    wall_columns_.emplace_back();
+  }
+  data(c).wall_column = static_cast<int>(wall_columns_used_);
+  WallColumn& column = wall_columns_[wall_columns_used_++];
+  column.minus.clear();
+  column.plus.clear();
   column.minus.push_back(c);
   column.plus.push_back(c_plus);
-  columns_[c.idx()] = column;
   return true;
 }
 
@@ -102,7 +99,7 @@ bool SurfaceCutter::sidesKnown(VH c) const {
 }
 
 void SurfaceCutter::buildWallColumn(VH c) {
-  WallColumn& column = columns_[c.idx()];
+  WallColumn& column = wall_columns_[static_cast<std::size_t>(data(c).wall_column)];
   const VertexData d = data(c);
   const int rows = options_.wall_rows;
   const double w0 = d.uvw[2], w1 = incision_->bottomW();
@@ -111,24 +108,24 @@ void SurfaceCutter::buildWallColumn(VH c) {
     const Eigen::Vector3d rest_m = incision_->rest().evaluateUnchecked(uvw[0], uvw[1], uvw[2]);
     if (r == rows) {
       const VH bottom = addBoundVertex(rest_m, uvw, 2, VertexKind::Wall);
-      column.minus.push_back(bottom);
-      column.plus.push_back(bottom);
+      pushReserved(column.minus, bottom);
+      pushReserved(column.plus, bottom);
     } else {
-      column.minus.push_back(addBoundVertex(rest_m, uvw, -1, VertexKind::Wall));
-      column.plus.push_back(addBoundVertex(rest_m, uvw, 1, VertexKind::Wall));
+      pushReserved(column.minus, addBoundVertex(rest_m, uvw, -1, VertexKind::Wall));
+      pushReserved(column.plus, addBoundVertex(rest_m, uvw, 1, VertexKind::Wall));
     }
   }
 }
 
 void SurfaceCutter::deleteStrip(VH a, VH b) {
-  const auto it = strips_.find(segmentKey(a, b));
-  if (it == strips_.end()) return;
-  for (const FH f : it->second)
+  const int s = data(a).strip;
+  if (s < 0 || strips_[static_cast<std::size_t>(s)].to != b) return;
+  for (const FH f : strips_[static_cast<std::size_t>(s)].faces)
     if (!mesh_.mesh().status(f).deleted()) {
       faceChanged(f);
-      mesh_.mesh().delete_face(f, kKeepIsolatedVertices);
+      deleteFace(mesh_.mesh(), f);
     }
-  strips_.erase(it);
+  data(a).strip = -1;
 }
 
 bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>& b, std::vector<FH>& faces) {
@@ -150,7 +147,7 @@ bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>
       if (!f.is_valid()) return fail("could not add a wall face at seam vertex " + std::to_string(a[0].idx())), false;
       mesh_.setKind(f, FaceKind::Wall);
       faceChanged(f);
-      faces.push_back(f);
+      pushReserved(faces, f);
     }
   }
   return true;
@@ -161,16 +158,27 @@ bool SurfaceCutter::buildStrip(VH a, VH b, CutStep& step) {
   if (!a_doubled && !b_doubled) return true;
   const size_t height = static_cast<size_t>(options_.wall_rows) + 1;
   enum class Side : std::uint8_t { Minus, Plus };
-  const auto side = [&](VH v, bool doubled, Side s) {
-    if (!doubled) return std::vector<VH>(height, v);
-    const WallColumn& c = columns_.at(v.idx());
-    return s == Side::Plus ? c.plus : c.minus;
+  const auto side = [&](VH v, bool doubled, Side s, std::vector<VH>& out) -> const std::vector<VH>& {
+    if (doubled) {
+      const WallColumn& c = wall_columns_[static_cast<std::size_t>(data(v).wall_column)];
+      return s == Side::Plus ? c.plus : c.minus;
+    }
+    out.assign(height, v);  // within the room reserved for a column
+    return out;
   };
-  std::vector<FH> faces;
-  if (!addStripSide(side(a, a_doubled, Side::Minus), side(b, b_doubled, Side::Minus), faces)) return false;
-  if (!addStripSide(side(a, a_doubled, Side::Plus), side(b, b_doubled, Side::Plus), faces)) return false;
-  step.wall_faces += static_cast<int>(faces.size());
-  strips_[segmentKey(a, b)] = std::move(faces);
+  strip_faces_.clear();
+  for (const Side s : {Side::Minus, Side::Plus})
+    if (!addStripSide(side(a, a_doubled, s, side_a_), side(b, b_doubled, s, side_b_), strip_faces_)) return false;
+  step.wall_faces += static_cast<int>(strip_faces_.size());
+  if (strips_used_ == strips_.size()) {
+    ++stats_.reserve_overflows;
+    strips_.emplace_back();
+  }
+  Strip& strip = strips_[strips_used_];
+  strip.to = b;
+  strip.faces.clear();
+  for (const FH f : strip_faces_) pushReserved(strip.faces, f);
+  data(a).strip = static_cast<int>(strips_used_++);
   return true;
 }
 

@@ -125,6 +125,7 @@ void TetCutter::reserveHeadroom() {
   stencil_first_.reserve(kHeadroomNodes * 2);
   dirty_.reserve(kHeadroomNodes);
   for (auto* v : {&candidates_, &affected_, &cut_points_, &scratch_, &scratch2_, &parent_}) v->reserve(4096);
+  fresh_.reserve(kHeadroomNodes);
   faces_.reserve(4096);
   group_seen_.reserve(4096);
 }
@@ -140,13 +141,29 @@ void TetCutter::startIncision(int incision_number) {
   // nodes wait for a later column): about two tet edges, plus a B-spline support for the opening to fall
   // to 0 there, so that no tet at the cut's leading edge is torn open before it is cut.
   lag_columns_ = static_cast<int>(std::ceil(2.0 * median_edge_m_ / o.spacing_m)) + o.order;
-  lagged_.emplace(incision_->displacement());
+  if (lagged_)
+    *lagged_ = incision_->displacement();  // the same shape as prepare()'s: copied into its storage
+  else
+    lagged_.emplace(incision_->displacement());
   opening_seen_.resize(static_cast<size_t>(o.max_columns));
   for (int c = 0; c < o.max_columns; ++c) opening_seen_[static_cast<size_t>(c)] = incision_->columnOpening(c);
-  cells_.assign(static_cast<size_t>(o.max_columns), {});
-  for (auto& cell : cells_) cell.reserve(64);
+  if (cells_.size() != static_cast<size_t>(o.max_columns)) cells_.resize(static_cast<size_t>(o.max_columns));
+  for (auto& cell : cells_) {
+    cell.clear();  // keeps its capacity
+    cell.reserve(kReservedCellNodes);
+  }
   stencil_basis_.reserve(kHeadroomNodes * 2 * static_cast<size_t>(incision_->stencilSize()));
   ++stats_.incisions;
+}
+
+void TetCutter::prepare(const IncisionOptions& options) {
+  const Incision shape(options, StrokeSample{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.0},
+                       Eigen::Vector3d::UnitX());
+  lagged_.emplace(shape.displacement());
+  opening_seen_.assign(static_cast<size_t>(options.max_columns), 0.0);
+  cells_.resize(static_cast<size_t>(options.max_columns));
+  for (auto& cell : cells_) cell.reserve(kReservedCellNodes);
+  stencil_basis_.reserve(kHeadroomNodes * 2 * static_cast<size_t>(shape.stencilSize()));
 }
 
 TetStep TetCutter::follow(const Incision& incision, int incision_number, TetBudget budget_kind) noexcept {

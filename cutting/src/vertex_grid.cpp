@@ -23,12 +23,24 @@ VertexGrid::VertexGrid(double cell_size) : cell_size_(cell_size) {
   }
 }
 
-std::size_t VertexGrid::KeyHash::operator()(std::int64_t key) const noexcept {
+namespace {
+
+constexpr std::int64_t kEmptyKey = -1;  // pack() gives keys in [0, 2^63)
+
+std::size_t hashKey(std::int64_t key) noexcept {
   auto x = static_cast<std::uint64_t>(key);  // splitmix64 finaliser: packed keys are far from random
   x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
   x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
   return static_cast<std::size_t>(x ^ (x >> 31));
 }
+
+std::size_t powerOfTwoAtLeast(std::size_t n) {
+  std::size_t p = 16;
+  while (p < n) p *= 2;
+  return p;
+}
+
+}  // namespace
 
 std::int64_t VertexGrid::cellCoordinate(double x) const noexcept {
   const double c = std::floor(x / cell_size_);
@@ -53,17 +65,86 @@ void VertexGrid::checkPoint(const Eigen::Vector3d& p, int id, const char* who) c
                                 " for id " + std::to_string(id));
 }
 
+std::size_t VertexGrid::slotOf(std::int64_t key) const noexcept {
+  const std::size_t mask = slots_.size() - 1;
+  std::size_t s = hashKey(key) & mask;
+  while (slots_[s].key != key && slots_[s].key != kEmptyKey) s = (s + 1) & mask;
+  return s;
+}
+
+int VertexGrid::cellHead(std::int64_t key) const noexcept {
+  if (slots_.empty()) return -1;
+  const Slot& slot = slots_[slotOf(key)];
+  return slot.key == key ? slot.head : -1;
+}
+
+void VertexGrid::rehash(std::size_t slots) {
+  std::vector<Slot> old(slots, Slot{kEmptyKey, -1});
+  old.swap(slots_);
+  for (const Slot& slot : old)
+    if (slot.key != kEmptyKey) slots_[slotOf(slot.key)] = slot;
+}
+
+VertexGrid::Slot& VertexGrid::cellSlot(std::int64_t key) {
+  if (2 * (cells_ + 1) > slots_.size()) rehash(powerOfTwoAtLeast(4 * (cells_ + 1)));
+  Slot& slot = slots_[slotOf(key)];
+  if (slot.key == kEmptyKey) {
+    slot = {key, -1};
+    ++cells_;
+  }
+  return slot;
+}
+
+void VertexGrid::reserve(std::size_t entries) {
+  compact();
+  entries_.reserve(size_ + entries);
+  const std::size_t slots = powerOfTwoAtLeast(2 * (cells_ + entries + 1));
+  if (slots > slots_.size()) rehash(slots);
+}
+
+void VertexGrid::compact() {
+  // Each cell's entries made consecutive (in slot order, each list's order kept), the free list dropped: a
+  // query then reads a cell's entries from one place, as a grid of per-cell arrays would.
+  std::vector<Entry> packed;
+  packed.reserve(std::max(entries_.capacity(), size_));
+  for (Slot& slot : slots_) {
+    if (slot.key == kEmptyKey || slot.head < 0) continue;
+    const int head = static_cast<int>(packed.size());
+    for (int e = slot.head; e >= 0; e = entries_[static_cast<std::size_t>(e)].next) {
+      packed.push_back(entries_[static_cast<std::size_t>(e)]);
+      packed.back().next = static_cast<int>(packed.size());
+    }
+    packed.back().next = -1;
+    slot.head = head;
+  }
+  entries_ = std::move(packed);
+  free_ = -1;
+}
+
+int VertexGrid::newEntry(int id, const Eigen::Vector3d& p) {
+  if (free_ >= 0) {
+    const int e = free_;
+    free_ = entries_[static_cast<std::size_t>(e)].next;
+    entries_[static_cast<std::size_t>(e)] = {p, id, -1};
+    return e;
+  }
+  entries_.push_back({p, id, -1});
+  return static_cast<int>(entries_.size()) - 1;
+}
+
 void VertexGrid::insert(int id, const Eigen::Vector3d& p) {
   checkPoint(p, id, "insert");
-  cells_[key(p)].push_back({id, p});
+  Slot& slot = cellSlot(key(p));  // may grow the table: before the entry, so a failure leaves the grid as it was
+  const int e = newEntry(id, p);
+  entries_[static_cast<std::size_t>(e)].next = slot.head;
+  slot.head = e;
   ++size_;
 }
 
-VertexGrid::Location VertexGrid::locate(int id, const Eigen::Vector3d& p, const char* who) {
-  if (const auto cell = cells_.find(key(p)); cell != cells_.end()) {
-    const auto it =
-        std::find_if(cell->second.begin(), cell->second.end(), [&](const Entry& e) { return e.id == id && e.p == p; });
-    if (it != cell->second.end()) return {cell, it};
+int VertexGrid::locate(int id, const Eigen::Vector3d& p, const char* who) const {
+  for (int e = cellHead(key(p)); e >= 0; e = entries_[static_cast<std::size_t>(e)].next) {
+    const Entry& entry = entries_[static_cast<std::size_t>(e)];
+    if (entry.id == id && entry.p == p) return e;
   }
   throw std::invalid_argument(std::string("VertexGrid::") + who + ": no entry for id " + std::to_string(id) + " at " +
                               formatPoint(p));
@@ -71,9 +152,9 @@ VertexGrid::Location VertexGrid::locate(int id, const Eigen::Vector3d& p, const 
 
 void VertexGrid::move(int id, const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
   checkPoint(to, id, "move");
-  const Location at = locate(id, from, "move");
+  const int e = locate(id, from, "move");
   if (key(from) == key(to)) {
-    at.entry->p = to;
+    entries_[static_cast<std::size_t>(e)].p = to;
     return;
   }
   insert(id, to);  // first, so a failed allocation leaves the entry where it was
@@ -81,37 +162,48 @@ void VertexGrid::move(int id, const Eigen::Vector3d& from, const Eigen::Vector3d
 }
 
 void VertexGrid::remove(int id, const Eigen::Vector3d& p) {
-  const auto [cell, it] = locate(id, p, "remove");
-  *it = cell->second.back();
-  cell->second.pop_back();
-  if (cell->second.empty()) cells_.erase(cell);
+  const int e = locate(id, p, "remove");
+  Slot& slot = slots_[slotOf(key(p))];
+  if (slot.head == e) {
+    slot.head = entries_[static_cast<std::size_t>(e)].next;
+  } else {
+    int before = slot.head;
+    while (entries_[static_cast<std::size_t>(before)].next != e)
+      before = entries_[static_cast<std::size_t>(before)].next;
+    entries_[static_cast<std::size_t>(before)].next = entries_[static_cast<std::size_t>(e)].next;
+  }
+  entries_[static_cast<std::size_t>(e)].next = free_;
+  free_ = e;
   --size_;
 }
 
 void VertexGrid::clear() noexcept {
-  cells_.clear();
+  entries_.clear();
+  free_ = -1;
+  std::fill(slots_.begin(), slots_.end(), Slot{kEmptyKey, -1});
+  cells_ = 0;
   size_ = 0;
 }
 
-void VertexGrid::appendHits(const Cell& cell, const Eigen::AlignedBox3d& box, std::vector<int>& out) const {
-  for (const Entry& e : cell)
-    if (box.contains(e.p)) out.push_back(e.id);
+void VertexGrid::appendHits(int head, const Eigen::AlignedBox3d& box, std::vector<int>& out) const {
+  for (int e = head; e >= 0; e = entries_[static_cast<std::size_t>(e)].next)
+    if (box.contains(entries_[static_cast<std::size_t>(e)].p)) out.push_back(entries_[static_cast<std::size_t>(e)].id);
 }
 
 void VertexGrid::query(const Eigen::AlignedBox3d& box, std::vector<int>& out) const {
-  if (box.min().hasNaN() || box.max().hasNaN() || box.isEmpty()) return;
+  if (box.min().hasNaN() || box.max().hasNaN() || box.isEmpty() || size_ == 0) return;
   const std::size_t first = out.size();
   const Eigen::Vector3d lo = box.min(), hi = box.max();
   const std::int64_t i0 = cellCoordinate(lo.x()), j0 = cellCoordinate(lo.y()), k0 = cellCoordinate(lo.z());
   const std::int64_t i1 = cellCoordinate(hi.x()), j1 = cellCoordinate(hi.y()), k1 = cellCoordinate(hi.z());
   const double box_cells = double(i1 - i0 + 1) * double(j1 - j0 + 1) * double(k1 - k0 + 1);
-  if (box_cells > static_cast<double>(cells_.size())) {  // sparse grid, big box: visit occupied cells
-    for (const auto& [key, cell] : cells_) appendHits(cell, box, out);
+  if (box_cells > static_cast<double>(slots_.size())) {  // sparse grid, big box: visit every cell
+    for (const Slot& slot : slots_)
+      if (slot.key != kEmptyKey) appendHits(slot.head, box, out);
   } else {
     for (std::int64_t k = k0; k <= k1; ++k)
       for (std::int64_t j = j0; j <= j1; ++j)
-        for (std::int64_t i = i0; i <= i1; ++i)
-          if (const auto cell = cells_.find(pack(i, j, k)); cell != cells_.end()) appendHits(cell->second, box, out);
+        for (std::int64_t i = i0; i <= i1; ++i) appendHits(cellHead(pack(i, j, k)), box, out);
   }
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
 }

@@ -41,6 +41,7 @@ void readIncision(const Reader& r, cutting::CutterOptions& c) {
              : refine == "pn" ? cutting::CutterOptions::Refine::PnTriangles
                               : cutting::CutterOptions::Refine::Linear;
   c.refine_edge_m = r.number("refine_edge_m", c.refine_edge_m, 0.0, 1.0);
+  c.reserved_bound_vertices = r.integer("reserve_vertices", c.reserved_bound_vertices, 64, 1 << 24);
 }
 
 void readTets(const Reader& r, TetTissueOptions& t) {

@@ -82,6 +82,7 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
     tet_options.max_inversions_per_call = workBudget(options);
     tets_ = std::make_unique<cutting::TetCutter>(cutting::tetrahedralize(*tissue_, options.tets.mesh), tet_options);
     requireFineTets(*tissue_, *tets_, options.cutter.incision);
+    tets_->prepare(options.cutter.incision);  // the sim thread then allocates nothing for the first incision
   }
 }
 
@@ -275,6 +276,7 @@ cutting::CutStep World::cut(double t_s) noexcept {
     followTets(cutting::TetBudget::PerCall);
   }
   refreshProxy();
+  counters_.reserve_overflows = cutter_->stats().reserve_overflows;
   return step;
 }
 

@@ -12,6 +12,7 @@
 #include "incise/cutting/surface_query.h"
 #include "incise/cutting/vertex_grid.h"
 #include "stroke_fixture.h"
+#include "surface_cutter_internal.h"  // detail::deleteFace (cutting/src)
 
 using namespace incise::cutting;
 using Catch::Matchers::Contains;
@@ -382,4 +383,62 @@ TEST_CASE("surface_cutter: a work budget per call changes when the cut appears, 
   while (limited.pending() && calls < 100000) limited.advance(stroke.samples.back().time_s), ++calls;
   REQUIRE_FALSE(limited.pending());
   REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
+}
+
+// Issue 17: what an incision uses is reserved at load; an incision that outgrows it still cuts, the same
+// bytes, and counts each growth (CutStats::reserve_overflows), which the default reserve never needs here.
+TEST_CASE("surface_cutter: a reserve too small grows, is counted, and cuts the same bytes", "[cutting]") {
+  std::string bytes[2];
+  int overflows[2] = {-1, -1};
+  for (const int reserve : {CutterOptions{}.reserved_bound_vertices, 64}) {
+    const int run = reserve == 64 ? 1 : 0;
+    SurfaceMesh mesh = bunny(2);
+    CutterOptions options = optionsFor(2);
+    options.reserved_bound_vertices = reserve;
+    SurfaceCutter cutter(mesh, options);
+    const Stroke first = backStroke(mesh, 0.03);
+    cutCheckingEverySample(mesh, cutter, first);
+    const Stroke across = backStroke(mesh, 0.02, 0.0, Eigen::Vector3d(0.0, 0.0, 0.005), Eigen::Vector3d::UnitZ(), 2.0);
+    cutCheckingEverySample(mesh, cutter, across);
+    cutter.settle();
+    REQUIRE(cutter.stats().incisions == 2);
+    REQUIRE(cutter.stats().vertices_duplicated > 20);
+    bytes[run] = objBytes(mesh, "reserve");
+    overflows[run] = cutter.stats().reserve_overflows;
+  }
+  CHECK(overflows[0] == 0);
+  CHECK(overflows[1] > 0);
+  REQUIRE(bytes[0] == bytes[1]);
+  CutterOptions bad;
+  bad.reserved_bound_vertices = 63;
+  SurfaceMesh mesh = bunny(0);
+  REQUIRE_THROWS_WITH(SurfaceCutter(mesh, bad), Contains("reserved_bound_vertices = 63"));
+}
+
+// The cutter deletes faces without OpenMesh's delete_face (which allocates two vectors a call): the same
+// connectivity, halfedge by halfedge, on a mesh whose faces are deleted one after another until some
+// vertices are isolated.
+TEST_CASE("surface_cutter: its face deletion leaves what OpenMesh's delete_face leaves", "[cutting]") {
+  SurfaceMesh a = bunny(0), b = bunny(0);
+  TriMesh& ma = a.mesh();
+  TriMesh& mb = b.mesh();
+  for (int f = 0; f < 600; ++f) {
+    ma.delete_face(TriMesh::FaceHandle(f), false);
+    detail::deleteFace(mb, TriMesh::FaceHandle(f));
+  }
+  int isolated = 0;
+  for (const auto v : ma.vertices()) {
+    REQUIRE(ma.halfedge_handle(v) == mb.halfedge_handle(v));
+    REQUIRE(ma.status(v).deleted() == mb.status(v).deleted());
+    isolated += ma.is_isolated(v) ? 1 : 0;
+  }
+  REQUIRE(isolated > 0);
+  for (const auto h : ma.all_halfedges()) {
+    REQUIRE(ma.next_halfedge_handle(h) == mb.next_halfedge_handle(h));
+    REQUIRE(ma.prev_halfedge_handle(h) == mb.prev_halfedge_handle(h));
+    REQUIRE(ma.face_handle(h) == mb.face_handle(h));
+    REQUIRE(ma.status(h).deleted() == mb.status(h).deleted());
+  }
+  for (const auto e : ma.all_edges()) REQUIRE(ma.status(e).deleted() == mb.status(e).deleted());
+  for (const auto f : ma.all_faces()) REQUIRE(ma.status(f).deleted() == mb.status(f).deleted());
 }

@@ -59,6 +59,8 @@ class BSplineVolume {
   const Eigen::Vector3d& control(int i, int j, int k) const;
   // Throws std::invalid_argument for a non-finite point, std::out_of_range for a bad index.
   void setControl(int i, int j, int k, const Eigen::Vector3d& p);
+  // Every control point set to `p` (finite: else std::invalid_argument, nothing changed). No allocation.
+  void fillControls(const Eigen::Vector3d& p);
   // All control points, i-fastest. Read-only view; valid until the next insertKnot.
   std::span<const Eigen::Vector3d> controls() const { return controls_; }
 

@@ -88,6 +88,11 @@ class Incision {
   // (paper Theorem 1: a plane would pass its neighbour; widen alpha_m or lower opening_m).
   Incision(const IncisionOptions& options, const StrokeSample& first, const Eigen::Vector3d& blade_direction);
 
+  // Starts this object over as a new incision at `first` (the state the constructor gives with the same
+  // options), reusing its storage: no allocation, so a cutter keeps one spare incision for the sim thread.
+  // Throws std::invalid_argument for a bad first sample or direction, as the constructor does.
+  void restart(const StrokeSample& first, const Eigen::Vector3d& blade_direction);
+
   // The option checks of the constructor alone (load time): throws std::invalid_argument as it does.
   static void validateOptions(const IncisionOptions& options);
 
@@ -154,8 +159,9 @@ class Incision {
     Eigen::Vector3d point, normal;
     double time_s;
   };
-  struct Frame {
-    Eigen::Vector3d g, t, n, s;
+  struct Frame {  // zero until the column is first written, the same in a new and a restarted incision
+    Eigen::Vector3d g = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
+                    s = Eigen::Vector3d::Zero();
   };
   // What the options fix: the u knots with 1/2 at full multiplicity, Eq. (2)'s offsets after the
   // insertion, the kernel per u-plane and the last plane of the u < 1/2 side.
@@ -165,6 +171,8 @@ class Incision {
   };
   static Layout layout(const IncisionOptions& options);
 
+  void checkStart(const StrokeSample& first, const Eigen::Vector3d& blade_direction) const;  // throws
+  void startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction);           // the first station
   void addStation(const Station& station);
   Frame columnFrame(int column) const noexcept;
   void setRestColumn(int column);

@@ -33,20 +33,22 @@
 // new incision starts from the mesh as the previous ones left it (their wounds stop evolving).
 //
 // Threads: one owner (the sim thread). Cost per column step: O(vertices and faces under `order` columns);
-// per extend() with no new column: O(columns still opening). Allocation: amortised growth of the mesh and
-// of per-incision buffers. Failure: the constructor (load time) throws MeshError for a mesh that is not a
+// per extend() with no new column: O(columns still opening). Allocation: none after construction while an
+// incision binds at most CutterOptions::reserved_bound_vertices vertices (the lattice is made at load and
+// restarted by begin(), the mesh has kHeadroomVertices of room, the grids, the seam's chain, wall columns and
+// strips are pools); beyond that, growth counted in stats().reserve_overflows. Failure: the constructor (load time) throws MeshError for a mesh that is not a
 // closed two-manifold and std::invalid_argument for bad options (Incision::validateOptions); begin(),
 // extend(), advance() and finish() never throw: bad samples come back as a status, and an internal
 // topology failure stops the incision with `failed` set and the message in stats().
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <deque>
-#include <map>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "incise/cutting/incision.h"
@@ -145,10 +147,47 @@ class SurfaceCutter {
     bool chained = false;  // in the chain
     bool doubled = false;  // duplicated (has a + copy and a wall column)
     std::uint32_t stamp = 0;
-    int stencil = -1;  // its displacement stencil (Incision::stencil) in the stencil_* arrays
+    int stencil = -1;      // its displacement stencil (Incision::stencil) in the stencil_* arrays
+    int wall_column = -1;  // a duplicated seam vertex's column in wall_columns_
+    int strip = -1;        // the wall strip from it to its successor in the chain, in strips_
   };
   struct WallColumn {
     std::vector<TriMesh::VertexHandle> minus, plus;  // [0] the lip, [wall_rows] the shared bottom
+  };
+  struct Strip {
+    TriMesh::VertexHandle to;  // the chain successor of the vertex whose `strip` this is
+    std::vector<TriMesh::FaceHandle> faces;
+  };
+  // The seam's chain in stroke order, grown at both ends inside one buffer (room reserved at each end).
+  class Chain {
+   public:
+    void reset(std::size_t room_each_end);
+    bool pushBack(TriMesh::VertexHandle v);  // false: the buffer had to grow (an allocation)
+    bool pushFront(TriMesh::VertexHandle v);
+    std::size_t size() const noexcept { return tail_ - head_; }
+    bool empty() const noexcept { return tail_ == head_; }
+    TriMesh::VertexHandle operator[](std::size_t i) const noexcept { return buffer_[head_ + i]; }
+    TriMesh::VertexHandle front() const noexcept { return buffer_[head_]; }
+    TriMesh::VertexHandle back() const noexcept { return buffer_[tail_ - 1]; }
+
+   private:
+    void recentre(std::size_t capacity);
+    std::vector<TriMesh::VertexHandle> buffer_;
+    std::size_t head_ = 0, tail_ = 0;
+  };
+  struct Crossing {  // splitCrossings(): an edge the cut crosses, by the larger v of its ends
+    double key;
+    int edge;
+  };
+  std::vector<Crossing> crossings_;
+  // Scratch of duplicate(): the faces around a seam vertex and the copies of its + side's triangles.
+  struct Around {
+    TriMesh::FaceHandle face;
+    int side;
+  };
+  struct PlusTriangle {
+    TriMesh::VertexHandle v[3];
+    FaceKind kind;
   };
 
   VertexData& data(TriMesh::VertexHandle v) { return mesh_.mesh().property(vertex_data_, v); }
@@ -218,6 +257,7 @@ class SurfaceCutter {
   double mean_edge_m_ = 0.0;
   bool no_contact_ = false;  // the current incision's first sample was off the surface
   std::unique_ptr<Incision> incision_;
+  std::unique_ptr<Incision> spare_;  // made at construction, restarted by begin(): no allocation there
   int incision_index_ = -1;
   int next_column_ = 0;
   bool column_started_ = false;  // next_column_'s step is under way: candidates_ and fresh_ are live
@@ -225,12 +265,29 @@ class SurfaceCutter {
   std::vector<TriMesh::VertexHandle> fresh_;
   double time_s_ = 0.0;
   std::uint32_t stamp_ = 0;
-  std::vector<std::vector<TriMesh::VertexHandle>> cells_;  // bound vertices by floor(v)
-  std::vector<TriMesh::VertexHandle> all_bound_;           // every vertex bound to this incision
-  std::vector<TriMesh::VertexHandle> seam_created_;        // seam vertices in order of creation
-  std::deque<TriMesh::VertexHandle> chain_;
-  std::map<int, WallColumn> columns_;  // by the seam vertex's index
-  std::map<std::pair<int, int>, std::vector<TriMesh::FaceHandle>> strips_;
+  // Bound vertices by lattice cell floor(v), in the order they were bound: a list per cell through one pool
+  // (cell_first_, cell_last_: pool indices or -1; cell_next_: the next in the same cell or -1).
+  std::vector<int> cell_first_, cell_last_, cell_next_;
+  std::vector<TriMesh::VertexHandle> cell_vertex_;
+  void addToCell(int cell, TriMesh::VertexHandle v);
+  bool cellEmpty(int cell) const noexcept { return cell_first_[static_cast<std::size_t>(cell)] < 0; }
+  std::vector<TriMesh::VertexHandle> all_bound_;     // every vertex bound to this incision
+  std::vector<TriMesh::VertexHandle> seam_created_;  // seam vertices in order of creation
+  Chain chain_;
+  std::vector<WallColumn> wall_columns_;  // pool: [0, wall_columns_used_) this incision's
+  std::size_t wall_columns_used_ = 0;
+  std::vector<Strip> strips_;  // pool: [0, strips_used_) this incision's
+  std::size_t strips_used_ = 0;
+  std::vector<Around> around_;                    // duplicate()'s scratch
+  std::vector<PlusTriangle> plus_;                // ...
+  std::vector<TriMesh::FaceHandle> strip_faces_;  // buildStrip()'s scratch
+  std::vector<TriMesh::VertexHandle> side_a_, side_b_;
+  void reserveIncisionArrays();  // at construction: what one incision uses (reserved_bound_vertices)
+  template <typename Vector, typename Value>
+  void pushReserved(Vector& v, Value&& value) {  // push_back, counting a growth past the reserve
+    if (v.size() == v.capacity()) ++stats_.reserve_overflows;
+    v.push_back(std::forward<Value>(value));
+  }
   std::vector<TriMesh::VertexHandle> dirty_;
   // Per bound vertex: 1 or 2 evaluations (count), their corner controls (2 slots) and basis values
   // (2 x stencilSize() slots): re-deforming is then one weighted sum per evaluation.

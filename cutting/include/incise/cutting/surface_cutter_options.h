@@ -52,6 +52,11 @@ struct CutterOptions {
                                             // across the cut, (l - 1) alpha / 4 (1.5 mm by default), so a face
                                             // that the cut crosses has vertices inside the lattice
   int max_refine_splits_per_column = 4096;  // a column's refinement stops there (counted: CutStats)
+  // What one incision may use without allocating (reserved at construction, kept from incision to
+  // incision, so the sim thread allocates nothing after it starts): the vertices it binds (those the lattice
+  // moves, with the seam's copies and the walls' vertices). An incision that needs more grows the arrays
+  // (an allocation on the caller's thread) and counts it in CutStats::reserve_overflows. >= 64.
+  int reserved_bound_vertices = 1 << 15;
 };
 
 // The longest edge refinement keeps (CutterOptions::refine_edge_m, or its default), in metres.
@@ -142,11 +147,13 @@ struct CutStats {
   int splits_avoided = 0;     // crossings not split because they lay within the snap distance of an end
   int refined_vertices = 0;   // vertices and faces the local refinement added, totals (CutterOptions::refine)
   int refined_faces = 0;
-  int refine_refused = 0;  // faces left coarse: every edge that would refine them touches the current
-                           // incision's bound vertices or a wall (the cut already passed there)
-  int refine_limited = 0;  // columns whose refinement stopped at max_refine_splits_per_column or at the
-                           // mesh's reserved headroom
-  std::string failure;     // first internal failure, empty if none
+  int refine_refused = 0;     // faces left coarse: every edge that would refine them touches the current
+                              // incision's bound vertices or a wall (the cut already passed there)
+  int refine_limited = 0;     // columns whose refinement stopped at max_refine_splits_per_column or at the
+                              // mesh's reserved headroom
+  int reserve_overflows = 0;  // arrays an incision grew past CutterOptions::reserved_bound_vertices and the
+                              // room reserved for its seam and walls (each an allocation on the sim thread)
+  std::string failure;        // first internal failure, empty if none
   // One entry per incision, in order (the current one last). Room for kReservedIncisions is reserved at
   // construction: more incisions than that grow the vector once in a while (amortised).
   std::vector<IncisionFigures> figures;

@@ -87,6 +87,12 @@ class TetCutter {
   // Load time: checks that `tissue` is conforming (checkConforming) and builds its adjacency and grid.
   explicit TetCutter(TetMesh tissue, const TetCutterOptions& options = {});
 
+  // Load time, optional: sizes what following an incision of these options needs (its lagged lattice, its
+  // columns' arrays), so that follow() allocates nothing when the first incision starts (a sim thread's
+  // world calls it; without it, the first follow() of an incision allocates them). Throws
+  // std::invalid_argument for bad options (Incision::validateOptions).
+  void prepare(const IncisionOptions& options);
+
   // Catches up with `incision` (owned by the caller, e.g. SurfaceCutter::incision()): cuts the columns it
   // has made final since the last call, within the budget unless `unlimited`, and moves the nodes whose
   // displacement changed. `incision_number` identifies the incision (SurfaceCutter's stats().incisions):
@@ -140,7 +146,8 @@ class TetCutter {
 
   void rebuild(TetMesh mesh);
   void reserveHeadroom();
-  static constexpr size_t kHeadroomNodes = 20000;  // new nodes an incision may add without reallocation
+  static constexpr size_t kHeadroomNodes = 20000;    // new nodes an incision may add without reallocation
+  static constexpr size_t kReservedCellNodes = 256;  // nodes with a stencil per lattice cell, reserved
   void startIncision(int incision_number);
   bool processColumn(const Incision& in, int column, int& budget, TetStep& step);
   enum class Resolve : std::uint8_t { Done, Later, OutOfBudget };

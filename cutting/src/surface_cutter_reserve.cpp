@@ -1,0 +1,90 @@
+// The surface cutter's room for an incision, reserved at load (surface_cutter.h, "Allocation"; issue 17: the
+// sim thread allocates nothing after its first frame): the arrays an incision fills, sized for
+// CutterOptions::reserved_bound_vertices; the seam's chain, grown at both ends in one buffer; the bound
+// vertices' lattice cells, a list per cell through one pool. The incision's steps are in surface_cutter.cpp.
+#include <algorithm>
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "incise/cutting/surface_cutter.h"
+
+namespace incise::cutting {
+
+void SurfaceCutter::reserveIncisionArrays() {
+  const auto bound = static_cast<std::size_t>(options_.reserved_bound_vertices);
+  const auto columns = static_cast<std::size_t>(options_.incision.max_columns);
+  const auto rows = static_cast<std::size_t>(options_.wall_rows) + 1;
+  // The first incision's lattice, made here: begin() restarts it at the stroke's first sample.
+  spare_ = std::make_unique<Incision>(options_.incision,
+                                      StrokeSample{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.0},
+                                      Eigen::Vector3d::UnitX());
+  cell_first_.assign(columns, -1);
+  cell_last_.assign(columns, -1);
+  for (auto* v : {&cell_next_}) v->reserve(bound);
+  cell_vertex_.reserve(bound);
+  for (auto* v : {&all_bound_, &seam_created_, &dirty_, &fresh_}) v->reserve(bound);
+  candidates_.reserve(bound);
+  query_.reserve(bound);
+  changed_columns_.reserve(columns);
+  stencil_count_.reserve(bound);
+  stencil_first_.reserve(2 * bound);
+  stencil_basis_.reserve(2 * bound * static_cast<std::size_t>(3 * options_.incision.order));
+  // The seam: at most a few seam vertices per column (a vertex per crossed edge), each with a wall column
+  // and a strip to its successor.
+  const std::size_t seam = 8 * columns;
+  chain_.reset(seam);
+  wall_columns_.resize(seam);
+  for (WallColumn& c : wall_columns_) c.minus.reserve(rows), c.plus.reserve(rows);
+  strips_.resize(2 * seam);
+  for (Strip& strip : strips_) strip.faces.reserve(4 * rows);
+  crossings_.reserve(bound);
+  around_.reserve(64);
+  plus_.reserve(64);
+  strip_faces_.reserve(4 * rows);
+  side_a_.reserve(rows);
+  side_b_.reserve(rows);
+}
+
+void SurfaceCutter::Chain::reset(std::size_t room_each_end) {
+  if (buffer_.size() < 2 * room_each_end) buffer_.resize(2 * room_each_end);
+  head_ = tail_ = buffer_.size() / 2;
+}
+
+void SurfaceCutter::Chain::recentre(std::size_t capacity) {
+  std::vector<TriMesh::VertexHandle> grown(capacity);
+  const std::size_t n = size(), head = (capacity - n) / 2;
+  std::copy(buffer_.begin() + static_cast<std::ptrdiff_t>(head_), buffer_.begin() + static_cast<std::ptrdiff_t>(tail_),
+            grown.begin() + static_cast<std::ptrdiff_t>(head));
+  buffer_ = std::move(grown);
+  head_ = head;
+  tail_ = head + n;
+}
+
+bool SurfaceCutter::Chain::pushBack(TriMesh::VertexHandle v) {
+  const bool fits = tail_ < buffer_.size();
+  if (!fits) recentre(2 * buffer_.size() + 16);
+  buffer_[tail_++] = v;
+  return fits;
+}
+
+bool SurfaceCutter::Chain::pushFront(TriMesh::VertexHandle v) {
+  const bool fits = head_ > 0;
+  if (!fits) recentre(2 * buffer_.size() + 16);
+  buffer_[--head_] = v;
+  return fits;
+}
+
+void SurfaceCutter::addToCell(int cell, TriMesh::VertexHandle v) {
+  const int index = static_cast<int>(cell_vertex_.size());
+  pushReserved(cell_vertex_, v);
+  pushReserved(cell_next_, -1);
+  const auto c = static_cast<std::size_t>(cell);
+  if (cell_last_[c] >= 0)
+    cell_next_[static_cast<std::size_t>(cell_last_[c])] = index;
+  else
+    cell_first_[c] = index;
+  cell_last_[c] = index;
+}
+
+}  // namespace incise::cutting

@@ -1,0 +1,109 @@
+// Issue 17, deliverable 2: after its first frame, the sim thread allocates nothing. Each shipped scenario
+// named here is replayed frame by frame on this thread, as replay's fast pace does it (the poses released at
+// their times, a geometry stream attached and its reader pulling between frames, as under `incise view`),
+// with every heap allocation made inside Simulation::frame counted (alloc_counter.h: operator new and the
+// malloc family replaced in this test executable only). Frame 0 is the warm-up; every later frame must
+// allocate nothing, through every incision's begin, cut, settle, the tets and the mesh's growth.
+#include <catch2/catch.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "alloc_counter.h"
+#include "incise/sim/geometry_mirror.h"
+#include "incise/sim/geometry_stream.h"
+#include "incise/sim/simulation.h"
+#include "shipped_scenario.h"
+
+namespace {
+
+using incise::test::allocationsOnThisThread;
+using incise::test::CountAllocations;
+
+struct AllocatingFrames {
+  std::int64_t frames = 0;
+  std::int64_t allocating_frames = 0;  // after frame 0
+  std::int64_t allocations = 0, bytes = 0;
+  std::int64_t first_allocating_frame = -1;
+  int incisions = 0;
+};
+
+// The scenario replayed as replay's fast pace does, each frame's allocations counted (frame 0 not).
+AllocatingFrames countFrames(const std::string& name) {
+  auto l = incise::test::loadShipped(name);
+  incise::sim::World& world = *l.world;
+  incise::sim::GeometryStream stream;
+  incise::sim::GeometryMirror mirror;
+  const std::int64_t period_us = l.scenario.periodUs();
+  incise::sim::Simulation sim(world, nullptr, period_us, l.poses.front().time_s);
+  sim.attachGeometry(&stream);
+  const double end_s = l.poses.back().time_s + l.scenario.settle_s;
+  AllocatingFrames out;
+  std::size_t fed = 0;
+  for (std::int64_t k = 0;; ++k) {
+    incise::sim::FrameInfo info;
+    info.frame = k;
+    info.dt_s = static_cast<double>(period_us) * 1e-6;
+    info.t_s = static_cast<double>(k) * info.dt_s;
+    const double t_s = sim.frameTime(k);
+    while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) sim.pushPose(l.poses[fed++]);
+    const auto before = allocationsOnThisThread();
+    {
+      const CountAllocations counting(k > 0);
+      sim.frame(info);
+    }
+    const auto after = allocationsOnThisThread();
+    if (after.calls > before.calls) {
+      ++out.allocating_frames;
+      out.allocations += after.calls - before.calls;
+      out.bytes += after.bytes - before.bytes;
+      if (out.first_allocating_frame < 0) out.first_allocating_frame = k;
+    }
+    mirror.pull(stream);  // the reader (the viewer's thread), not counted
+    mirror.clearChanges();
+    ++out.frames;
+    if (fed == l.poses.size() && !world.pending() && t_s >= end_s) break;
+  }
+  out.incisions = world.incisions();
+  return out;
+}
+
+void requireNoAllocation(const std::string& name, int incisions_at_least) {
+  const AllocatingFrames f = countFrames(name);
+  INFO(name << ": " << f.frames << " frames, " << f.incisions << " incisions; " << f.allocating_frames
+            << " frames after the first allocated (" << f.allocations << " allocations, " << f.bytes
+            << " bytes; the first in frame " << f.first_allocating_frame
+            << "). INCISE_ALLOC_TRACE=N prints the first N allocations' stacks.");
+  CHECK(f.incisions >= incisions_at_least);
+  CHECK(f.allocations == 0);
+}
+
+}  // namespace
+
+TEST_CASE("alloc: the counter sees this thread's allocations and no other's", "[alloc]") {
+  const auto before = allocationsOnThisThread();
+  {
+    const CountAllocations counting;
+    std::vector<int> v(1000);
+    v[10] = 1;
+    CHECK(v[10] == 1);
+  }
+  std::vector<int> uncounted(1000);
+  const auto after = allocationsOnThisThread();
+  CHECK(after.calls == before.calls + 1);
+  CHECK(after.bytes == before.bytes + static_cast<std::int64_t>(1000 * sizeof(int)));
+}
+
+TEST_CASE("alloc: bunny-crossing allocates nothing on the sim thread after its first frame", "[alloc]") {
+  requireNoAllocation("bunny-crossing", 2);
+}
+
+TEST_CASE("alloc: bunny-tets allocates nothing on the sim thread after its first frame", "[alloc]") {
+  requireNoAllocation("bunny-tets", 1);
+}
+
+TEST_CASE("alloc: bunny-crossing at 4 kHz allocates nothing on the sim thread after its first frame", "[alloc]") {
+  requireNoAllocation("bunny-crossing-4khz", 2);
+}
