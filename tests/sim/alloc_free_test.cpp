@@ -6,8 +6,10 @@
 // allocate nothing, through every incision's begin, cut, settle, the tets and the mesh's growth.
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -112,4 +114,43 @@ TEST_CASE("alloc: every other shipped trace and stroke scenario allocates nothin
   // The pads refine the skin ahead of the cut (issue 15): its bisections and the coarse grid are counted too.
   for (const char* name : {"bunny-straight", "bunny-curved", "bunny-back", "pad-straight", "pad-s-curve"})
     requireNoAllocation(name, 1);
+}
+
+namespace {
+
+// A haptic device's stand-in on the loop thread: from its second call on (frame 1) it has the thread count
+// its allocations, and publishes the count after every call (the frames' work after the force is counted
+// at the next call; the last frame's, never).
+class CountingSink final : public incise::sim::ForceSink {
+ public:
+  void apply(const Eigen::Vector3d&, double) noexcept override {
+    if (calls_++ == 1) counting_.emplace(true);
+    allocations_.store(allocationsOnThisThread().calls - at_start_, std::memory_order_relaxed);
+    if (calls_ == 1) at_start_ = allocationsOnThisThread().calls;
+  }
+  std::int64_t allocations() const noexcept { return allocations_.load(std::memory_order_relaxed); }
+  std::int64_t calls() const noexcept { return calls_; }
+
+ private:
+  std::int64_t calls_ = 0, at_start_ = 0;
+  std::optional<CountAllocations> counting_;  // ends with the sink (the loop thread has finished by then)
+  std::atomic<std::int64_t> allocations_{0};
+};
+
+}  // namespace
+
+TEST_CASE("alloc: in real time the loop thread allocates nothing after its first frame", "[alloc][threads]") {
+  // The real-time pace: the FixedRateLoop's own thread runs the frames (and the loop's bookkeeping between
+  // them) while a feeder thread releases the poses and a reader thread takes the snapshots.
+  auto l = incise::test::loadShipped("bunny-crossing");
+  incise::sim::ReplayOptions options;
+  options.pace = incise::sim::ReplayPace::RealTime;
+  options.settle_s = l.scenario.settle_s;
+  CountingSink sink;
+  const auto report = incise::sim::replay(*l.world, l.poses, options, &sink);
+  INFO(report.frames << " frames, " << sink.calls() << " forces; " << sink.allocations()
+                     << " allocations on the loop thread after frame 0");
+  REQUIRE(l.world->incisions() >= 2);
+  REQUIRE(sink.calls() > 1000);
+  CHECK(sink.allocations() == 0);
 }
