@@ -21,11 +21,10 @@ void SurfaceCutter::reserveIncisionArrays() {
                                       Eigen::Vector3d::UnitX());
   cell_first_.assign(columns, -1);
   cell_last_.assign(columns, -1);
-  for (auto* v : {&cell_next_}) v->reserve(bound);
+  cell_next_.reserve(bound);
   cell_vertex_.reserve(bound);
   for (auto* v : {&all_bound_, &seam_created_, &dirty_, &fresh_}) v->reserve(bound);
-  candidates_.reserve(bound);
-  query_.reserve(bound);
+  for (auto* v : {&candidates_, &query_}) v->reserve(bound);
   changed_columns_.reserve(columns);
   stencil_count_.reserve(bound);
   stencil_first_.reserve(2 * bound);
