@@ -50,6 +50,7 @@ void addCounters(nlohmann::json& sum, const sim::WorldCounters& c) {
   add("frames_waited", c.waited_frames);
   add("catch_ups", c.catch_ups);
   add("reserve_overflows", c.reserve_overflows);
+  add("deadline_stops", c.deadline_stops);
   sum["proxy_largest"] = std::max(sum.value("proxy_largest", 0), c.proxy_largest);
   sum["queue_peak"] = std::max(sum.value("queue_peak", 0), c.queue_peak);
 }

@@ -245,13 +245,14 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
   try {
     // Column steps in order, each resumable: a call stops when its inversion budget is spent and the next
     // call carries on where it stopped, so the work done (and so the mesh) does not depend on the budget.
-    int budget = options_.max_inversions_per_call > 0 && !unlimited_ ? options_.max_inversions_per_call : INT_MAX;
-    while (next_column_ < incision_->finalColumns() && !failed_ && budget > 0) {
+    WorkBudget budget = unlimited_ ? WorkBudget::unlimited() : WorkBudget(options_.max_inversions_per_call, deadline_);
+    while (next_column_ < incision_->finalColumns() && !failed_ && !budget.spent()) {
       if (!processColumn(next_column_, budget, step)) break;
       ++next_column_;
       walkChain();
       promoteInterior(step);
     }
+    step.deadline_hit = budget.deadlineHit();
     // A seam vertex whose faces waited for a later column's vertices (sidesKnown) is opened at the end.
     if (allColumnsDone()) promoteInterior(step);
     redeform(step);
@@ -277,14 +278,14 @@ void SurfaceCutter::fail(const std::string& message) {
   if (incision_) incision_->finish();
 }
 
-bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
+bool SurfaceCutter::bindVertex(VH v, int column, WorkBudget& budget) {
   const Eigen::Vector3d x = toEigen(mesh_.mesh().point(v));
   const Eigen::Vector3d guess = incision_->inversionGuess(x, column);
   // Eq. (2) read backwards is close to F0's inverse: points clearly across or beyond the lattice, or in
   // a later slab, are not worth a Newton solve now.
   if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0 || guess[1] >= column + 1.5)
     return false;
-  --budget;
+  budget.take();
   // Search only where F0 is final (v < column + 1), so the result cannot depend on columns that are still
   // extrapolated, i.e. on when this step runs.
   const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, column + 1.0, 1.0));
@@ -307,7 +308,7 @@ bool SurfaceCutter::bindVertex(VH v, int column, int& budget) {
   return true;
 }
 
-bool SurfaceCutter::processColumn(int column, int& budget, CutStep& step) {
+bool SurfaceCutter::processColumn(int column, WorkBudget& budget, CutStep& step) {
   if (!column_started_) {
     column_started_ = true;
     ++step.columns;
@@ -327,7 +328,7 @@ bool SurfaceCutter::processColumn(int column, int& budget, CutStep& step) {
   for (; next_candidate_ < candidates_.size(); ++next_candidate_) {
     const VH v(candidates_[next_candidate_]);
     if (mesh_.mesh().status(v).deleted() || bound(v)) continue;
-    if (budget <= 0) return false;  // resume here next call
+    if (budget.spent()) return false;  // resume here next call
     if (bindVertex(v, column, budget)) pushReserved(fresh_, v), ++step.vertices_bound;
   }
   splitCrossings(fresh_, step);

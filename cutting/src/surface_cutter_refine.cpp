@@ -239,10 +239,10 @@ bool SurfaceCutter::beginRefine(int column) {
   return !refine_faces_.empty();
 }
 
-bool SurfaceCutter::continueRefine(int& budget, CutStep& step) {
+bool SurfaceCutter::continueRefine(WorkBudget& budget, CutStep& step) {
   TriMesh& m = mesh_.mesh();
   while (!refine_faces_.empty()) {
-    if (budget <= 0) return false;  // resume here next call
+    if (budget.spent()) return false;  // resume here next call
     const FH f(refine_faces_.back());
     refine_faces_.pop_back();
     if (!refinable(f, refine_box_)) continue;
@@ -259,7 +259,7 @@ bool SurfaceCutter::continueRefine(int& budget, CutStep& step) {
     }
     const VH v = bisect(e, step);
     ++refine_splits_;
-    --budget;
+    budget.take();
     refine_faces_.push_back(f.idx());  // f (or what is left of it) may still be coarse
     for (auto g = m.vf_iter(v); g.is_valid(); ++g)
       if (*g != f && refinable(*g, refine_box_)) refine_faces_.push_back(g->idx());

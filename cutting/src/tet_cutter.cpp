@@ -175,14 +175,14 @@ TetStep TetCutter::follow(const Incision& incision, int incision_number, TetBudg
   try {
     incision_ = &incision;
     if (incision_number != incision_number_) startIncision(incision_number);
-    int budget = options_.max_inversions_per_call > 0 && budget_kind == TetBudget::PerCall
-                     ? options_.max_inversions_per_call
-                     : INT_MAX;
+    WorkBudget budget = budget_kind == TetBudget::PerCall ? WorkBudget(options_.max_inversions_per_call, deadline_)
+                                                          : WorkBudget::unlimited();
     last_final_columns_ = incision.finalColumns();
-    while (next_column_ < last_final_columns_ && budget > 0 && !failed_) {
+    while (next_column_ < last_final_columns_ && !budget.spent() && !failed_) {
       if (!processColumn(incision, next_column_, budget, step)) break;
       ++next_column_;
     }
+    step.deadline_hit = budget.deadlineHit();
     redeform(incision, step);
   } catch (const std::exception& e) {  // allocation failure or a broken invariant: stop, never throw
     fail(std::string("TetCutter: ") + e.what());
@@ -199,7 +199,7 @@ void TetCutter::fail(const std::string& message) {
   if (stats_.failure.empty()) stats_.failure = message;
 }
 
-bool TetCutter::processColumn(const Incision& in, int column, int& budget, TetStep& step) {
+bool TetCutter::processColumn(const Incision& in, int column, WorkBudget& budget, TetStep& step) {
   if (!column_started_) {
     column_started_ = true;
     candidates_.clear();
@@ -243,7 +243,7 @@ bool TetCutter::processColumn(const Incision& in, int column, int& budget, TetSt
   return true;
 }
 
-TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column, int& budget, TetStep& step) {
+TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column, WorkBudget& budget, TetStep& step) {
   Node& d = nodes_[static_cast<size_t>(n)];
   if (d.state != NodeState::Unknown && d.state != NodeState::Waiting) return Resolve::Done;
   if (d.state == NodeState::Waiting && column < d.retry) return Resolve::Later;
@@ -265,8 +265,8 @@ TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column,
     d.retry = std::max(column + 1, static_cast<int>(std::floor(guess[1] - 1.5)) + 1);
     return Resolve::Later;
   }
-  if (budget <= 0) return Resolve::OutOfBudget;
-  --budget;
+  if (budget.spent()) return Resolve::OutOfBudget;
+  budget.take();
   // As SurfaceCutter::bindVertex: search only where F0 is final, so the result cannot depend on when.
   const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, column + 1.0, 1.0));
   const InversionResult r = invertPoint(in.rest(), x, guess, final_part, InversionOptions{12, 1e-10, 6});

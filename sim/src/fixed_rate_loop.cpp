@@ -119,7 +119,7 @@ void FixedRateLoop::run() {
 
       const Clock::time_point begin = Clock::now();
       const double error_us = std::chrono::duration<double, std::micro>(begin - deadline).count();
-      step_(frameInfo(frame, error_us));
+      step_(frameInfo(frame, error_us, true));
       ++frame;
       frames_.store(frame, std::memory_order_release);
       if (error_us > max_error_us) {
@@ -165,7 +165,7 @@ std::int64_t FixedRateLoop::runFast(const StepFunction& step, std::int64_t frame
   stop_requested_.store(false, std::memory_order_relaxed);
   std::int64_t frame = 0;
   while (frame < frames && !stop_requested_.load(std::memory_order_acquire)) {
-    step(frameInfo(frame, 0.0));
+    step(frameInfo(frame, 0.0, false));
     ++frame;
     frames_.store(frame, std::memory_order_release);
   }

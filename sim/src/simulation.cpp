@@ -77,7 +77,11 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   // frame, less however long they waited in the world's queue), to measure when the columns are cut.
   const cutting::SurfaceCutter& cutter = world_.cutter();
   const auto lag_frames = static_cast<std::int64_t>(std::llround(world_.cutLagS() / dt_s_));  // before: the most
-  world_.cut(t_s);
+  // Against the clock the cut phase's budgeted work also stops cut_budget_us after it began (work_budget.h).
+  const auto cut_deadline =
+      info.against_clock ? haptic_end + std::chrono::nanoseconds(std::llround(1e3 * world_.options().cut_budget_us))
+                         : cutting::WorkBudget::Clock::time_point::max();
+  world_.cut(t_s, cut_deadline);
   const auto cut_end = Clock::now();
   resetOnNewIncision();
   if (cutter.columnsFinal() > last_final_ && pending_size_ < pending_.size()) {

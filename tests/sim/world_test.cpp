@@ -203,8 +203,10 @@ struct FramesRun {
   bool haptic_did_no_cutting = true;  // no updateTool call changed the mesh or the cutter's progress
 };
 
+// `deadline_due`: every cut phase is given a deadline that has already passed (a frame whose time is gone),
+// so it does one unit of budgeted work.
 FramesRun runFrames(const cutting::SurfaceMesh& tissue, const sim::WorldOptions& options,
-                    const std::vector<devices::PoseSample>& poses) {
+                    const std::vector<devices::PoseSample>& poses, bool deadline_due = false) {
   sim::World world(tissue, options);
   FramesRun run;
   const auto progress = [&] {
@@ -216,7 +218,8 @@ FramesRun runFrames(const cutting::SurfaceMesh& tissue, const sim::WorldOptions&
     const auto before = progress();
     world.updateTool(std::span(&pose, 1), 0.001);
     run.haptic_did_no_cutting = run.haptic_did_no_cutting && progress() == before;
-    world.cut(t_s = pose.time_s);
+    world.cut(t_s = pose.time_s,
+              deadline_due ? cutting::WorkBudget::Clock::now() : cutting::WorkBudget::Clock::time_point::max());
   }
   // The same frames for every budget, to a time where the wounds' openings have settled and the work is done.
   for (int frame = 0; frame < 3000; ++frame) world.cut(t_s += 0.001);
@@ -253,6 +256,21 @@ TEST_CASE("world: a new incision waits for the previous one's work in later fram
   REQUIRE(a.haptic_did_no_cutting);
   REQUIRE(b.haptic_did_no_cutting);
   REQUIRE(a.hash == b.hash);
+}
+
+TEST_CASE("world: a cut phase stopped by its deadline carries its work over, the same bytes", "[sim]") {
+  // Against the clock (Simulation: cut_budget_us after the haptic part) the budgeted work also stops at a
+  // deadline; here every deadline has passed when the cut phase starts, so each does one inversion.
+  sim::WorldOptions options;
+  options.tool.cut_button = 0;
+  options.cutter.refine = cutting::CutterOptions::Refine::Off;  // as above
+  const cutting::SurfaceMesh tissue = bunny();
+  const std::vector<devices::PoseSample> poses = twoStrokes(tissue, options);
+  const FramesRun free = runFrames(tissue, options, poses), due = runFrames(tissue, options, poses, true);
+  REQUIRE(free.counters.deadline_stops == 0);
+  REQUIRE(due.counters.deadline_stops > 100);
+  REQUIRE(due.counters.waits == 1);  // the first stroke's work trails it into the second
+  REQUIRE(due.hash == free.hash);
 }
 
 TEST_CASE("world: the haptic contact from the proxy is the cutter's exact contact", "[sim]") {

@@ -56,6 +56,7 @@
 #include "incise/cutting/surface_mesh.h"
 #include "incise/cutting/surface_query.h"
 #include "incise/cutting/vertex_grid.h"
+#include "incise/cutting/work_budget.h"
 
 namespace incise::cutting {
 
@@ -91,6 +92,10 @@ class SurfaceCutter {
   CutStep addSample(const StrokeSample& sample, SampleOrigin origin = SampleOrigin::Unchecked) noexcept;
   // Lets the wound's opening evolve to time t_s without new samples (no-op without an active incision).
   CutStep advance(double t_s) noexcept;
+  // The calls that follow (advance, extend, finish, settleStep but not settleStep(true)) stop their budgeted
+  // work at `deadline` as well as after max_inversions_per_call units (work_budget.h); time_point::max():
+  // none (the default: a replay not against the clock). Where a call stops never changes the mesh.
+  void setDeadline(WorkBudget::Clock::time_point deadline) noexcept { deadline_ = deadline; }
   // Finishes the current incision: the cut reaches the last station. Never throws. With
   // FinishWork::Later the remaining work waits for advance().
   CutStep finish(FinishWork work = FinishWork::Now) noexcept;
@@ -196,8 +201,8 @@ class SurfaceCutter {
 
   CutStep process(CutStep step) noexcept;
   CutStep add(std::span<const StrokeSample> samples, SampleOrigin origin = SampleOrigin::Unchecked) noexcept;
-  bool processColumn(int column, int& budget, CutStep& step);  // false: budget spent, resume next call
-  bool bindVertex(TriMesh::VertexHandle v, int column, int& budget);
+  bool processColumn(int column, WorkBudget& budget, CutStep& step);  // false: budget spent, resume next call
+  bool bindVertex(TriMesh::VertexHandle v, int column, WorkBudget& budget);
   void snapOntoCut(TriMesh::VertexHandle v);                  // v becomes a seam vertex at u = 1/2 (it stays in place)
   void snapNearEnd(TriMesh::EdgeHandle crossing);             // snaps the end point the crossing is within snap of
   bool insideCut(const Eigen::Vector3d& uvw) const noexcept;  // after the start, above the depth, to the end
@@ -212,7 +217,7 @@ class SurfaceCutter {
   // Local refinement ahead of the cut (surface_cutter_refine.cpp): beginRefine collects the column's coarse
   // faces (false: none), continueRefine bisects them within the budget (false: spent, resume next call).
   bool beginRefine(int column);
-  bool continueRefine(int& budget, CutStep& step);
+  bool continueRefine(WorkBudget& budget, CutStep& step);
   void updateCoarse(TriMesh::VertexHandle v);        // recomputes v's coarse flag (an edge longer than the limit)
   void updateCoarseAround(TriMesh::VertexHandle v);  // v's and its neighbours'
   void initCoarse();
@@ -323,6 +328,7 @@ class SurfaceCutter {
   }
   Eigen::Vector3d last_accepted_m_ = Eigen::Vector3d::Zero();  // the current incision's last accepted sample
   bool failed_ = false;
+  WorkBudget::Clock::time_point deadline_ = WorkBudget::Clock::time_point::max();  // setDeadline()
   bool unlimited_ = false;  // process() ignores the budget (finishing a previous incision's work)
 };
 

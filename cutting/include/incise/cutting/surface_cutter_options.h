@@ -72,9 +72,10 @@ struct CutStep {
   int vertices_bound = 0;     // vertices parameterised
   int edges_split = 0;
   int vertices_duplicated = 0;
-  int wall_faces = 0;      // wall faces (re)built
-  int vertices_moved = 0;  // re-deformed
-  int edges_refined = 0;   // edges bisected ahead of the cut (CutterOptions::refine)
+  int wall_faces = 0;         // wall faces (re)built
+  int vertices_moved = 0;     // re-deformed
+  int edges_refined = 0;      // edges bisected ahead of the cut (CutterOptions::refine)
+  bool deadline_hit = false;  // the call's deadline (SurfaceCutter::setDeadline) stopped its work
 };
 
 // Why an incision's groove is much shorter than its stroke (IncisionFigures::shortfall): the first reason

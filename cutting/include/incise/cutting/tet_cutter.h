@@ -47,6 +47,7 @@
 #include "incise/cutting/tet_cutter_options.h"
 #include "incise/cutting/tet_mesh.h"
 #include "incise/cutting/vertex_grid.h"
+#include "incise/cutting/work_budget.h"
 
 namespace incise::cutting {
 
@@ -98,6 +99,8 @@ class TetCutter {
   // displacement changed. `incision_number` identifies the incision (SurfaceCutter's stats().incisions):
   // a new number starts a new one from the current mesh. Never throws.
   TetStep follow(const Incision& incision, int incision_number, TetBudget budget = TetBudget::PerCall) noexcept;
+  // PerCall follows stop at `deadline` too (work_budget.h); time_point::max(): none (the default).
+  void setDeadline(WorkBudget::Clock::time_point deadline) noexcept { deadline_ = deadline; }
 
   // Final columns of the followed incision not yet cut (budget carried over).
   bool pending() const noexcept;
@@ -149,9 +152,9 @@ class TetCutter {
   static constexpr size_t kHeadroomNodes = 20000;    // new nodes an incision may add without reallocation
   static constexpr size_t kReservedCellNodes = 256;  // nodes with a stencil per lattice cell, reserved
   void startIncision(int incision_number);
-  bool processColumn(const Incision& in, int column, int& budget, TetStep& step);
+  bool processColumn(const Incision& in, int column, WorkBudget& budget, TetStep& step);
   enum class Resolve : std::uint8_t { Done, Later, OutOfBudget };
-  Resolve resolveNode(const Incision& in, int node, int column, int& budget, TetStep& step);
+  Resolve resolveNode(const Incision& in, int node, int column, WorkBudget& budget, TetStep& step);
   bool decideCut(const Incision& in, int tet);
   int edgePoint(int edge);
   Eigen::Vector3d crossingUvw(int a, int b, double& lambda) const;
@@ -182,6 +185,7 @@ class TetCutter {
   std::vector<std::uint8_t> group_seen_;
   std::vector<double> opening_seen_;     // per column: the opening copied into lagged_
   std::optional<BSplineVolume> lagged_;  // the incision's displacement, columns near the tets' front at 0
+  WorkBudget::Clock::time_point deadline_ = WorkBudget::Clock::time_point::max();  // setDeadline()
   int lag_columns_ = 0;
   double median_edge_m_ = 0.0;
 

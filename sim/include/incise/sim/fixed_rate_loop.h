@@ -36,6 +36,7 @@ struct FrameInfo {
   double dt_s = 0.0;             // always exactly period_us / 1e6
   double t_s = 0.0;              // frame * dt_s: simulated time, not wall time
   double period_error_us = 0.0;  // how late this frame started vs its deadline (>= 0; 0 in runFast)
+  bool against_clock = false;    // true on the loop thread (start()), false in runFast: frames as fast as possible
 };
 
 struct FixedRateLoopOptions {
@@ -107,8 +108,8 @@ class FixedRateLoop {
  private:
   void run();
   void resetCounters() noexcept;
-  FrameInfo frameInfo(std::int64_t frame, double period_error_us) const noexcept {
-    return FrameInfo{frame, dt_s_, static_cast<double>(frame) * dt_s_, period_error_us};
+  FrameInfo frameInfo(std::int64_t frame, double period_error_us, bool against_clock) const noexcept {
+    return FrameInfo{frame, dt_s_, static_cast<double>(frame) * dt_s_, period_error_us, against_clock};
   }
 
   FixedRateLoopOptions options_;

@@ -51,6 +51,7 @@
 #include "incise/cutting/surface_cutter_options.h"
 #include "incise/cutting/tet_cutter_options.h"
 #include "incise/cutting/tetrahedralize_options.h"
+#include "incise/cutting/work_budget.h"
 #include "incise/devices/pose_sample.h"
 #include "incise/sim/contact_proxy.h"
 #include "incise/sim/pose_queue.h"
@@ -124,6 +125,8 @@ struct WorldCounters {
   // Arrays the surface cutter grew past the room reserved at load (incision.reserve_vertices): each an
   // allocation on the sim thread (0 in every shipped scenario: tests/sim/alloc_free_test.cpp).
   std::int64_t reserve_overflows = 0;
+  // Cut phases whose budgeted work stopped at their deadline (real time only: World::cut's `deadline`).
+  std::int64_t deadline_stops = 0;
 };
 
 struct StepResult {
@@ -148,7 +151,11 @@ class World {
   }
 
   HapticState updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept;
-  cutting::CutStep cut(double t_s) noexcept;
+  // `deadline`: when the cut phase's budgeted work stops (the real-time loop's end of the cut phase, from
+  // cut_budget_us); time_point::max(): the inversion budget alone (fast replays, tests). Where the work
+  // stops never changes the surface's bytes.
+  cutting::CutStep cut(double t_s, cutting::WorkBudget::Clock::time_point deadline =
+                                       cutting::WorkBudget::Clock::time_point::max()) noexcept;
   // Cutting work left for later frames: queued poses, an incision waiting to begin, or columns not cut.
   bool pending() const noexcept;
   // Simulated time between the newest pose the haptic part took and the newest one the cut phase has
@@ -187,7 +194,7 @@ class World {
   void cutPose(const devices::PoseSample& pose) noexcept;
   bool readyToBegin(bool at_once) noexcept;
   void refreshProxy() noexcept;
-  void followTets(cutting::TetBudget budget) noexcept;
+  bool followTets(cutting::TetBudget budget) noexcept;  // true: its deadline stopped the tets' work
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
   std::unique_ptr<cutting::SurfaceMesh> tissue_;  // stable address: the cutter keeps a reference

@@ -1,0 +1,39 @@
+#include "incise/cutting/work_budget.h"
+
+#include <catch2/catch.hpp>
+
+using incise::cutting::WorkBudget;
+
+TEST_CASE("work_budget: units alone end after that many takes", "[cutting]") {
+  WorkBudget b(3);
+  for (int i = 0; i < 3; ++i) {
+    REQUIRE_FALSE(b.spent());
+    b.take();
+  }
+  CHECK(b.spent());
+  CHECK_FALSE(b.deadlineHit());
+}
+
+TEST_CASE("work_budget: no units and no deadline never end", "[cutting]") {
+  for (WorkBudget b : {WorkBudget(0), WorkBudget::unlimited()}) {
+    for (int i = 0; i < 100000; ++i) b.take();
+    CHECK_FALSE(b.spent());
+  }
+}
+
+TEST_CASE("work_budget: a deadline that has passed ends it at the next take, whatever the units left", "[cutting]") {
+  WorkBudget b(1000, WorkBudget::Clock::now());
+  REQUIRE_FALSE(b.spent());  // the clock is read only when a unit is taken
+  b.take();
+  CHECK(b.spent());
+  CHECK(b.deadlineHit());
+}
+
+TEST_CASE("work_budget: a deadline far ahead leaves the units in charge", "[cutting]") {
+  WorkBudget b(2, WorkBudget::Clock::now() + std::chrono::hours(1));
+  b.take();
+  CHECK_FALSE(b.spent());
+  b.take();
+  CHECK(b.spent());
+  CHECK_FALSE(b.deadlineHit());
+}
