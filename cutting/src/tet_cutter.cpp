@@ -175,14 +175,13 @@ TetStep TetCutter::follow(const Incision& incision, int incision_number, TetBudg
   try {
     incision_ = &incision;
     if (incision_number != incision_number_) startIncision(incision_number);
-    WorkBudget budget = budget_kind == TetBudget::PerCall ? WorkBudget(options_.max_inversions_per_call, deadline_)
-                                                          : WorkBudget::unlimited();
+    WorkBudget budget =
+        budget_kind == TetBudget::PerCall ? WorkBudget(options_.max_inversions_per_call) : WorkBudget::unlimited();
     last_final_columns_ = incision.finalColumns();
     while (next_column_ < last_final_columns_ && !budget.spent() && !failed_) {
       if (!processColumn(incision, next_column_, budget, step)) break;
       ++next_column_;
     }
-    step.deadline_hit = budget.deadlineHit();
     redeform(incision, step);
   } catch (const std::exception& e) {  // allocation failure or a broken invariant: stop, never throw
     fail(std::string("TetCutter: ") + e.what());

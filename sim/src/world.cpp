@@ -102,9 +102,8 @@ void World::clearMeshChanges() noexcept {
   if (tets_) tets_->clearChanges();
 }
 
-bool World::followTets(cutting::TetBudget budget) noexcept {
-  if (!tets_ || !cutter_->incision()) return false;
-  return tets_->follow(*cutter_->incision(), cutter_->stats().incisions, budget).deadline_hit;
+void World::followTets(cutting::TetBudget budget) noexcept {
+  if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, budget);
 }
 
 Eigen::Vector3d World::handleOf(const devices::PoseSample& pose) const noexcept {
@@ -268,19 +267,17 @@ void World::refreshProxy() noexcept {
 
 cutting::CutStep World::cut(double t_s, cutting::WorkBudget::Clock::time_point deadline) noexcept {
   cutter_->setDeadline(deadline);
-  if (tets_) tets_->setDeadline(deadline);
   const std::size_t queued = queued_->sizeApprox();  // exact: this thread is both ends
   counters_.queue_peak = std::max(counters_.queue_peak, static_cast<int>(queued));
   const bool at_once = queued > kQueuedPoses / 2;  // the queue must not fill: do the waiting work now
   if (at_once && begin_waiting_) ++counters_.catch_ups;
   cutting::CutStep step;
-  bool tets_stopped = false;
   if (takeQueuedPoses(at_once)) {
     step = cutter_->advance(t_s);
-    tets_stopped = followTets(cutting::TetBudget::PerCall);
+    followTets(cutting::TetBudget::PerCall);
   }
   refreshProxy();
-  if (step.deadline_hit || tets_stopped) ++counters_.deadline_stops;
+  if (step.deadline_hit) ++counters_.deadline_stops;
   counters_.reserve_overflows = cutter_->stats().reserve_overflows;
   return step;
 }

@@ -99,8 +99,6 @@ class TetCutter {
   // displacement changed. `incision_number` identifies the incision (SurfaceCutter's stats().incisions):
   // a new number starts a new one from the current mesh. Never throws.
   TetStep follow(const Incision& incision, int incision_number, TetBudget budget = TetBudget::PerCall) noexcept;
-  // PerCall follows stop at `deadline` too (work_budget.h); time_point::max(): none (the default).
-  void setDeadline(WorkBudget::Clock::time_point deadline) noexcept { deadline_ = deadline; }
 
   // Final columns of the followed incision not yet cut (budget carried over).
   bool pending() const noexcept;
@@ -185,7 +183,6 @@ class TetCutter {
   std::vector<std::uint8_t> group_seen_;
   std::vector<double> opening_seen_;     // per column: the opening copied into lagged_
   std::optional<BSplineVolume> lagged_;  // the incision's displacement, columns near the tets' front at 0
-  WorkBudget::Clock::time_point deadline_ = WorkBudget::Clock::time_point::max();  // setDeadline()
   int lag_columns_ = 0;
   double median_edge_m_ = 0.0;
 

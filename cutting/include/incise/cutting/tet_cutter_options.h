@@ -28,7 +28,6 @@ struct TetStep {
   int tets_subdivided = 0;  // tets (re)subdivided, cut or conforming
   int nodes_moved = 0;
   bool failed = false;
-  bool deadline_hit = false;  // the call's deadline (TetCutter::setDeadline) stopped its work
 };
 
 struct TetCutStats {
