@@ -118,6 +118,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
           {"pose_to_visible_frames", summary(s.pose_to_visible_frames)},
           {"deadline_misses", s.deadline_misses},
           {"overrun_misses", s.overrun_misses},
+          {"preempted_misses", s.preempted_misses},
           {"late_wakeup_misses", s.late_wakeup_misses},
           {"loop_overruns", overruns},
           {"world", counters},

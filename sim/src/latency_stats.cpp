@@ -54,7 +54,7 @@ LatencyStats::LatencyStats(std::size_t capacity_frames) : capacity_(capacity_fra
 void LatencyStats::record(const FrameTiming& timing) noexcept {
   ++frames_;
   if (timing.deadline_missed) ++deadline_misses_;
-  if (timing.deadline_missed && timing.overrun) ++overrun_misses_;
+  if (timing.deadline_missed && timing.overrun) ++(timing.preempted ? preempted_misses_ : overrun_misses_);
   for (std::size_t q = 0; q < kQuantities; ++q) {
     double value = 0.0;
     if (!quantity(timing, q, value)) continue;
@@ -68,7 +68,7 @@ void LatencyStats::record(const FrameTiming& timing) noexcept {
 void LatencyStats::clear() noexcept {
   samples_.clear();
   frames_ = 0;
-  deadline_misses_ = overrun_misses_ = 0;
+  deadline_misses_ = overrun_misses_ = preempted_misses_ = 0;
   for (std::size_t q = 0; q < kQuantities; ++q) {
     max_[q] = 0.0;
     max_count_[q] = 0;
@@ -81,7 +81,8 @@ LatencySummary LatencyStats::summary() const {
   out.frames_stored = static_cast<std::int64_t>(samples_.size());
   out.deadline_misses = deadline_misses_;
   out.overrun_misses = overrun_misses_;
-  out.late_wakeup_misses = deadline_misses_ - overrun_misses_;
+  out.preempted_misses = preempted_misses_;
+  out.late_wakeup_misses = deadline_misses_ - overrun_misses_ - preempted_misses_;
   const std::array<SampleSummary*, kQuantities> targets = {
       &out.haptic_us, &out.cut_us, &out.frame_us, &out.period_error_us, &out.pose_to_visible_frames, &out.geometry_us};
   std::vector<double> values;
@@ -114,6 +115,7 @@ std::string toJson(const LatencySummary& summary, int indent) {
   j["frames_stored"] = summary.frames_stored;
   j["deadline_misses"] = summary.deadline_misses;
   j["overrun_misses"] = summary.overrun_misses;
+  j["preempted_misses"] = summary.preempted_misses;
   j["late_wakeup_misses"] = summary.late_wakeup_misses;
   putSummary(j, "haptic_us", summary.haptic_us);
   putSummary(j, "cut_us", summary.cut_us);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,13 @@ using Clock = std::chrono::steady_clock;
 
 double microseconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::micro>(b - a).count();
+}
+
+// The calling thread's CPU time in ns (time it was running, not descheduled), 0 if unavailable.
+std::int64_t threadCpuNs() noexcept {
+  timespec ts{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return 0;
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
 }  // namespace
@@ -62,6 +70,7 @@ int Simulation::poseToVisible(std::int64_t frame) noexcept {
 }
 
 void Simulation::frame(const FrameInfo& info) noexcept {
+  const std::int64_t cpu_start_ns = info.against_clock ? threadCpuNs() : 0;  // a system call: the clock only
   const auto start = Clock::now();
   const double t_s = frameTime(info.frame);
   int count = 0;
@@ -77,10 +86,10 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   // frame, less however long they waited in the world's queue), to measure when the columns are cut.
   const cutting::SurfaceCutter& cutter = world_.cutter();
   const auto lag_frames = static_cast<std::int64_t>(std::llround(world_.cutLagS() / dt_s_));  // before: the most
-  // Against the clock the cut phase's budgeted work also stops cut_budget_us after it began (work_budget.h).
-  const auto cut_deadline =
-      info.against_clock ? haptic_end + std::chrono::nanoseconds(std::llround(1e3 * world_.options().cut_budget_us))
-                         : cutting::WorkBudget::Clock::time_point::max();
+  // Against the clock the surface's budgeted work also stops at its share of cut_budget_us (work_budget.h).
+  const auto cut_deadline = info.against_clock
+                                ? haptic_end + std::chrono::nanoseconds(std::llround(1e3 * world_.surfaceCutBudgetUs()))
+                                : cutting::WorkBudget::Clock::time_point::max();
   world_.cut(t_s, cut_deadline);
   const auto cut_end = Clock::now();
   resetOnNewIncision();
@@ -125,6 +134,10 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   timing.pose_to_visible_frames = visible;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
   timing.overrun = timing.frame_us > period_us_;
+  if (info.against_clock) {
+    timing.cpu_us = 1e-3 * static_cast<double>(threadCpuNs() - cpu_start_ns);
+    timing.preempted = timing.overrun && timing.cpu_us <= period_us_;
+  }
   stats_->record(timing);
   if (times_)
     times_->tryPush({info.frame, static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us),

@@ -125,6 +125,22 @@ TEST_CASE("latency_stats: a miss is an overrun (the frame's own cost) or a late 
   CHECK(stats.summary().overrun_misses == 0);
 }
 
+TEST_CASE("latency_stats: an overrun the thread spent descheduled is a preemption, not our cost", "[sim]") {
+  LatencyStats stats(100);
+  for (int i = 0; i < 6; ++i) {
+    FrameTiming t = uniform(100.0, /*missed=*/true);
+    t.overrun = i < 4;
+    t.preempted = i < 3;  // 3 preempted overruns, 1 of our own, 2 late wake-ups
+    stats.record(t);
+  }
+  const LatencySummary s = stats.summary();
+  CHECK(s.deadline_misses == 6);
+  CHECK(s.overrun_misses == 1);
+  CHECK(s.preempted_misses == 3);
+  CHECK(s.late_wakeup_misses == 2);
+  CHECK(nlohmann::json::parse(incise::sim::toJson(s)).at("preempted_misses") == 3);
+}
+
 TEST_CASE("latency_stats: negative samples keep their own maximum", "[sim]") {
   LatencyStats stats(4);
   stats.record(uniform(-5.0));

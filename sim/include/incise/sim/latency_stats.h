@@ -29,7 +29,12 @@ struct FrameTiming {
   double geometry_us = 0.0;      // the geometry stream's publish (0 without a stream)
   int pose_to_visible_frames = -1;
   bool deadline_missed = false;  // period_error_us + frame_us over the period: the next deadline was missed
-  bool overrun = false;          // frame_us alone over the period: our own cost, not a late wake-up
+  bool overrun = false;          // frame_us alone over the period: not a late wake-up
+  // The sim thread's CPU time in the frame (CLOCK_THREAD_CPUTIME_ID; measured against the clock only, else
+  // -1), and whether an overrun ran for less than the period: the thread was descheduled within the frame
+  // (the VM or another process took the CPU), so the wall time over the period was not our cost.
+  double cpu_us = -1.0;
+  bool preempted = false;
 };
 
 // One quantity. count, p50, p99, p999 (nearest-rank on the stored samples: the smallest sample with at
@@ -54,9 +59,11 @@ struct LatencySummary {
   std::int64_t frames = 0;           // every record() call
   std::int64_t frames_stored = 0;    // min(frames, capacity)
   std::int64_t deadline_misses = 0;  // every recorded frame with deadline_missed
-  // ... of which the frame itself took longer than the period (our cost), and those that missed only
-  // because they started late (the VM or the scheduler woke the loop late: period_error_us).
+  // ... of which the frame itself took longer than the period running (our cost), took longer only because
+  // the thread was descheduled within it (FrameTiming::preempted), or missed only because it started late
+  // (the VM or the scheduler woke the loop late: period_error_us).
   std::int64_t overrun_misses = 0;
+  std::int64_t preempted_misses = 0;
   std::int64_t late_wakeup_misses = 0;
 };
 
@@ -81,18 +88,19 @@ class LatencyStats {
   std::int64_t frames() const noexcept { return frames_; }
   std::int64_t deadlineMisses() const noexcept { return deadline_misses_; }
   std::int64_t overrunMisses() const noexcept { return overrun_misses_; }
+  std::int64_t preemptedMisses() const noexcept { return preempted_misses_; }
 
  private:
   std::size_t capacity_;
   std::vector<FrameTiming> samples_;  // reserved to capacity_, never grown past it
   std::int64_t frames_ = 0;
-  std::int64_t deadline_misses_ = 0, overrun_misses_ = 0;
+  std::int64_t deadline_misses_ = 0, overrun_misses_ = 0, preempted_misses_ = 0;
   // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible, geometry.
   std::array<double, 6> max_{};
   std::array<std::int64_t, 6> max_count_{};
 };
 
-// {"frames", "frames_stored", "deadline_misses", "overrun_misses", "late_wakeup_misses", then per quantity {"count", "p50", "p99", "p999", "max",
+// {"frames", "frames_stored", "deadline_misses", "overrun_misses", "preempted_misses", "late_wakeup_misses", then per quantity {"count", "p50", "p99", "p999", "max",
 // "mean"} under "haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames",
 // "geometry_us"}, keys in that
 // order, indented by `indent` spaces (-1: one line).
