@@ -1,13 +1,13 @@
-// WorkBudget: how much cutting work one call of a cutter may do (SurfaceCutter::advance/settleStep,
-// TetCutter::follow). Two limits, whichever comes first:
+// WorkBudget: how much cutting work one call of a cutter may do (SurfaceCutter::advance/settleStep with
+// either limit, TetCutter::follow with units only). Two limits, whichever comes first:
 //   - units: node inversions and refinement splits (the dominant costs, about 2 us each here), counted.
 //     A replay that is not against the clock uses units alone, so how the work falls into calls is the same
 //     on every machine.
 //   - a deadline on std::chrono::steady_clock (optional): the real-time loop's end of the cut phase, so a
 //     frame's cutting stops on time whatever a unit costs on this machine at this moment.
 // The work itself never depends on where a call stopped (the cutters resume in the same order), so the
-// deadline changes when the cut is done, not what it is (tests/sim/replay_test.cpp holds the surface to the
-// same bytes fast and in real time).
+// deadline changes when the cut is done, not what it is (tests/sim/world_test.cpp: every cut phase stopped
+// at once gives the same hash; replay_test.cpp: the same bytes fast and in real time).
 // Cost: spent() is a compare; take() reads the clock once when a deadline is set (about 25 ns here, per
 // inversion of about 2 us). Thread: the cutter's owner. No allocation, never throws.
 #pragma once

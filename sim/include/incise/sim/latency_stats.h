@@ -30,10 +30,9 @@ struct FrameTiming {
   int pose_to_visible_frames = -1;
   bool deadline_missed = false;  // period_error_us + frame_us over the period: the next deadline was missed
   bool overrun = false;          // frame_us alone over the period: not a late wake-up
-  // The sim thread's CPU time in the frame (CLOCK_THREAD_CPUTIME_ID; measured against the clock only, else
-  // -1), and whether an overrun ran for less than the period: the thread was descheduled within the frame
-  // (the VM or another process took the CPU), so the wall time over the period was not our cost.
-  double cpu_us = -1.0;
+  // An overrun whose sim thread ran for at most the period (its CPU time in the frame, CLOCK_THREAD_CPUTIME_ID,
+  // read against the clock only): it was descheduled within the frame (the VM or another process took the
+  // CPU), so the wall time over the period was not our cost.
   bool preempted = false;
 };
 

@@ -151,16 +151,16 @@ class World {
   }
 
   HapticState updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept;
-  // `deadline`: when the surface cutter's budgeted work stops (against the clock: surfaceCutBudgetUs() after
-  // the cut phase began); time_point::max(): the inversion budget alone (fast replays, tests). Where the
-  // work stops never changes the surface's bytes. The tets keep to their inversion budget only: their nodes
-  // still depend on how their work falls into calls (a known bug, tests/sim/replay_test.cpp), and a deadline
-  // would make that depend on the machine's speed too.
   // The part of cut_budget_us the surface cutter may spend: all of it, or half with tets (the other half is
   // the tets' inversion budget).
   double surfaceCutBudgetUs() const noexcept {
     return options_.tets.enabled ? 0.5 * options_.cut_budget_us : options_.cut_budget_us;
   }
+  // `deadline`: when the surface cutter's budgeted work stops (against the clock: surfaceCutBudgetUs() after
+  // the cut phase began); time_point::max(): the inversion budget alone (fast replays, tests). Where the
+  // work stops never changes the surface's bytes. The tets keep to their inversion budget only: their nodes
+  // still depend on how their work falls into calls (a known bug, tests/sim/replay_test.cpp), and a deadline
+  // would make that depend on the machine's speed too.
   cutting::CutStep cut(double t_s, cutting::WorkBudget::Clock::time_point deadline =
                                        cutting::WorkBudget::Clock::time_point::max()) noexcept;
   // Cutting work left for later frames: queued poses, an incision waiting to begin, or columns not cut.
