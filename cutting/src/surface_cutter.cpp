@@ -80,6 +80,10 @@ void SurfaceCutter::reserveHeadroom() {
   // The grids likewise: the new vertices' entries, and the cells vertices move into.
   grid_.reserve(kHeadroomVertices);
   coarse_grid_.reserve(kHeadroomVertices);
+  // The contact queries' per-face stamps (queryRest) for the faces reserved: else the first query of the
+  // sim thread sizes them, in whichever frame the first pose arrives.
+  const std::size_t faces = m.n_faces() + 2 * kHeadroomVertices;
+  if (face_stamp_.size() < faces) face_stamp_.resize(faces, 0u);
 }
 
 void SurfaceCutter::recordChanges(bool on) {
