@@ -199,7 +199,7 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
     has_haptic_tip_ = true;
   }
   state.force_N = force(state, velocity_m_per_s_);
-  (void)dt_s;
+  if (std::isfinite(dt_s) && dt_s > 0.0) period_s_ = dt_s;
   return state;
 }
 
@@ -251,6 +251,10 @@ bool World::takeQueuedPoses(bool at_once) noexcept {
   }
 }
 
+double World::proxyReachM() const noexcept {
+  return std::clamp(2.0 * kProxySpeedMPerS * (period_s_ + kProxyLateS), kProxyReachMinM, kProxyReachMaxM);
+}
+
 void World::refreshProxy() noexcept {
   if (!has_pose_) return;
   const Eigen::Vector3d handle = handleOf(last_pose_);
@@ -258,7 +262,7 @@ void World::refreshProxy() noexcept {
   const bool skin_moved = options_.cutter.refine == cutting::CutterOptions::Refine::PnTriangles &&
                           cutter_->stats().refined_vertices != proxy_refined_;
   if (!skin_moved && !proxy_->refillDue(handle, last_pose_.tip_m, stamp)) return;
-  proxy_->refill(*cutter_, handle, last_pose_.tip_m, kProxyReachM, stamp);
+  proxy_->refill(*cutter_, handle, last_pose_.tip_m, proxyReachM(), stamp);
   proxy_refined_ = cutter_->stats().refined_vertices;
   counters_.proxy_refills = proxy_->refills();
   counters_.proxy_overflows = proxy_->overflows();
@@ -271,12 +275,17 @@ cutting::CutStep World::cut(double t_s, cutting::WorkBudget::Clock::time_point d
   counters_.queue_peak = std::max(counters_.queue_peak, static_cast<int>(queued));
   const bool at_once = queued > kQueuedPoses / 2;  // the queue must not fill: do the waiting work now
   if (at_once && begin_waiting_) ++counters_.catch_ups;
+  // The proxy first when the blade nears its edge: the refill (a grid query and a copy of a few hundred faces,
+  // 50-300 us) then spends the frame's deadline, and the cutting work after it gets what is left, so the two
+  // do not add up past the budget. The rest surface it copies is the same before and after this frame's
+  // work (the current incision changes it only where its own walls are, which the proxy leaves out).
+  refreshProxy();
   cutting::CutStep step;
   if (takeQueuedPoses(at_once)) {
     step = cutter_->advance(t_s);
     followTets(cutting::TetBudget::PerCall);
   }
-  refreshProxy();
+  refreshProxy();  // again only when an incision began in this frame (its rest surface is another one)
   if (step.deadline_hit) ++counters_.deadline_stops;
   counters_.reserve_overflows = cutter_->stats().reserve_overflows;
   return step;

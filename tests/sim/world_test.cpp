@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "incise/cutting/mesh_hash.h"
@@ -65,7 +66,11 @@ TEST_CASE("world: no contact above the surface, a penalty force along the normal
   REQUIRE_FALSE(h.proxy_miss);
   REQUIRE_FALSE(h.contact);
 
-  // 1 mm in, the button up: contact and a spring force, no cut.
+  // 1 mm in, the button up: contact and a spring force, no cut. Down there in two frames: the proxy's reach
+  // (2 mm at 1 kHz) covers the blade's motion between refills, not a 3 mm jump in one frame.
+  h = frameOf(world, poseAt(surface + Eigen::Vector3d(0, 0.0005, 0), 0.001, 0));
+  REQUIRE_FALSE(h.proxy_miss);
+  REQUIRE_FALSE(h.contact);
   auto in = poseAt(surface - Eigen::Vector3d(0, 0.001, 0), 0.0015, 0);
   h = frameOf(world, in);
   REQUIRE(h.contact);
@@ -83,7 +88,7 @@ TEST_CASE("world: no contact above the surface, a penalty force along the normal
   REQUIRE(h.force_N.norm() == Approx(options.tissue.stiffness_N_per_m * h.penetration_m).epsilon(1e-9));
 
   // Deep in: clamped to the device's limit.
-  const auto deep = poseAt(surface - Eigen::Vector3d(0, 0.004, 0), 0.0035, 0);
+  const auto deep = poseAt(surface - Eigen::Vector3d(0, 0.0025, 0), 0.0035, 0);  // 1.5 mm on: within reach
   sim::WorldOptions stiff = options;
   stiff.tissue.stiffness_N_per_m = 1e5;
   sim::World stiff_world(tissue, stiff);
@@ -305,22 +310,36 @@ TEST_CASE("world: the haptic contact from the proxy is the cutter's exact contac
 }
 
 TEST_CASE("world: a blade that goes through the skin within one frame is caught by the swept test", "[sim]") {
-  // A shallow blade (1 mm: a 3 mm probe) moved 3.7 mm down in one frame: its whole probe is below the skin,
-  // so only the sweep from the last frame's tip finds the crossing.
+  // A short blade (1 mm long: a 1 mm probe) moved 1.8 mm down in one frame, within the proxy's reach (2 mm
+  // at 1 kHz): its whole probe is below the skin, so only the sweep from the last frame's tip finds the
+  // crossing.
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  options.cutter.incision.depth_m = 0.001;
+  options.tool.blade_length_m = 0.001;
+  options.cutter.incision.depth_m = 0.0005;
   const cutting::SurfaceMesh tissue = bunny();
   const Eigen::Vector3d surface = surfaceAt(tissue, 0.005, 0.015);
   sim::World world(tissue, options);
-  frameOf(world, poseAt(surface + Eigen::Vector3d(0, 0.0005, 0), 0.0, 0));
-  const sim::HapticState hover = frameOf(world, poseAt(surface + Eigen::Vector3d(0, 0.0005, 0), 0.001, 0));
+  frameOf(world, poseAt(surface + Eigen::Vector3d(0, 0.0003, 0), 0.0, 0));
+  const sim::HapticState hover = frameOf(world, poseAt(surface + Eigen::Vector3d(0, 0.0003, 0), 0.001, 0));
   REQUIRE_FALSE(hover.contact);
-  const sim::HapticState h = frameOf(world, poseAt(surface - Eigen::Vector3d(0, 0.0032, 0), 0.002, 0));
+  const sim::HapticState h = frameOf(world, poseAt(surface - Eigen::Vector3d(0, 0.0015, 0), 0.002, 0));
   REQUIRE_FALSE(h.proxy_miss);
   REQUIRE(h.swept);
   REQUIRE(h.contact);
-  REQUIRE(h.penetration_m == Approx(0.0032 * std::abs(h.normal.y())).epsilon(0.1));
+  REQUIRE(h.penetration_m == Approx(0.0015 * std::abs(h.normal.y())).epsilon(0.1));
   REQUIRE(h.force_N.dot(h.normal) > 0.0);
   REQUIRE(world.counters().swept_contacts == 1);
+}
+
+TEST_CASE("world: the proxy's reach follows the frame period (2 mm at 1 kHz, 1.25 mm at 4 kHz)", "[sim]") {
+  sim::World world(bunny(), sim::WorldOptions{});
+  REQUIRE(world.proxyReachM() == Approx(0.002));  // before any frame: 1 kHz
+  const devices::PoseSample pose = poseAt(Eigen::Vector3d(0.0, 0.05, 0.0), 0.0, 0);
+  world.updateTool(std::span(&pose, 1), 0.00025);
+  CHECK(world.proxyReachM() == Approx(0.00125));
+  world.updateTool(std::span(&pose, 1), 0.01);  // 100 Hz: 11 mm
+  CHECK(world.proxyReachM() == Approx(0.011));
+  world.updateTool(std::span(&pose, 1), std::numeric_limits<double>::quiet_NaN());  // ignored
+  CHECK(world.proxyReachM() == Approx(0.011));
 }

@@ -170,7 +170,16 @@ class World {
   double cutLagS() const noexcept;
   const WorldCounters& counters() const noexcept { return counters_; }
   static constexpr std::size_t kQueuedPoses = 8192;
-  static constexpr double kProxyReachM = 0.004;  // 4 mm: 4 m/s for a frame at 1 kHz before a refill
+  // The proxy's reach: a refill is due when the blade comes within half the reach of the region's edge, and
+  // the next refill comes a frame later, or later still when the frame starts late. So the reach is
+  // 2 x speed x (period + lateness) for a blade moving kProxySpeedMPerS with frames up to kProxyLateS late:
+  // 2 mm at 1 kHz, 1.25 mm at 4 kHz. A refill's faces grow with the region's width squared (the probe plus
+  // twice the reach): bunny-crossing's largest refill went from 798 faces at a 4 mm reach to 417 at 2 mm,
+  // its frame p99 from 290-300 to 220 us; at 0.5 mm (4 kHz) the tool left the region more often
+  // (README, "Issue 17").
+  static constexpr double kProxySpeedMPerS = 0.5, kProxyLateS = 0.001;
+  static constexpr double kProxyReachMinM = 0.0005, kProxyReachMaxM = 0.02;
+  double proxyReachM() const noexcept;  // from the period updateTool was last given (1 kHz before the first)
 
   const cutting::SurfaceMesh& tissue() const noexcept { return *tissue_; }
   const cutting::SurfaceCutter& cutter() const noexcept { return *cutter_; }
@@ -223,6 +232,7 @@ class World {
   bool begin_waiting_ = false, surface_settled_ = false, wait_counted_ = false;
   cutting::StrokeSample begin_sample_{};
   Eigen::Vector3d begin_direction_ = Eigen::Vector3d::UnitX();
+  double period_s_ = 0.001;  // the frame period updateTool was last given (the proxy's reach)
   int proxy_refined_ = 0;  // the cutter's refined vertices at the last refill (PN midpoints move the skin)
   WorldCounters counters_;
 };
