@@ -233,7 +233,7 @@ class World {
   cutting::StrokeSample begin_sample_{};
   Eigen::Vector3d begin_direction_ = Eigen::Vector3d::UnitX();
   double period_s_ = 0.001;  // the frame period updateTool was last given (the proxy's reach)
-  int proxy_refined_ = 0;  // the cutter's refined vertices at the last refill (PN midpoints move the skin)
+  int proxy_refined_ = 0;    // the cutter's refined vertices at the last refill (PN midpoints move the skin)
   WorldCounters counters_;
 };
 
