@@ -285,7 +285,7 @@ cutting::CutStep World::cut(double t_s, cutting::WorkBudget::Clock::time_point d
     step = cutter_->advance(t_s);
     followTets(cutting::TetBudget::PerCall);
   }
-  refreshProxy();  // again only when an incision began in this frame (its rest surface is another one)
+  refreshProxy();  // again only when an incision began in this frame or PN refinement moved the skin
   if (step.deadline_hit) ++counters_.deadline_stops;
   counters_.reserve_overflows = cutter_->stats().reserve_overflows;
   return step;

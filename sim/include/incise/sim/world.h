@@ -20,10 +20,11 @@
 //                            A pose that starts an incision while the previous one still has work (columns
 //                            not cut, the wound not settled, the tets behind) waits, with every pose after
 //                            it, while that work is done within this and later frames' budgets, and begins
-//                            it then; then the cutter's carried work for this frame (the budget from
-//                            cut_budget_us) and the wound's opening at t_s, the tets' work for the same
-//                            incision under the same budget, and the proxy refilled around the newest pose
-//                            when the blade nears its edge or a new incision changed the skin at rest.
+//                            it then. First the proxy refilled around the newest pose when the blade nears
+//                            its edge (inside the frame's deadline); then the cutter's carried work for
+//                            this frame (the budget from cut_budget_us) and the wound's opening at t_s, the
+//                            tets' work for the same incision under the same budget; last the proxy again
+//                            when a new incision (or PN refinement) changed the skin at rest.
 // The cut depends only on the pose samples (their positions and times) and their order, never on which
 // frame handled them or how long an incision waited: replaying a trace as fast as possible or in real time
 // gives the same geometry, and the same as when begin() did the previous incision's work at once.
