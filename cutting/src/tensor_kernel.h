@@ -75,34 +75,127 @@ template <int Ou, int Ov = 0, int Ow = 0>
 }
 
 #if INCISE_TENSOR_AVX2
+// The order-4 kernels below do the operations of tensorSumFixed<4, 4, 4>, in its order, so they give its
+// bits; only the grouping into vector instructions differs. Their loops are unrolled by hand-placed
+// pragmas: left to itself, GCC 12 at -O2 unrolls them in some callers and not in others (2x slower).
+
+// The weights Nw[k] * Nv[j] of plane k (j = 0..3), each broadcast to 4 lanes: one vector product.
+[[gnu::always_inline]] inline void planeWeights4(const double* Nv, const double* Nw, int k, __m256d w[4]) noexcept {
+  const __m256d products = _mm256_mul_pd(_mm256_broadcast_sd(Nw + k), _mm256_loadu_pd(Nv));
+  w[0] = _mm256_permute4x64_pd(products, 0x00);
+  w[1] = _mm256_permute4x64_pd(products, 0x55);
+  w[2] = _mm256_permute4x64_pd(products, 0xAA);
+  w[3] = _mm256_permute4x64_pd(products, 0xFF);
+}
+
+// sum_i Nu[i] * (acc[3i], acc[3i + 1], acc[3i + 2]) in the order i = 0..3, as tensorSumFixed's final
+// loop, on x, y and z at once: the 12 lanes of acc (acc[0..3], acc[4..7], acc[8..11] in the three
+// vectors) are regrouped into four (x, y, z, -) slices, one per control point i.
+[[gnu::always_inline]] inline __m256d reduceNu4(const __m256d acc[3], const double* Nu) noexcept {
+  const __m256d slice1 = _mm256_permute4x64_pd(_mm256_blend_pd(acc[0], acc[1], 0b0011), 0b00'01'00'11);
+  const __m256d slice2 = _mm256_permute4x64_pd(_mm256_blend_pd(acc[1], acc[2], 0b0001), 0b00'00'11'10);
+  const __m256d slice3 = _mm256_permute4x64_pd(acc[2], 0b00'11'10'01);
+  __m256d out = _mm256_fmadd_pd(_mm256_broadcast_sd(Nu), acc[0], _mm256_setzero_pd());
+  out = _mm256_fmadd_pd(_mm256_broadcast_sd(Nu + 1), slice1, out);
+  out = _mm256_fmadd_pd(_mm256_broadcast_sd(Nu + 2), slice2, out);
+  return _mm256_fmadd_pd(_mm256_broadcast_sd(Nu + 3), slice3, out);
+}
+
+[[gnu::always_inline]] inline Eigen::Vector3d lowXyz(__m256d v) noexcept {
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, v);
+  return Eigen::Vector3d(lanes[0], lanes[1], lanes[2]);
+}
+
 // Order 4 on every axis with AVX2: a row of 4 control points is 12 doubles, three 256-bit lanes; one set
-// of lanes per w-plane keeps 4 independent multiply-add chains. Explicit FMAs (the build forbids the
-// compiler from fusing on its own), so the result is the same bits wherever this is inlined.
+// of lanes per w-plane keeps 4 independent multiply-add chains. Per point: 52 vector multiply-adds,
+// 4 products, 9 adds, 21 shuffles. Explicit FMAs (the build forbids the compiler from fusing on its own).
 template <>
 [[gnu::always_inline]] inline Eigen::Vector3d tensorSumFixed<4, 4, 4>(const double* xyz, int n_u, int n_v, int first,
                                                                       int, int, const double* Nu, const double* Nv,
                                                                       const double* Nw) noexcept {
   __m256d lanes[4][3];
+#pragma GCC unroll 4
   for (int k = 0; k < 4; ++k) {
     const double* plane = xyz + 3 * (first + n_u * n_v * k);
+    __m256d w[4];
+    planeWeights4(Nv, Nw, k, w);
     lanes[k][0] = lanes[k][1] = lanes[k][2] = _mm256_setzero_pd();
+#pragma GCC unroll 4
     for (int j = 0; j < 4; ++j) {
-      const __m256d weight = _mm256_set1_pd(Nw[k] * Nv[j]);
       const double* row = plane + 3 * n_u * j;
-      lanes[k][0] = _mm256_fmadd_pd(weight, _mm256_loadu_pd(row), lanes[k][0]);
-      lanes[k][1] = _mm256_fmadd_pd(weight, _mm256_loadu_pd(row + 4), lanes[k][1]);
-      lanes[k][2] = _mm256_fmadd_pd(weight, _mm256_loadu_pd(row + 8), lanes[k][2]);
+      lanes[k][0] = _mm256_fmadd_pd(w[j], _mm256_loadu_pd(row), lanes[k][0]);
+      lanes[k][1] = _mm256_fmadd_pd(w[j], _mm256_loadu_pd(row + 4), lanes[k][1]);
+      lanes[k][2] = _mm256_fmadd_pd(w[j], _mm256_loadu_pd(row + 8), lanes[k][2]);
     }
   }
-  double acc[12];
-  for (int l = 0; l < 3; ++l) {
-    const __m256d sum = _mm256_add_pd(_mm256_add_pd(lanes[0][l], lanes[1][l]), _mm256_add_pd(lanes[2][l], lanes[3][l]));
-    _mm256_storeu_pd(acc + 4 * l, sum);
+  __m256d acc[3];
+#pragma GCC unroll 3
+  for (int l = 0; l < 3; ++l)
+    acc[l] = _mm256_add_pd(_mm256_add_pd(lanes[0][l], lanes[1][l]), _mm256_add_pd(lanes[2][l], lanes[3][l]));
+  return lowXyz(reduceNu4(acc, Nu));
+}
+
+// AVX-512 (F and VL), for VolumeBinding on CPUs that have it (chosen at run time; the build itself stays
+// at AVX2, see cmake/InciseOptions.cmake). A row's 12 doubles are one 512-bit and one 256-bit vector: 32
+// multiply-adds a point instead of 48. Split in two so that a loop can overlap one point's plane sums with
+// the previous point's final sum (its dependency chain is long: 4 multiply-adds in a row).
+#define INCISE_TENSOR_AVX512 1
+#define INCISE_AVX512_INLINE __attribute__((target("avx512f,avx512vl"), always_inline)) inline
+// GCC 12's own AVX-512 intrinsics trip -Wmaybe-uninitialized (their "undefined" source operands); the
+// callers of these functions wrap them in the same push / ignore / pop.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+struct WideSums {
+  __m512d low;   // acc[0..7]
+  __m256d high;  // acc[8..11]
+};
+
+INCISE_AVX512_INLINE WideSums planeSums444Wide(const double* xyz, int n_u, int n_v, int first, const double* Nv,
+                                               const double* Nw) noexcept {
+  const __m512d nv = _mm512_broadcast_f64x4(_mm256_loadu_pd(Nv));  // Nv twice
+  __m512d low[4];
+  __m256d high[4];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    const double* plane = xyz + 3 * (first + n_u * n_v * k);
+    const __m512d products = _mm512_mul_pd(_mm512_set1_pd(Nw[k]), nv);
+    const __m512d w[4] = {_mm512_permutex_pd(products, 0x00), _mm512_permutex_pd(products, 0x55),
+                          _mm512_permutex_pd(products, 0xAA), _mm512_permutex_pd(products, 0xFF)};
+    low[k] = _mm512_setzero_pd();
+    high[k] = _mm256_setzero_pd();
+#pragma GCC unroll 4
+    for (int j = 0; j < 4; ++j) {
+      const double* row = plane + 3 * n_u * j;
+      low[k] = _mm512_fmadd_pd(w[j], _mm512_loadu_pd(row), low[k]);
+      high[k] = _mm256_fmadd_pd(_mm512_castpd512_pd256(w[j]), _mm256_loadu_pd(row + 8), high[k]);
+    }
   }
-  Eigen::Vector3d out(0.0, 0.0, 0.0);
-  for (int i = 0; i < 4; ++i)
-    for (int c = 0; c < 3; ++c) out[c] = madd(Nu[i], acc[3 * i + c], out[c]);
-  return out;
+  return {_mm512_add_pd(_mm512_add_pd(low[0], low[1]), _mm512_add_pd(low[2], low[3])),
+          _mm256_add_pd(_mm256_add_pd(high[0], high[1]), _mm256_add_pd(high[2], high[3]))};
+}
+
+// reduceNu4 of WideSums, written to out[0..2].
+INCISE_AVX512_INLINE void reduceNu4Wide(const WideSums& sums, const double* Nu, double* out) noexcept {
+  // acc[3..5], acc[6..8] (index 8 is the high vector's lane 0) in one vector's halves
+  const __m512d slices12 =
+      _mm512_permutex2var_pd(sums.low, _mm512_set_epi64(8, 8, 7, 6, 5, 5, 4, 3), _mm512_castpd256_pd512(sums.high));
+  const __m256d slice3 = _mm256_permute4x64_pd(sums.high, 0b00'11'10'01);
+  __m256d sum = _mm256_fmadd_pd(_mm256_broadcast_sd(Nu), _mm512_castpd512_pd256(sums.low), _mm256_setzero_pd());
+  sum = _mm256_fmadd_pd(_mm256_broadcast_sd(Nu + 1), _mm512_castpd512_pd256(slices12), sum);
+  sum = _mm256_fmadd_pd(_mm256_broadcast_sd(Nu + 2), _mm512_extractf64x4_pd(slices12, 1), sum);
+  sum = _mm256_fmadd_pd(_mm256_broadcast_sd(Nu + 3), slice3, sum);
+  _mm_storeu_pd(out, _mm256_castpd256_pd128(sum));
+  _mm_store_sd(out + 2, _mm256_extractf128_pd(sum, 1));
+}
+
+#pragma GCC diagnostic pop
+
+// Whether this CPU runs the AVX-512 kernels (checked once, at load).
+inline bool cpuHasAvx512() noexcept {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
 }
 #endif
 

@@ -3,6 +3,7 @@
 #include "incise/cutting/format.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -16,11 +17,47 @@ namespace incise::cutting {
 
 namespace {
 
+#if INCISE_TENSOR_AVX512
+const bool kCpuHasAvx512 = detail::cpuHasAvx512();
+std::atomic<bool> prefer_avx2{false};
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's AVX-512 intrinsics (tensor_kernel.h)
+// deformSlots for order 4 on every axis with AVX-512: point s's plane sums are issued before point s - 1's
+// final sum, so the CPU overlaps that sum's dependency chain with independent work.
+__attribute__((target("avx512f,avx512vl"))) void deformSlots444Wide(const double* xyz, const std::array<int, 3>& counts,
+                                                                    const int* first_control, const double* basis,
+                                                                    int stride, const int* slot_point, int begin,
+                                                                    int end, Eigen::Vector3d* out) noexcept {
+  if (begin == end) return;
+  const double* nu = basis + static_cast<std::ptrdiff_t>(begin) * stride;
+  detail::WideSums previous = detail::planeSums444Wide(xyz, counts[0], counts[1], first_control[begin], nu + 4, nu + 8);
+  for (int s = begin + 1; s < end; ++s) {
+    const double* next_nu = nu + stride;
+    const detail::WideSums current =
+        detail::planeSums444Wide(xyz, counts[0], counts[1], first_control[s], next_nu + 4, next_nu + 8);
+    detail::reduceNu4Wide(previous, nu, out[slot_point[s - 1]].data());
+    previous = current;
+    nu = next_nu;
+  }
+  detail::reduceNu4Wide(previous, nu, out[slot_point[end - 1]].data());
+}
+#pragma GCC diagnostic pop
+
+bool useWideKernel(const std::array<int, 3>& orders) noexcept {
+  return orders == std::array{4, 4, 4} && kCpuHasAvx512 && !prefer_avx2.load(std::memory_order_relaxed);
+}
+#endif
+
 // Deforms the points in slots [begin, end). Slots hold the points sorted by support cell, so consecutive
 // slots read the same control points; the kernel choice is hoisted out of the loop.
 void deformSlots(const double* xyz, const std::array<int, 3>& orders, const std::array<int, 3>& counts,
                  const int* first_control, const double* basis, int stride, const int* slot_point, int begin, int end,
                  Eigen::Vector3d* out) noexcept {
+#if INCISE_TENSOR_AVX512
+  if (useWideKernel(orders))
+    return deformSlots444Wide(xyz, counts, first_control, basis, stride, slot_point, begin, end, out);
+#endif
   detail::withKernel(orders, [&]<int Ou, int Ovw>() {
     for (int s = begin; s < end; ++s) {
       const double* nu = basis + static_cast<std::ptrdiff_t>(s) * stride;
@@ -33,6 +70,25 @@ void deformSlots(const double* xyz, const std::array<int, 3>& orders, const std:
 }
 
 }  // namespace
+
+const char* boundKernelName() noexcept {
+#if INCISE_TENSOR_AVX512
+  if (useWideKernel({4, 4, 4})) return "avx512";
+#endif
+#if INCISE_TENSOR_AVX2
+  return "avx2";
+#else
+  return "generic";
+#endif
+}
+
+void preferAvx2BoundKernel(bool prefer) noexcept {
+#if INCISE_TENSOR_AVX512
+  prefer_avx2.store(prefer, std::memory_order_relaxed);
+#else
+  (void)prefer;
+#endif
+}
 
 VolumeBinding::VolumeBinding(const BSplineVolume& volume, std::span<const Eigen::Vector3d> parameters)
     : orders_(volume.orders()), counts_(volume.controlCounts()) {

@@ -26,6 +26,15 @@
 
 namespace incise::cutting {
 
+// The kernel VolumeBinding uses for order 4 on every axis, in this build on this CPU: "avx512" (AVX-512F
+// and VL found at run time, in a native build), "avx2" (a native build) or "generic". Every kernel gives
+// the same bits. For benchmarks' reports.
+const char* boundKernelName() noexcept;
+
+// true: VolumeBinding uses the AVX2 kernel even where AVX-512 is found (process-wide; false restores the
+// automatic choice). For tests and benchmarks that compare the two.
+void preferAvx2BoundKernel(bool prefer) noexcept;
+
 class VolumeBinding {
  public:
   VolumeBinding(const BSplineVolume& volume, std::span<const Eigen::Vector3d> parameters);
