@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages incise builds and tests with (the viewer: GLFW, libepoxy, Dear ImGui, libpng;
-# its pictures: Xvfb and Mesa's llvmpipe through GLX or EGL, no GPU needed; the fuzz harnesses: clang 14 and
-# its runtime libraries (libFuzzer, the sanitizers: libclang-rt-14-dev is only recommended by clang-14), llvm-14's
-# llvm-symbolizer for the sanitizers' stacks). Idempotent: only what is missing is installed.
+# Installs the Debian 12 packages incise builds and tests with (oneTBB for the global DFFD's mapping; the viewer:
+# GLFW, libepoxy, Dear ImGui, libpng; its pictures: Xvfb and Mesa's llvmpipe through GLX or EGL, no GPU needed;
+# the fuzz harnesses: clang 14 and its runtime libraries (libFuzzer, the sanitizers: libclang-rt-14-dev is
+# only recommended by clang-14), llvm-14's llvm-symbolizer for the sanitizers' stacks). Idempotent: only what is missing is installed.
 # Nothing is fetched from anywhere but Debian's package archive.
 set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libopenmesh-dev libtet1.5-dev libglfw3-dev libspdlog-dev catch2 libhidapi-dev
-  nlohmann-json3-dev libcli11-dev libcgal-dev
+  nlohmann-json3-dev libcli11-dev libcgal-dev libtbb-dev
   clang-format universal-ctags util-linux python3
   libepoxy-dev libimgui-dev libstb-dev libpng-dev
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl1

@@ -380,10 +380,14 @@ Eigen::Vector3d GlobalDffd::map(const Eigen::Vector3d& x, int side) const {
   const double t[3] = {u, x.y(), x.z()};
   double basis[3][kMaxOrder];
   int first[3];
-  for (int a = 0; a < 3; ++a) {
-    basisFunctions(volume_.knots(a), o, spans[static_cast<size_t>(a)], t[a], basis[a]);
-    first[a] = spans[static_cast<size_t>(a)] - (o - 1);
-  }
+#if INCISE_TENSOR_AVX2
+  if (o == 4) {  // the three axes at once, the same bits
+    const double* const knots[3] = {volume_.knots(0).data(), volume_.knots(1).data(), volume_.knots(2).data()};
+    detail::basisFunctions4x3(knots, spans.data(), t, basis);
+  } else
+#endif
+    for (int a = 0; a < 3; ++a) basisFunctions(volume_.knots(a), o, spans[static_cast<size_t>(a)], t[a], basis[a]);
+  for (int a = 0; a < 3; ++a) first[a] = spans[static_cast<size_t>(a)] - (o - 1);
   const std::array<int, 3> counts = volume_.controlCounts();
   return detail::tensorSum(volume_.controls().data()->data(), counts[0], counts[1],
                            volume_.controlIndex(first[0], first[1], first[2]), volume_.orders(), basis[0], basis[1],

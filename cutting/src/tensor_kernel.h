@@ -136,6 +136,41 @@ template <>
   return lowXyz(reduceNu4(acc, Nu));
 }
 
+// basisFunctions (knot_vector.cpp, The NURBS Book A2.2) for order 4 on three axes at once, one axis a
+// lane: each lane does that function's operations in its order (no fused multiply-add there either), so
+// the same bits as three calls, with 6 vector divisions instead of 18 scalar ones. The fourth lane
+// computes a harmless dummy (t = 0.5 between knots 0 and 1). out[a][0..3]: axis a's basis values.
+[[gnu::always_inline]] inline void basisFunctions4x3(const double* const knots[3], const int spans[3],
+                                                     const double t[3], double out[3][kMaxOrder]) noexcept {
+  const __m256d tv = _mm256_set_pd(0.5, t[2], t[1], t[0]);
+  const auto knotAt = [&](int offset) {
+    return _mm256_set_pd(offset > 0 ? 1.0 : 0.0, knots[2][spans[2] + offset], knots[1][spans[1] + offset],
+                         knots[0][spans[0] + offset]);
+  };
+  __m256d N[4], left[4], right[4];
+  N[0] = _mm256_set1_pd(1.0);
+#pragma GCC unroll 3
+  for (int j = 1; j < 4; ++j) {
+    left[j] = _mm256_sub_pd(tv, knotAt(1 - j));
+    right[j] = _mm256_sub_pd(knotAt(j), tv);
+    __m256d saved = _mm256_setzero_pd();
+#pragma GCC unroll 3
+    for (int r = 0; r < j; ++r) {
+      const __m256d temp = _mm256_div_pd(N[r], _mm256_add_pd(right[r + 1], left[j - r]));
+      N[r] = _mm256_add_pd(saved, _mm256_mul_pd(right[r + 1], temp));
+      saved = _mm256_mul_pd(left[j - r], temp);
+    }
+    N[j] = saved;
+  }
+  alignas(32) double lanes[4][4];
+#pragma GCC unroll 4
+  for (int r = 0; r < 4; ++r) _mm256_store_pd(lanes[r], N[r]);
+#pragma GCC unroll 3
+  for (int a = 0; a < 3; ++a)
+#pragma GCC unroll 4
+    for (int r = 0; r < 4; ++r) out[a][r] = lanes[r][a];
+}
+
 // AVX-512 (F and VL), for VolumeBinding on CPUs that have it (chosen at run time; the build itself stays
 // at AVX2, see cmake/InciseOptions.cmake). A row's 12 doubles are one 512-bit and one 256-bit vector: 32
 // multiply-adds a point instead of 48. Split in two so that a loop can overlap one point's plane sums with

@@ -142,15 +142,7 @@ TEST_CASE("global_dffd: stitched and capped outputs are closed", "[cutting]") {
 TEST_CASE("global_dffd: splitting from arrays into a reused split gives the same split", "[cutting]") {
   const GlobalDffd dffd({bar()}, options());
   const SurfaceMesh sphere = makeSphere(Eigen::Vector3d(0.0, 0.003, 0.0), 0.012, 3);
-  std::vector<Eigen::Vector3d> positions;
-  std::vector<std::array<int, 3>> faces;
-  for (const auto v : sphere.mesh().vertices()) positions.push_back(toEigen(sphere.mesh().point(v)));
-  for (const auto f : sphere.mesh().faces()) {
-    std::array<int, 3> t{};
-    int k = 0;
-    for (auto v = sphere.mesh().cfv_ccwiter(f); v.is_valid(); ++v) t[static_cast<size_t>(k++)] = v->idx();
-    faces.push_back(t);
-  }
+  const auto [positions, faces] = modelArrays(sphere);
   const DffdSplit reference = splitAtDiscontinuities(sphere, dffd, Openings::Close);
   DffdSplit reused;
   for (int round = 0; round < 3; ++round) {  // a second scene in between: the buffers must not leak into it

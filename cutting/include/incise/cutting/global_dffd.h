@@ -31,6 +31,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -198,6 +199,44 @@ DffdSplit splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m,
 void splitAtDiscontinuities(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,
                             const GlobalDffd& dffd, Openings openings, DffdSplit& out);
 
+// A model as the array forms of the split take it: its vertex positions (those OpenMesh has not deleted,
+// in index order) and its triangles by position index. O(V + F).
+struct ModelArrays {
+  std::vector<Eigen::Vector3d> positions_m;
+  std::vector<std::array<int, 3>> triangles;
+};
+ModelArrays modelArrays(const SurfaceMesh& model);
+
+// The split of a model that moves frame after frame, its triangles fixed (the global DFFD's frame: split
+// only what changed). The split's connectivity depends only on which side of each plane x = u_i every
+// vertex lies, or whether it is put on the plane (within snapDistance). When none of that changed since the
+// previous call, with the same triangles, planes and box, the previous connectivity is kept and only the
+// positions are recomputed: the previous split's constructions (vertices put on a plane, edge crossings,
+// duplicated vertices) are replayed in their order on the new positions, which gives the bits a full split
+// gives (tests/cutting/global_dffd_test.cpp). Otherwise, and always with Openings::Close (whose welding
+// depends on the vertices' order in v), it is splitAtDiscontinuities.
+// Cost: O(V * planes) to compare the sides and O(V') to replay (V' split vertices; about 0.2 ms for the
+// 35k-vertex split robot), else a full split's. No allocation once warmed up on one model.
+// Threads: one call at a time per splitter. Failure: as splitAtDiscontinuities; the splitter then splits
+// in full at its next call.
+class DffdSplitter {
+ public:
+  DffdSplitter();
+  ~DffdSplitter();
+  DffdSplitter(DffdSplitter&&) noexcept;
+  DffdSplitter& operator=(DffdSplitter&&) noexcept;
+
+  // The split of the model at `positions_m` (one per model vertex), valid until the next call.
+  const DffdSplit& split(std::span<const Eigen::Vector3d> positions_m, std::span<const std::array<int, 3>> faces,
+                         const GlobalDffd& dffd, Openings openings = Openings::Leave);
+  // Whether the last split() kept the previous connectivity (false after a full split).
+  bool keptConnectivity() const noexcept;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
 // §3.2's stitching level for obstacle `index`: the mean w of the split's vertices on its plane (the box's
 // centre in w if there are none). O(V).
 double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index);
@@ -209,7 +248,8 @@ double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index);
 SurfaceMesh cappedDeform(const SurfaceMesh& model, const GlobalDffd& dffd);
 
 // Every vertex of `split` mapped through F (its side on a discontinuity), into out_m (one per vertex; else
-// DffdError). O(V * order^3), no allocation.
+// DffdError). O(V * order^3), spread over the machine's cores by oneTBB (blocks of 2,048 vertices; the same
+// bits with any number of threads). Not for a real-time thread: it waits for the blocks.
 void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen::Vector3d> out_m);
 // The same as a mesh (split.surface() of the deformed positions): the deformed model, same connectivity.
 SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd);
