@@ -166,6 +166,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   last_accepted_m_ = first.point_m;
   next_column_ = options_.incision.order - 1;  // the first slab of the v domain
   column_started_ = false;
+  last_query_units_ = 0;
   refining_ = false;
   time_s_ = first.time_s;
   std::fill(cell_first_.begin(), cell_first_.end(), -1);
@@ -314,6 +315,9 @@ bool SurfaceCutter::bindVertex(VH v, int column, WorkBudget& budget) {
 
 bool SurfaceCutter::processColumn(int column, WorkBudget& budget, CutStep& step) {
   if (!column_started_) {
+    // The column's query costs about what the previous column's did: it waits for a call with that much
+    // budget left, unless this call has done nothing yet (a query larger than a whole budget still runs).
+    if (!budget.untouched() && budget.remaining() < last_query_units_) return false;
     column_started_ = true;
     ++step.columns;
     candidates_.clear();
@@ -321,13 +325,13 @@ bool SurfaceCutter::processColumn(int column, WorkBudget& budget, CutStep& step)
     next_candidate_ = 0;
     // Before any of the column's vertices is bound, the faces it will cut are made fine enough.
     refining_ = options_.refine != CutterOptions::Refine::Off && beginRefine(column);
-    if (!refining_) grid_.query(incision_->columnBox(column), candidates_);  // ascending ids
+    if (!refining_) queryColumn(column, budget);
   }
   if (refining_) {
     // Paused and resumed in the same order whatever the budget (nothing else changes the mesh meanwhile).
     if (!continueRefine(budget, step)) return false;
     refining_ = false;
-    grid_.query(incision_->columnBox(column), candidates_);
+    queryColumn(column, budget);
   }
   for (; next_candidate_ < candidates_.size(); ++next_candidate_) {
     const VH v(candidates_[next_candidate_]);
@@ -338,6 +342,12 @@ bool SurfaceCutter::processColumn(int column, WorkBudget& budget, CutStep& step)
   splitCrossings(fresh_, step);
   column_started_ = false;
   return true;
+}
+
+void SurfaceCutter::queryColumn(int column, WorkBudget& budget) {
+  grid_.query(incision_->columnBox(column), candidates_);  // ascending ids
+  last_query_units_ = 1 + static_cast<int>(candidates_.size() / kCandidatesPerUnit);
+  budget.take(last_query_units_);
 }
 
 void SurfaceCutter::snapNearEnd(TriMesh::EdgeHandle e) {

@@ -385,6 +385,37 @@ TEST_CASE("surface_cutter: a work budget per call changes when the cut appears, 
   REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
 }
 
+// Issue 17: a column's grid query is charged to the budget (one unit per 64 vertices found), so a call that
+// starts a column does not also bind a budget's worth of vertices: with one unit a call, every call that
+// starts a column binds none, and the cut is still the unlimited one.
+TEST_CASE("surface_cutter: a column's grid query is work the budget counts", "[cutting]") {
+  SurfaceMesh free_mesh = bunny(2), budget_mesh = free_mesh;
+  CutterOptions budgeted = optionsFor(2);
+  budgeted.max_inversions_per_call = 1;
+  SurfaceCutter unlimited(free_mesh, optionsFor(2)), limited(budget_mesh, budgeted);
+  const Stroke stroke = backStroke(free_mesh, 0.03);
+  unlimited.begin(stroke.first, stroke.blade_direction);
+  int columns_started = 0, bound = 0;
+  const auto check = [&](const CutStep& step) {
+    columns_started += step.columns;
+    bound += step.vertices_bound;
+    if (step.columns > 0) REQUIRE(step.vertices_bound == 0);
+    REQUIRE(step.vertices_bound <= 1);
+  };
+  check(limited.begin(stroke.first, stroke.blade_direction));
+  for (const auto& s : stroke.samples) {
+    unlimited.extend(s);
+    check(limited.extend(s));
+  }
+  unlimited.finish();
+  check(limited.finish());
+  for (int calls = 0; limited.pending() && calls < 100000; ++calls) check(limited.advance(stroke.samples.back().time_s));
+  REQUIRE_FALSE(limited.pending());
+  REQUIRE(columns_started > 10);
+  REQUIRE(bound > 100);
+  REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
+}
+
 // Issue 17: what an incision uses is reserved at load; an incision that outgrows it still cuts, the same
 // bytes, and counts each growth (CutStats::reserve_overflows), which the default reserve never needs here.
 TEST_CASE("surface_cutter: a reserve too small grows, is counted, and cuts the same bytes", "[cutting]") {

@@ -37,3 +37,21 @@ TEST_CASE("work_budget: a deadline far ahead leaves the units in charge", "[cutt
   CHECK(b.spent());
   CHECK_FALSE(b.deadlineHit());
 }
+
+TEST_CASE("work_budget: several units at once, what is left, and whether anything was taken", "[cutting]") {
+  WorkBudget b(10);
+  CHECK(b.untouched());
+  CHECK(b.remaining() == 10);
+  b.take(4);
+  CHECK_FALSE(b.untouched());
+  CHECK(b.remaining() == 6);
+  b.take(9);  // more than is left: spent, and the overdraft shows
+  CHECK(b.spent());
+  CHECK(b.remaining() == -3);
+  WorkBudget late(100, WorkBudget::Clock::now());
+  late.take(2);  // the deadline is read as by take()
+  CHECK(late.spent());
+  CHECK(late.deadlineHit());
+  CHECK_FALSE(late.untouched());
+  CHECK(WorkBudget::unlimited().remaining() > 1000000);
+}

@@ -1,6 +1,7 @@
 // WorkBudget: how much cutting work one call of a cutter may do (SurfaceCutter::advance/settleStep with
 // either limit, TetCutter::follow with units only). Two limits, whichever comes first:
-//   - units: node inversions and refinement splits (the dominant costs, about 2 us each here), counted.
+//   - units: node inversions and refinement splits (the dominant costs, about 2 us each here), counted, and
+//     a surface column's grid query (one unit per 64 vertices found: the grid's memory latency).
 //     A replay that is not against the clock uses units alone, so how the work falls into calls is the same
 //     on every machine.
 //   - a deadline on std::chrono::steady_clock (optional): the real-time loop's end of the cut phase, so a
@@ -23,7 +24,7 @@ class WorkBudget {
 
   // `units` <= 0: no limit in units. `deadline` = Clock::time_point::max(): none.
   explicit WorkBudget(int units, Clock::time_point deadline = Clock::time_point::max()) noexcept
-      : units_(units > 0 ? units : INT_MAX), deadline_(deadline) {}
+      : units_(units > 0 ? units : INT_MAX), initial_(units_), deadline_(deadline) {}
   static WorkBudget unlimited() noexcept { return WorkBudget(0); }
 
   bool spent() const noexcept { return units_ <= 0; }
@@ -35,11 +36,21 @@ class WorkBudget {
       deadline_hit_ = true;
     }
   }
+  // `units` (>= 1) units of work were just done at once (e.g. a grid query's worth): counts them; the
+  // deadline as take().
+  void take(int units) noexcept {
+    units_ -= units - 1;
+    take();
+  }
+  // Units left (may be negative after take(units)); nothing taken yet.
+  int remaining() const noexcept { return units_; }
+  bool untouched() const noexcept { return units_ == initial_ && !deadline_hit_; }
   // True when the deadline, not the units, ended this budget.
   bool deadlineHit() const noexcept { return deadline_hit_; }
 
  private:
   int units_;
+  int initial_;
   Clock::time_point deadline_;
   bool deadline_hit_ = false;
 };
