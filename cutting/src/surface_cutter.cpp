@@ -171,6 +171,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   time_s_ = first.time_s;
   std::fill(cell_first_.begin(), cell_first_.end(), -1);
   std::fill(cell_last_.begin(), cell_last_.end(), -1);
+  std::fill(cell_count_.begin(), cell_count_.end(), 0);
   cell_next_.clear();
   cell_vertex_.clear();
   all_bound_.clear();
@@ -251,6 +252,14 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
     // Column steps in order, each resumable: a call stops when its inversion budget is spent and the next
     // call carries on where it stopped, so the work done (and so the mesh) does not depend on the budget.
     WorkBudget budget = unlimited_ ? WorkBudget::unlimited() : WorkBudget(options_.max_inversions_per_call, deadline_);
+    // The wound's opening at this call's time first (it depends on the samples and the time only): the
+    // vertices it moves are known before the columns' work, and charged (redeform() moves them at the end).
+    changed_columns_.clear();
+    incision_->updateOpening(time_s_, changed_columns_);
+    if (!unlimited_ && options_.max_inversions_per_call > 0) {
+      const int units = std::min(redeformMoves() / kMovesPerUnit, options_.max_inversions_per_call / 2);
+      if (units > 0) budget.take(units);
+    }
     while (next_column_ < incision_->finalColumns() && !failed_ && !budget.spent()) {
       if (!processColumn(next_column_, budget, step)) break;
       ++next_column_;
@@ -544,9 +553,8 @@ void SurfaceCutter::setStencil(VH v) {
       incision_->stencil(d.uvw, d.side, &stencil_first_[2 * s], &stencil_basis_[2 * s * static_cast<size_t>(size)]));
 }
 
+// Moves the vertices of the columns process() found changed (updateOpening) and those bound in this call.
 void SurfaceCutter::redeform(CutStep& step) {
-  changed_columns_.clear();
-  incision_->updateOpening(time_s_, changed_columns_);
   if (++stamp_ == 0) stamp_ = 1;
   TriMesh& m = mesh_.mesh();
   const auto move = [&](VH v) {

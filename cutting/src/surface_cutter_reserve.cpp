@@ -1,7 +1,8 @@
 // The surface cutter's room for an incision, reserved at load (surface_cutter.h, "Allocation"; issue 17: the
 // sim thread allocates nothing after its first frame): the arrays an incision fills, sized for
 // CutterOptions::reserved_bound_vertices; the seam's chain, grown at both ends in one buffer; the bound
-// vertices' lattice cells, a list per cell through one pool. The incision's steps are in surface_cutter.cpp.
+// vertices' lattice cells, a list per cell through one pool, with their counts (what redeform() will move,
+// for the budget). The incision's steps are in surface_cutter.cpp.
 #include <algorithm>
 #include <cstddef>
 #include <utility>
@@ -21,6 +22,7 @@ void SurfaceCutter::reserveIncisionArrays() {
                                       Eigen::Vector3d::UnitX());
   cell_first_.assign(columns, -1);
   cell_last_.assign(columns, -1);
+  cell_count_.assign(columns, 0);
   cell_next_.reserve(bound);
   cell_vertex_.reserve(bound);
   for (auto* v : {&all_bound_, &seam_created_, &dirty_, &fresh_}) v->reserve(bound);
@@ -84,6 +86,20 @@ void SurfaceCutter::addToCell(int cell, TriMesh::VertexHandle v) {
   else
     cell_first_[c] = index;
   cell_last_[c] = index;
+  ++cell_count_[c];
+}
+
+int SurfaceCutter::redeformMoves() const noexcept {
+  // The cells redeform() visits: [column, column + order) for each changed column (ascending), each once.
+  const int order = options_.incision.order;
+  const int cells = static_cast<int>(cell_count_.size());
+  int moves = 0, next_cell = 0;
+  for (const int column : changed_columns_) {
+    for (int cell = std::max(column, next_cell); cell < std::min(column + order, cells); ++cell)
+      moves += cell_count_[static_cast<size_t>(cell)];
+    next_cell = std::max(next_cell, column + order);
+  }
+  return moves;
 }
 
 }  // namespace incise::cutting

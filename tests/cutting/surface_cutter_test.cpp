@@ -409,7 +409,8 @@ TEST_CASE("surface_cutter: a column's grid query is work the budget counts", "[c
   }
   unlimited.finish();
   check(limited.finish());
-  for (int calls = 0; limited.pending() && calls < 100000; ++calls) check(limited.advance(stroke.samples.back().time_s));
+  for (int calls = 0; limited.pending() && calls < 100000; ++calls)
+    check(limited.advance(stroke.samples.back().time_s));
   REQUIRE_FALSE(limited.pending());
   REQUIRE(columns_started > 10);
   REQUIRE(bound > 100);

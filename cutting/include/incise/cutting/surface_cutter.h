@@ -203,6 +203,7 @@ class SurfaceCutter {
   CutStep add(std::span<const StrokeSample> samples, SampleOrigin origin = SampleOrigin::Unchecked) noexcept;
   bool processColumn(int column, WorkBudget& budget, CutStep& step);  // false: budget spent, resume next call
   void queryColumn(int column, WorkBudget& budget);  // the column box's vertices into candidates_, charged
+  int redeformMoves() const noexcept;  // about how many vertices redeform() will move (changed_columns_'s cells)
   bool bindVertex(TriMesh::VertexHandle v, int column, WorkBudget& budget);
   void snapOntoCut(TriMesh::VertexHandle v);                  // v becomes a seam vertex at u = 1/2 (it stays in place)
   void snapNearEnd(TriMesh::EdgeHandle crossing);             // snaps the end point the crossing is within snap of
@@ -270,6 +271,9 @@ class SurfaceCutter {
   // A column's grid query is charged to the budget: one unit per kCandidatesPerUnit vertices found (about
   // 60 ns each on the 940k bunny, memory latency; a unit is a Newton inversion, about 3.5 us).
   static constexpr std::size_t kCandidatesPerUnit = 64;
+  // redeform()'s moves are charged too, before the columns' work (kMovesPerUnit vertices a unit, about 55
+  // ns each on the 940k bunny), at most half the budget so that binding always goes on.
+  static constexpr int kMovesPerUnit = 64;
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<TriMesh::VertexHandle> fresh_;
@@ -278,6 +282,7 @@ class SurfaceCutter {
   // Bound vertices by lattice cell floor(v), in the order they were bound: a list per cell through one pool
   // (cell_first_, cell_last_: pool indices or -1; cell_next_: the next in the same cell or -1).
   std::vector<int> cell_first_, cell_last_, cell_next_;
+  std::vector<int> cell_count_;  // per cell: the vertices bound in it (deleted ones too)
   std::vector<TriMesh::VertexHandle> cell_vertex_;
   void addToCell(int cell, TriMesh::VertexHandle v);
   bool cellEmpty(int cell) const noexcept { return cell_first_[static_cast<std::size_t>(cell)] < 0; }
