@@ -348,6 +348,11 @@ bool SurfaceCutter::processColumn(int column, WorkBudget& budget, CutStep& step)
     if (budget.spent()) return false;  // resume here next call
     if (bindVertex(v, column, budget)) pushReserved(fresh_, v), ++step.vertices_bound;
   }
+  // The crossings' split and the seam's walk after it grow with the vertices bound in the column: charged
+  // too, they wait for a call with that much budget left (unless this call has done nothing yet).
+  const int finish_units = 1 + static_cast<int>(fresh_.size() / kFreshPerUnit);
+  if (!budget.untouched() && budget.remaining() < finish_units) return false;
+  budget.take(finish_units);
   splitCrossings(fresh_, step);
   column_started_ = false;
   return true;

@@ -386,21 +386,24 @@ TEST_CASE("surface_cutter: a work budget per call changes when the cut appears, 
 }
 
 // Issue 17: a column's grid query is charged to the budget (one unit per 64 vertices found), so a call that
-// starts a column does not also bind a budget's worth of vertices: with one unit a call, every call that
-// starts a column binds none, and the cut is still the unlimited one.
-TEST_CASE("surface_cutter: a column's grid query is work the budget counts", "[cutting]") {
+// starts a column does not also bind a budget's worth of vertices; and so are its crossings' split (one unit
+// per 16 vertices bound in it). With one unit a call, a call that starts a column binds none, a call that
+// binds a vertex splits no crossing, and the cut is still the unlimited one.
+TEST_CASE("surface_cutter: a column's grid query and crossings are work the budget counts", "[cutting]") {
   SurfaceMesh free_mesh = bunny(2), budget_mesh = free_mesh;
   CutterOptions budgeted = optionsFor(2);
   budgeted.max_inversions_per_call = 1;
   SurfaceCutter unlimited(free_mesh, optionsFor(2)), limited(budget_mesh, budgeted);
   const Stroke stroke = backStroke(free_mesh, 0.03);
   unlimited.begin(stroke.first, stroke.blade_direction);
-  int columns_started = 0, bound = 0;
+  int columns_started = 0, bound = 0, splits = 0;
   const auto check = [&](const CutStep& step) {
     columns_started += step.columns;
     bound += step.vertices_bound;
     if (step.columns > 0) REQUIRE(step.vertices_bound == 0);
+    if (step.vertices_bound > 0) REQUIRE(step.edges_split == 0);
     REQUIRE(step.vertices_bound <= 1);
+    splits += step.edges_split;
   };
   check(limited.begin(stroke.first, stroke.blade_direction));
   for (const auto& s : stroke.samples) {
@@ -414,6 +417,7 @@ TEST_CASE("surface_cutter: a column's grid query is work the budget counts", "[c
   REQUIRE_FALSE(limited.pending());
   REQUIRE(columns_started > 10);
   REQUIRE(bound > 100);
+  REQUIRE(splits > 10);
   REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
 }
 

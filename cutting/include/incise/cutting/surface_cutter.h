@@ -274,6 +274,8 @@ class SurfaceCutter {
   // redeform()'s moves are charged too, before the columns' work (kMovesPerUnit vertices a unit, about 55
   // ns each on the 940k bunny), at most half the budget so that binding always goes on.
   static constexpr int kMovesPerUnit = 64;
+  // A column's crossings and seam walk: one unit per kFreshPerUnit vertices bound in it.
+  static constexpr std::size_t kFreshPerUnit = 16;
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<TriMesh::VertexHandle> fresh_;
