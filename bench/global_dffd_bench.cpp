@@ -219,12 +219,6 @@ struct BestFrame {
   int pairs_at_bars = -1;  // split vertex pairs within 1 mm of a bar in that frame
 };
 
-// Whether two splits are the same bits: positions, triangles and every index map.
-bool sameSplit(const DffdSplit& a, const DffdSplit& b) {
-  return a.rest_m == b.rest_m && a.faces == b.faces && a.source_vertex == b.source_vertex &&
-         a.source_edge == b.source_edge && a.side == b.side && a.plane == b.plane && a.left_open == b.left_open;
-}
-
 BestFrame timeFrames(const GlobalDffd& dffd, const std::vector<Obstacle>& obstacles, const Tilt& tilt,
                      const SurfaceMesh& robot, nlohmann::json& out) {
   const ModelArrays arrays = modelArrays(robot);  // made once: a moving model's triangles never change
@@ -254,7 +248,7 @@ BestFrame timeFrames(const GlobalDffd& dffd, const std::vector<Obstacle>& obstac
     frame_ms.push_back(msSince(start));
     split_part.push_back(split_part_ms);
     frames_kept += splitter.keptConnectivity();
-    frames_differing += !sameSplit(*split, splitAtDiscontinuities(moved_at, arrays.triangles, dffd));  // untimed
+    frames_differing += !(*split == splitAtDiscontinuities(moved_at, arrays.triangles, dffd));  // untimed
     const DffdSplit& frame_split = *split;
     const SurfaceMesh deformed = frame_split.surface(positions_at);
     const int at_bars = splitAtBars(frame_split, tilt);

@@ -326,7 +326,7 @@ bool SurfaceCutter::processColumn(int column, WorkBudget& budget, CutStep& step)
   if (!column_started_) {
     // The column's query costs about what the previous column's did: it waits for a call with that much
     // budget left, unless this call has done nothing yet (a query larger than a whole budget still runs).
-    if (!budget.untouched() && budget.remaining() < last_query_units_) return false;
+    if (!budget.affords(last_query_units_)) return false;
     column_started_ = true;
     ++step.columns;
     candidates_.clear();
@@ -351,7 +351,7 @@ bool SurfaceCutter::processColumn(int column, WorkBudget& budget, CutStep& step)
   // The crossings' split and the seam's walk after it grow with the vertices bound in the column: charged
   // too, they wait for a call with that much budget left (unless this call has done nothing yet).
   const int finish_units = 1 + static_cast<int>(fresh_.size() / kFreshPerUnit);
-  if (!budget.untouched() && budget.remaining() < finish_units) return false;
+  if (!budget.affords(finish_units)) return false;
   budget.take(finish_units);
   splitCrossings(fresh_, step);
   column_started_ = false;

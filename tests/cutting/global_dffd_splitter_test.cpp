@@ -42,6 +42,7 @@ void requireSameSplit(const DffdSplit& a, const DffdSplit& b) {
   REQUIRE(a.side == b.side);
   REQUIRE(a.plane == b.plane);
   REQUIRE(a.left_open == b.left_open);
+  REQUIRE(a == b);  // DffdSplit's own comparison agrees
 }
 
 // deformSplit (threads) against map() (this thread), vertex by vertex.

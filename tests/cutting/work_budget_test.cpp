@@ -55,3 +55,11 @@ TEST_CASE("work_budget: several units at once, what is left, and whether anythin
   CHECK_FALSE(late.untouched());
   CHECK(WorkBudget::unlimited().remaining() > 1000000);
 }
+
+TEST_CASE("work_budget: a step is afforded when enough is left, or when nothing was done yet", "[cutting]") {
+  WorkBudget b(5);
+  CHECK(b.affords(9));  // untouched: a step larger than the whole budget still runs
+  b.take(2);
+  CHECK(b.affords(3));
+  CHECK_FALSE(b.affords(4));
+}

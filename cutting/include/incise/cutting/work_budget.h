@@ -1,7 +1,8 @@
 // WorkBudget: how much cutting work one call of a cutter may do (SurfaceCutter::advance/settleStep with
 // either limit, TetCutter::follow with units only). Two limits, whichever comes first:
-//   - units: node inversions and refinement splits (the dominant costs, about 2 us each here), counted, and
-//     a surface column's grid query (one unit per 64 vertices found: the grid's memory latency).
+//   - units: node inversions and refinement splits (the dominant costs, 2-4 us each here), counted; and for
+//     the surface cutter, a column's grid query, its crossings and the wound's re-deform, charged in units
+//     by how many vertices they touch (SurfaceCutter's kCandidatesPerUnit, kFreshPerUnit, kMovesPerUnit).
 //     A replay that is not against the clock uses units alone, so how the work falls into calls is the same
 //     on every machine.
 //   - a deadline on std::chrono::steady_clock (optional): the real-time loop's end of the cut phase, so a
@@ -45,6 +46,9 @@ class WorkBudget {
   // Units left (may be negative after take(units)); nothing taken yet.
   int remaining() const noexcept { return units_; }
   bool untouched() const noexcept { return units_ == initial_ && !deadline_hit_; }
+  // Whether a step of `units` should start in this call: enough is left, or nothing was done yet (so a step
+  // larger than a whole budget still runs, alone in its call).
+  bool affords(int units) const noexcept { return untouched() || units_ >= units; }
   // True when the deadline, not the units, ended this budget.
   bool deadlineHit() const noexcept { return deadline_hit_; }
 
