@@ -67,6 +67,8 @@ nlohmann::json writeTets(const cutting::TetCutter& tets, const std::filesystem::
           {"duplicated_nodes", stats.duplicated_nodes},
           {"snapped_nodes", stats.snapped_nodes},
           {"steiner_nodes", stats.steiner_nodes},
+          {"rebased_tets", stats.rebased_tets},
+          {"reserve_overflows", stats.reserve_overflows},
           {"pending", tets.pending()},
           {"failure", stats.failure}};
 }

@@ -78,16 +78,29 @@ void TetCutter::rebuild(TetMesh mesh) {
         static_cast<int>(edges_.size()) - 1;
   }
   edge_point_.assign(edges_.size(), -1);
-  // Node -> tets (ascending), compressed.
-  node_tets_first_.assign(n_nodes + 1, 0);
+  // Node -> tets (ascending), each list with room for kSlack more (a rebase adds the pieces around a node).
+  constexpr int kSlack = 8;
+  node_tets_count_.assign(n_nodes, 0);
   for (const auto& t : base_tets_)
-    for (int n : t) ++node_tets_first_[static_cast<size_t>(n) + 1];
-  std::partial_sum(node_tets_first_.begin(), node_tets_first_.end(), node_tets_first_.begin());
-  node_tets_.assign(n_tets * 4, 0);
-  std::vector<int> fill(node_tets_first_.begin(), node_tets_first_.end() - 1);
+    for (int n : t) ++node_tets_count_[static_cast<size_t>(n)];
+  node_tets_cap_.resize(n_nodes);
+  node_tets_first_.resize(n_nodes);
+  int offset = 0;
+  for (size_t n = 0; n < n_nodes; ++n) {
+    node_tets_cap_[n] = node_tets_count_[n] + kSlack;
+    node_tets_first_[n] = offset;
+    offset += node_tets_cap_[n];
+  }
+  node_tets_.assign(static_cast<size_t>(offset), -1);
+  std::vector<int> fill(node_tets_first_);
   for (size_t t = 0; t < n_tets; ++t)
     for (int n : base_tets_[t]) node_tets_[static_cast<size_t>(fill[static_cast<size_t>(n)]++)] = static_cast<int>(t);
   tet_state_.assign(n_tets, 0);
+  tet_touched_.assign(n_tets, 0);
+  touched_tets_.clear();
+  touched_nodes_.clear();
+  nodes_at_start_ = n_nodes;
+  in_grid_.assign(n_nodes, 1);
   children_.resize(n_tets);
   for (size_t t = 0; t < n_tets; ++t) children_[t] = Child{base_tets_[t], 0, 0};
   child_first_.resize(n_tets);
@@ -96,6 +109,7 @@ void TetCutter::rebuild(TetMesh mesh) {
   steiner_.assign(n_tets, {-1, -1, -1});
   tet_count_ = static_cast<int>(n_tets);
   node_grid_ = VertexGrid(std::max(2.0 * median, 1e-9));
+  node_grid_.reserve(n_nodes + kHeadroomNodes);
   for (size_t n = 0; n < n_nodes; ++n) node_grid_.insert(static_cast<int>(n), rest_m_[n]);
   decided_.assign(n_tets, 0);
   stencil_count_.clear();
@@ -103,8 +117,7 @@ void TetCutter::rebuild(TetMesh mesh) {
   stencil_basis_.clear();
   dirty_.clear();
   reserveHeadroom();
-  changes_.clear();  // the old indices are void
-  ++changes_.rebuilds;
+  changes_.clear();
 }
 
 void TetCutter::recordChanges(bool on) {
@@ -114,12 +127,25 @@ void TetCutter::recordChanges(bool on) {
 }
 
 void TetCutter::reserveHeadroom() {
-  // Room for a long cut's new nodes and children, so that the sim thread does not reallocate (and copy)
-  // these arrays mid-stroke; an incision beyond it still works, with amortised growth.
+  // Room for the new nodes of the cutter's incisions and their children, base tets (a rebase appends a
+  // split tet's pieces), edges and incidence lists, so that the sim thread does not reallocate (and copy)
+  // these arrays; beyond it they still grow (amortised), counted in stats_.reserve_overflows.
   const size_t nodes = rest_m_.size() + kHeadroomNodes, children = children_.size() + 8 * kHeadroomNodes;
-  rest_m_.reserve(nodes);
-  deformed_m_.reserve(nodes);
+  for (auto* v : {&rest_m_, &deformed_m_}) v->reserve(nodes);
   nodes_.reserve(nodes);
+  for (auto* v : {&node_tets_first_, &node_tets_count_, &node_tets_cap_}) v->reserve(nodes);
+  in_grid_.reserve(nodes);
+  node_tets_.reserve(node_tets_.size() + 64 * kHeadroomNodes);
+  const size_t bases = base_tets_.size() + 4 * kHeadroomNodes;
+  base_tets_.reserve(bases);
+  tet_edges_.reserve(bases);
+  for (auto* v : {&tet_state_, &tet_touched_, &child_count_}) v->reserve(bases);
+  for (auto* v : {&decided_, &child_first_}) v->reserve(bases);
+  steiner_.reserve(bases);
+  edges_.reserve(edges_.size() + 8 * kHeadroomNodes);
+  edge_point_.reserve(edges_.size() + 8 * kHeadroomNodes);
+  touched_tets_.reserve(4 * kHeadroomNodes);
+  touched_nodes_.reserve(kHeadroomNodes);
   children_.reserve(children);
   stencil_count_.reserve(kHeadroomNodes);
   stencil_first_.reserve(kHeadroomNodes * 2);
@@ -131,7 +157,15 @@ void TetCutter::reserveHeadroom() {
 }
 
 void TetCutter::startIncision(int incision_number) {
-  if (incision_number_ >= 0) rebuild(view(TetShape::Deformed).mesh);  // the previous wound, settled, is the new rest
+  if (incision_number_ >= 0) {  // the previous wound, settled, is the new rest: the rebase, before any column
+    std::sort(touched_tets_.begin(), touched_tets_.end());
+    rebase_phase_ = Rebase::Tets;
+    rebase_next_ = 0;
+    bases_at_start_ = static_cast<int>(base_tets_.size());
+  }
+  stencil_count_.clear();
+  stencil_first_.clear();
+  stencil_basis_.clear();
   incision_number_ = incision_number;
   const IncisionOptions& o = incision_->options();
   next_column_ = o.order - 1;
@@ -178,6 +212,10 @@ TetStep TetCutter::follow(const Incision& incision, int incision_number, TetBudg
     WorkBudget budget =
         budget_kind == TetBudget::PerCall ? WorkBudget(options_.max_inversions_per_call) : WorkBudget::unlimited();
     last_final_columns_ = incision.finalColumns();
+    if (rebase_phase_ != Rebase::None && !rebase(budget)) {
+      incision_ = nullptr;
+      return step;
+    }
     while (next_column_ < last_final_columns_ && !budget.spent() && !failed_) {
       if (!processColumn(incision, next_column_, budget, step)) break;
       ++next_column_;
@@ -191,7 +229,9 @@ TetStep TetCutter::follow(const Incision& incision, int incision_number, TetBudg
   return step;
 }
 
-bool TetCutter::pending() const noexcept { return !failed_ && next_column_ < last_final_columns_; }
+bool TetCutter::pending() const noexcept {
+  return !failed_ && (rebase_phase_ != Rebase::None || next_column_ < last_final_columns_);
+}
 
 void TetCutter::fail(const std::string& message) {
   failed_ = true;
@@ -214,11 +254,11 @@ bool TetCutter::processColumn(const Incision& in, int column, WorkBudget& budget
   // Then the tets around each fresh node: a tet is decided once, when its last node is known (its other
   // nodes are tried here too; those bound here become fresh in turn).
   for (; next_fresh_ < fresh_.size(); ++next_fresh_, next_fresh_tet_ = -1) {
-    const size_t n = static_cast<size_t>(fresh_[next_fresh_]);
-    if (next_fresh_tet_ < 0) next_fresh_tet_ = node_tets_first_[n];
-    for (; next_fresh_tet_ < node_tets_first_[n + 1]; ++next_fresh_tet_) {
-      const int t = node_tets_[static_cast<size_t>(next_fresh_tet_)];
-      if (decided_[static_cast<size_t>(t)]) continue;
+    const std::span<const int> around = tetsAround(fresh_[next_fresh_]);
+    if (next_fresh_tet_ < 0) next_fresh_tet_ = 0;
+    for (; next_fresh_tet_ < static_cast<int>(around.size()); ++next_fresh_tet_) {
+      const int t = around[static_cast<size_t>(next_fresh_tet_)];
+      if (decided_[static_cast<size_t>(t)] == stats_.incisions) continue;
       bool resolved = true;
       for (const int m : base_tets_[static_cast<size_t>(t)]) {
         const Resolve r = resolveNode(in, m, column, budget, step);
@@ -226,7 +266,7 @@ bool TetCutter::processColumn(const Incision& in, int column, WorkBudget& budget
         resolved = resolved && r == Resolve::Done;
       }
       if (!resolved) continue;
-      decided_[static_cast<size_t>(t)] = 1;
+      decided_[static_cast<size_t>(t)] = stats_.incisions;
       if (decideCut(in, t)) ++step.tets_cut, ++stats_.tets_cut;
     }
   }
@@ -248,7 +288,8 @@ TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column,
   if (d.state == NodeState::Waiting && column < d.retry) return Resolve::Later;
   const Eigen::Vector3d& x = rest_m_[static_cast<size_t>(n)];
   const Eigen::Vector3d guess = in.inversionGuess(x, column);
-  const auto outside = [&] {  // beyond the lattice: the guess tells the side; the node never moves
+  const auto outside = [&] {
+    touchNode(n);  // beyond the lattice: the guess tells the side; the node never moves
     d.state = NodeState::Outside;
     d.uvw = guess;
     // Distance to the cut from Eq. (2): u spans (l - 1) alpha across the lattice.
@@ -260,12 +301,14 @@ TetCutter::Resolve TetCutter::resolveNode(const Incision& in, int n, int column,
   };
   if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0) return outside();
   if (guess[1] >= column + 1.5) {  // a later slab's node: not before that slab's column
+    touchNode(n);
     d.state = NodeState::Waiting;
     d.retry = std::max(column + 1, static_cast<int>(std::floor(guess[1] - 1.5)) + 1);
     return Resolve::Later;
   }
   if (budget.spent()) return Resolve::OutOfBudget;
   budget.take();
+  touchNode(n);
   // As SurfaceCutter::bindVertex: search only where F0 is final, so the result cannot depend on when.
   const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, column + 1.0, 1.0));
   const InversionResult r = invertPoint(in.rest(), x, guess, final_part, InversionOptions{12, 1e-10, 6});
@@ -345,12 +388,9 @@ bool TetCutter::decideCut(const Incision& in, int t) {
     if (edge_point_[static_cast<size_t>(edge)] >= 0) continue;
     edgePoint(edge);
     // Every tet around the edge now has a point on it: it must be subdivided to stay conforming.
-    const int lo = edges_[static_cast<size_t>(edge)][0], hi = edges_[static_cast<size_t>(edge)][1];
-    const auto first = node_tets_.begin();
-    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)],
-                          first + node_tets_first_[static_cast<size_t>(lo) + 1],
-                          first + node_tets_first_[static_cast<size_t>(hi)],
-                          first + node_tets_first_[static_cast<size_t>(hi) + 1], std::back_inserter(affected_));
+    const std::span<const int> lo = tetsAround(edges_[static_cast<size_t>(edge)][0]),
+                               hi = tetsAround(edges_[static_cast<size_t>(edge)][1]);
+    std::set_intersection(lo.begin(), lo.end(), hi.begin(), hi.end(), std::back_inserter(affected_));
   }
   return true;
 }
@@ -371,6 +411,11 @@ int TetCutter::edgePoint(int edge) {
 
 int TetCutter::addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, NodeState state, int side) {
   const int id = static_cast<int>(nodes_.size());
+  countGrowth(nodes_, 1);
+  node_tets_first_.push_back(0);  // no tets yet: a rebase gives it its own list
+  node_tets_count_.push_back(0);
+  node_tets_cap_.push_back(0);
+  in_grid_.push_back(0);
   rest_m_.push_back(rest_m);
   deformed_m_.push_back(rest_m);
   Node d;
@@ -459,8 +504,10 @@ void TetCutter::subdivide(int t, TetStep& step) {
          std::to_string(r.min_volume_m3) + " m^3); the cutter stops");
   int& first = child_first_[static_cast<size_t>(t)];
   const int old_count = child_count_[static_cast<size_t>(t)];
-  if (r.count > old_count)
+  if (r.count > old_count) {
+    countGrowth(children_, static_cast<size_t>(r.count));
     first = static_cast<int>(children_.size()), children_.resize(children_.size() + static_cast<size_t>(r.count));
+  }
   for (int c = 0; c < r.count; ++c) {
     children_[static_cast<size_t>(first + c)] = Child{out[c].nodes, out[c].side, out[c].cut_faces};
     for (const int n : out[c].nodes)

@@ -18,15 +18,13 @@ namespace incise::cutting {
 void TetCutter::supportTets(int x, std::vector<int>& out) const {
   out.clear();
   const Node& d = nodes_[static_cast<size_t>(x)];
-  const auto first = node_tets_.begin();
   if (d.state == NodeState::EdgePoint) {
-    const int lo = edges_[static_cast<size_t>(d.support)][0], hi = edges_[static_cast<size_t>(d.support)][1];
-    std::set_intersection(first + node_tets_first_[static_cast<size_t>(lo)],
-                          first + node_tets_first_[static_cast<size_t>(lo) + 1],
-                          first + node_tets_first_[static_cast<size_t>(hi)],
-                          first + node_tets_first_[static_cast<size_t>(hi) + 1], std::back_inserter(out));
+    const std::span<const int> lo = tetsAround(edges_[static_cast<size_t>(d.support)][0]),
+                               hi = tetsAround(edges_[static_cast<size_t>(d.support)][1]);
+    std::set_intersection(lo.begin(), lo.end(), hi.begin(), hi.end(), std::back_inserter(out));
   } else {
-    out.assign(first + node_tets_first_[static_cast<size_t>(x)], first + node_tets_first_[static_cast<size_t>(x) + 1]);
+    const std::span<const int> around = tetsAround(x);
+    out.assign(around.begin(), around.end());
   }
 }
 

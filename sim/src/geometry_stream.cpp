@@ -17,8 +17,8 @@ namespace {
 // Room beyond the mesh for the elements a few incisions add (the surface cutter reserves 200,000 new
 // vertices per incision, topped up between incisions).
 constexpr std::size_t kHeadroomVertices = 400000, kHeadroomFaces = 800000;
-// The tet cutter's: nodes and base tets a few incisions add (it reserves 20,000 new nodes per incision;
-// a new incision's base tets are the previous mesh's tets).
+// The tet cutter's: nodes and base tets a few incisions add (it reserves 20,000 new nodes for its life, and
+// a new incision appends the previous one's extra pieces as base tets).
 constexpr std::size_t kHeadroomTetNodes = 100000;
 
 }  // namespace
@@ -71,7 +71,6 @@ void GeometryStream::attach(World& world) {
     tets_.present = true;
     tets_.nodes.reserve(static_cast<std::size_t>(tets->nodeCount()) * 3 / 2 + kHeadroomTetNodes);
     tets_.bases.reserve(static_cast<std::size_t>(tets->tetCount()) * 3 / 2 + kHeadroomTetNodes);
-    tets_.rebuilds_seen = tets->changes().rebuilds;
   }
   world.recordMeshChanges(true);
 }
@@ -85,7 +84,6 @@ void GeometryStream::seed(World& world, GeometryMirror& mirror) {
     const auto nodes = static_cast<std::size_t>(tets->nodeCount());
     if (tets_.nodes.flag.size() < nodes) tets_.nodes.reserve(nodes);
     for (std::size_t i = 0; i < nodes; ++i) tets_.nodes.flag[i] |= kSent;
-    tets_.rebuilds_seen = tets->changes().rebuilds;
     tets_.reset_pending = tets_.sweeping = false;
     tets_.swept = true;
   }

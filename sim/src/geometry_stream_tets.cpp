@@ -1,6 +1,7 @@
 // GeometryStream's tet part (geometry_stream.h): the tet cutter's working mesh, nodes and base tets' children,
 // through their own dirty queues and sweep. Thread: the writer (the sim thread). Cost: O(journal entries) to
-// mark, O(budget) to write; a renumbering (a new incision) clears the queues' flags once, O(nodes + tets).
+// mark, O(budget) to write. The tet cutter never renumbers its mesh after load (a new incision's rebase
+// appends base tets and reports the ones it changed), so the reader follows every incision without a reset.
 #include <algorithm>
 
 #include "incise/cutting/tet_cutter.h"
@@ -9,22 +10,10 @@
 
 namespace incise::sim {
 
-void GeometryStream::Dirty::clear() noexcept {
-  std::fill(flag.begin(), flag.end(), std::uint8_t{0});
-  head = count = 0;
-}
-
 void GeometryStream::takeTets(const World& world) noexcept {
   const cutting::TetCutter* cutter = world.tets();
   if (!cutter) return;
   const cutting::TetChanges& changes = cutter->changes();
-  if (changes.rebuilds != tets_.rebuilds_seen) {  // renumbered: every queued index is void; start over
-    tets_.rebuilds_seen = changes.rebuilds;
-    tets_.nodes.clear();
-    tets_.bases.clear();
-    tets_.sweeping = tets_.swept = false;
-    tets_.reset_pending = true;
-  }
   try {
     for (const int n : changes.nodes) tets_.nodes.mark(static_cast<std::size_t>(n), counters_.regrowths);
     for (const int t : changes.base_tets) tets_.bases.mark(static_cast<std::size_t>(t), counters_.regrowths);

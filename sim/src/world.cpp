@@ -287,7 +287,7 @@ cutting::CutStep World::cut(double t_s, cutting::WorkBudget::Clock::time_point d
   }
   refreshProxy();  // again only when an incision began in this frame or PN refinement moved the skin
   if (step.deadline_hit) ++counters_.deadline_stops;
-  counters_.reserve_overflows = cutter_->stats().reserve_overflows;
+  counters_.reserve_overflows = cutter_->stats().reserve_overflows + (tets_ ? tets_->stats().reserve_overflows : 0);
   return step;
 }
 

@@ -16,6 +16,7 @@
 #include "incise/cutting/tetrahedralize.h"
 #include "incise/cutting/vertex_grid.h"
 #include "stroke_fixture.h"
+#include "tet_fixture.h"
 #include "tet_split.h"
 
 namespace incise::cutting {
@@ -185,25 +186,8 @@ TEST_CASE("tet_split: two tets sharing a face triangulate it the same way", "[cu
 // ---------------------------------------------------------------------------------------------------------
 // The bunny's tets cut along a stroke.
 
-struct Tissue {
-  SurfaceMesh surface;
-  TetMesh tets;
-};
-
-// The bunny Loop-subdivided once (the coarse bunny's faces are wider than the lattice), tetrahedralised
-// with tets of at most `max_volume_m3`: 2e-8 gives about 37,000 tets, 1.2e-9 about 238,000.
-const Tissue& bunnyTissue(double max_volume_m3 = 2e-8) {
-  static std::map<double, Tissue> tissues;
-  auto it = tissues.find(max_volume_m3);
-  if (it == tissues.end()) {
-    Tissue t{testing::bunny(1), {}};
-    TetrahedralizeOptions o;
-    o.max_volume_m3 = max_volume_m3;
-    t.tets = tetrahedralize(t.surface, o);
-    it = tissues.emplace(max_volume_m3, std::move(t)).first;
-  }
-  return it->second;
-}
+using testing::bunnyTissue;
+using testing::Tissue;
 
 struct Run {
   SurfaceMesh surface;

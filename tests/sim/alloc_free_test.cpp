@@ -35,8 +35,12 @@ struct AllocatingFrames {
 // The scenario replayed as replay's fast pace does, each frame's allocations counted (frame 0 not).
 // `first_pose_frame`: no pose is fed before that frame (a live device, or a real-time replay whose feeder
 // thread starts late: the first contact query then comes after frame 0).
-AllocatingFrames countFrames(const std::string& name, std::int64_t first_pose_frame = 0) {
+// `trace`: another shipped trace's poses instead of the scenario's own (traces/<trace>.csv).
+AllocatingFrames countFrames(const std::string& name, std::int64_t first_pose_frame = 0,
+                             const std::string& trace = "") {
   auto l = incise::test::loadShipped(name);
+  if (!trace.empty())
+    l.poses = incise::devices::TraceReader::readAll(std::string(INCISE_SCENARIOS_DIR) + "/traces/" + trace + ".csv");
   incise::sim::World& world = *l.world;
   incise::sim::GeometryStream stream;
   incise::sim::GeometryMirror mirror;
@@ -75,9 +79,10 @@ AllocatingFrames countFrames(const std::string& name, std::int64_t first_pose_fr
   return out;
 }
 
-void requireNoAllocation(const std::string& name, int incisions_at_least, std::int64_t first_pose_frame = 0) {
-  const AllocatingFrames f = countFrames(name, first_pose_frame);
-  INFO(name << ": " << f.frames << " frames, " << f.incisions << " incisions; " << f.allocating_frames
+void requireNoAllocation(const std::string& name, int incisions_at_least, std::int64_t first_pose_frame = 0,
+                         const std::string& trace = "") {
+  const AllocatingFrames f = countFrames(name, first_pose_frame, trace);
+  INFO(name << " " << trace << ": " << f.frames << " frames, " << f.incisions << " incisions; " << f.allocating_frames
             << " frames after the first allocated (" << f.allocations << " allocations, " << f.bytes
             << " bytes; the first in frame " << f.first_allocating_frame
             << "). INCISE_ALLOC_TRACE=N prints the first N allocations' stacks.");
@@ -113,6 +118,10 @@ TEST_CASE("alloc: poses that first arrive after frame 0 allocate nothing either"
 
 TEST_CASE("alloc: bunny-tets allocates nothing on the sim thread after its first frame", "[alloc]") {
   requireNoAllocation("bunny-tets", 1);
+}
+
+TEST_CASE("alloc: the tets' second incision (their rebase) allocates nothing either", "[alloc]") {
+  requireNoAllocation("bunny-tets", 2, 0, "bunny-crossing");  // the crossing trace's two strokes
 }
 
 TEST_CASE("alloc: bunny-crossing at 4 kHz allocates nothing on the sim thread after its first frame", "[alloc]") {

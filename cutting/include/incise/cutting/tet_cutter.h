@@ -24,12 +24,21 @@
 // bytes from mesh()) however they are grouped into calls, and whatever the budget.
 //
 // A new incision (a new `incision_number` in follow()) starts from the mesh as the previous one left it
-// (deformed, settled): it becomes the new rest mesh (O(T log T) once, at the new incision's first call).
+// (deformed, settled): it becomes the new rest mesh. Only what the previous incision changed is redone (the
+// "rebase", tet_cutter_rebase.cpp): each base tet it split or relabelled is replaced by its pieces (the
+// first piece keeps the base tet's index, the others are appended in base-tet order), their edges and the
+// node -> tet incidence are updated, its nodes' rest positions become their deformed ones (moved in the
+// node grid) and their per-incision state is cleared. O(changed tets + changed nodes), under the call's
+// budget (tet_cutter_rebase.cpp: a few items per inversion's worth), before the new incision's first column:
+// nothing on the owner's thread is O(mesh) after load (issue 17). The result is the mesh a new TetCutter
+// built from that settled mesh in that order would hold (tests/cutting/tet_cutter_rebase_test.cpp), except
+// that the tets' lag behind the lattice (about two tet edges) uses the median edge measured at load.
 //
 // Threads: one owner (the sim thread). Cost per column: O(tets under `order` columns) plus one inversion
 // per new node; per call with no new column: O(columns) + O(nodes under columns whose opening changed).
-// Allocation: none per call within the headroom reserved at load and at each new incision (20,000 new
-// nodes); beyond it, amortised growth. A new incision rebuilds the adjacency (O(T log T), allocates).
+// Allocation: none per call within the headroom reserved at load (kHeadroomNodes new nodes, and their tets,
+// edges and incidence, over the cutter's life); beyond it, amortised growth, counted in
+// stats().reserve_overflows.
 // Failure: the constructor throws MeshError for a mesh that is not conforming and std::invalid_argument
 // for bad options; follow() never throws: a split that would leave a flat or inverted tet stops the cutter
 // with `failure` set in stats() (the mesh stays as the last finished column left it).
@@ -74,12 +83,11 @@ struct TetChild {
 
 // The tet cutter's change journal, for a reader that follows the working mesh (sim's GeometryStream):
 // nodes whose deformed position changed or that are new, base tets whose children changed (each index as
-// often as it changed, oldest first). `rebuilds` counts the renumberings (a new incision makes the settled
-// mesh the new base: every index before it is void, the reader starts over).
+// often as it changed, oldest first; a new incision's rebase reports the base tets it replaced and those it
+// appended). Indices are never renumbered: a reader that has followed the journal stays exact.
 struct TetChanges {
   std::vector<int> nodes;
   std::vector<int> base_tets;
-  int rebuilds = 0;
   void clear() noexcept { nodes.clear(), base_tets.clear(); }
 };
 
@@ -100,14 +108,14 @@ class TetCutter {
   // a new number starts a new one from the current mesh. Never throws.
   TetStep follow(const Incision& incision, int incision_number, TetBudget budget = TetBudget::PerCall) noexcept;
 
-  // Final columns of the followed incision not yet cut (budget carried over).
+  // Work for the followed incision not done yet (budget carried over): the rebase, or final columns not cut.
   bool pending() const noexcept;
   // The current mesh, compacted (unused nodes dropped, nodes in creation order, tets in original-parent
   // order): deformed or at rest. Allocates, O(N + T): for output and checks, not per frame.
   TetView view(TetShape shape = TetShape::Deformed) const;
   const TetCutStats& stats() const noexcept { return stats_; }
   double snapToleranceM() const noexcept { return snap_m_; }
-  double medianEdgeM() const noexcept { return median_edge_m_; }  // of the tets it was built with
+  double medianEdgeM() const noexcept { return median_edge_m_; }  // of the tets it was built with (at load)
   // Tets in the current mesh (O(1)).
   int tetCount() const noexcept { return tet_count_; }
 
@@ -128,6 +136,12 @@ class TetCutter {
   const TetChanges& changes() const noexcept { return changes_; }
   void clearChanges() noexcept { changes_.clear(); }
   static constexpr size_t kReservedChanges = 1 << 16;
+  // The cutter's indexes checked against its base tets (for tests and debugging; O(N log N + T), allocates):
+  // the node grid holds exactly the nodes some base tet uses, at their rest positions; each node's tet list
+  // is ascending and holds exactly the base tets that use it; every base tet's edges are numbered with
+  // their nodes, one number per edge. They hold between follow() calls, except while a rebase is under way.
+  // Empty when all hold, else the first problem found.
+  std::string checkIndexes() const;
 
  private:
   enum class NodeState : std::uint8_t { Unknown, Waiting, Bound, Outside, EdgePoint, Copy, Steiner };
@@ -143,13 +157,37 @@ class TetCutter {
     int support = -1;        // for an edge point: its base edge
     int stencil = -1;
     std::uint32_t stamp = 0;
+    bool touched = false;  // in touched_nodes_
   };
 
   void rebuild(TetMesh mesh);
   void reserveHeadroom();
-  static constexpr size_t kHeadroomNodes = 20000;    // new nodes an incision may add without reallocation
+  // New nodes the cutter's incisions may add, over its life, without reallocation (an incision through the
+  // 292k-tet bunny adds about 500), with room for 4 new base tets and 8 children each.
+  static constexpr size_t kHeadroomNodes = 20000;
   static constexpr size_t kReservedCellNodes = 256;  // nodes with a stencil per lattice cell, reserved
   void startIncision(int incision_number);
+  // The rebase (tet_cutter_rebase.cpp): phases in order, each resumable at rebase_next_.
+  enum class Rebase : std::uint8_t { None, Tets, Edges, Nodes };
+  // Items per budget unit (one inversion, about 2 us): tets replaced, tets' edges numbered, nodes rebased.
+  static constexpr size_t kRebaseTetsPerUnit = 2, kRebaseEdgesPerUnit = 4, kRebaseNodesPerUnit = 8;
+  bool rebase(WorkBudget& budget);  // true when done
+  void rebaseTet(int t);
+  void rebaseEdges(int t);
+  int findEdge(int t, int a, int b) const;
+  void rebaseNode(int n);
+  int appendBaseTet();
+  std::span<const int> tetsAround(int node) const noexcept {
+    return {node_tets_.data() + node_tets_first_[static_cast<size_t>(node)],
+            static_cast<size_t>(node_tets_count_[static_cast<size_t>(node)])};
+  }
+  void addIncidence(int node, int tet);
+  void removeIncidence(int node, int tet);
+  void touchNode(int node);
+  template <class Vector>
+  void countGrowth(const Vector& v, size_t extra) noexcept {
+    if (v.size() + extra > v.capacity()) ++stats_.reserve_overflows;
+  }
   bool processColumn(const Incision& in, int column, WorkBudget& budget, TetStep& step);
   enum class Resolve : std::uint8_t { Done, Later, OutOfBudget };
   Resolve resolveNode(const Incision& in, int node, int column, WorkBudget& budget, TetStep& step);
@@ -189,12 +227,22 @@ class TetCutter {
   // The rest mesh of the current incision ("base"), its edges and node -> tet incidence.
   std::vector<std::array<int, 4>> base_tets_;
   std::vector<std::array<int, 6>> tet_edges_;
-  std::vector<std::array<int, 2>> edges_;
+  std::vector<std::array<int, 2>> edges_;  // (lower node, higher node); edges of replaced tets stay, unused
   std::vector<int> edge_point_;
-  std::vector<int> node_tets_first_, node_tets_;
+  // Node -> base tets, ascending: node n's are node_tets_[first[n], + count[n]), with room for cap[n]; a
+  // list that outgrows its room moves to the pool's end (tetsAround()).
+  std::vector<int> node_tets_first_, node_tets_count_, node_tets_cap_, node_tets_;
   std::vector<std::uint8_t> tet_state_;  // 0 untouched, 1 subdivided conformingly, 2 cut
-  std::vector<std::uint8_t> decided_;    // whether the tet's cut decision has been made
-  VertexGrid node_grid_;                 // base nodes at rest
+  std::vector<int> decided_;             // the stats_.incisions whose cut decision was made for the tet
+  VertexGrid node_grid_;                 // used nodes at rest (in_grid_)
+  std::vector<std::uint8_t> in_grid_;
+  // What the current incision changed, for the next one's rebase: base tets (flag, list) and nodes that
+  // were not new (Node::touched, list); the new ones are those from nodes_at_start_ on.
+  std::vector<std::uint8_t> tet_touched_;
+  std::vector<int> touched_tets_, touched_nodes_;
+  size_t nodes_at_start_ = 0, rebase_next_ = 0;
+  int bases_at_start_ = 0;
+  Rebase rebase_phase_ = Rebase::None;
 
   // Every node (base nodes first) and the current children of every base tet.
   std::vector<Eigen::Vector3d> rest_m_, deformed_m_;
@@ -220,6 +268,10 @@ class TetCutter {
     if (record_changes_) changes_.nodes.push_back(node);
   }
   void baseTetChanged(int base_tet) {
+    if (!tet_touched_[static_cast<size_t>(base_tet)]) {
+      tet_touched_[static_cast<size_t>(base_tet)] = 1;
+      touched_tets_.push_back(base_tet);
+    }
     if (record_changes_) changes_.base_tets.push_back(base_tet);
   }
 };

@@ -33,11 +33,13 @@ struct TetStep {
 struct TetCutStats {
   int incisions = 0;
   int tets_cut = 0;
-  int edge_points = 0;       // points placed on crossing edges
-  int snapped_nodes = 0;     // nodes put on the cut by the snap tolerance
-  int steiner_nodes = 0;     // points added inside pieces that could not be coned from a vertex
-  int duplicated_nodes = 0;  // nodes on the cut that have a copy for the u >= 1/2 side
-  std::string failure;       // empty unless the cutter stopped
+  int edge_points = 0;        // points placed on crossing edges
+  int snapped_nodes = 0;      // nodes put on the cut by the snap tolerance
+  int steiner_nodes = 0;      // points added inside pieces that could not be coned from a vertex
+  int duplicated_nodes = 0;   // nodes on the cut that have a copy for the u >= 1/2 side
+  int rebased_tets = 0;       // base tets a new incision replaced by the previous one's pieces (the rebase)
+  int reserve_overflows = 0;  // arrays grown past the room reserved at load (each an allocation in follow())
+  std::string failure;        // empty unless the cutter stopped
 };
 
 }  // namespace incise::cutting

@@ -35,8 +35,8 @@
 // slot 0 first, once the reader has their nodes), from the tet cutter's journal (cutting::TetChanges)
 // through two more dirty queues, within the same per-frame budget (a third of it while the surface has
 // work waiting, and what the surface leaves). A TetReset record (the node and base-tet counts) starts a
-// sweep of the tet part alone: after every Reset, and whenever the tet cutter renumbers its mesh (a new
-// incision makes the settled mesh the new base). Frame flags kFrameTetsComplete / kFrameTetsExact say the
+// sweep of the tet part alone, after every Reset (the tet cutter never renumbers its mesh after load: a
+// new incision's rebase only appends base tets and reports what it changed). Frame flags kFrameTetsComplete / kFrameTetsExact say the
 // same of the tet part as kFrameComplete / kFrameExact of the surface.
 //
 // Shapes: indices are OpenMesh handle indices of the tissue (vertices are never deleted; a deleted face
@@ -170,7 +170,6 @@ class GeometryStream {
     void mark(std::size_t index, std::int64_t& regrowths);
     std::uint32_t pop() noexcept;
     bool empty() const noexcept { return count == 0; }
-    void clear() noexcept;  // forget the queue and every flag (O(elements))
   };
   void take(World& world) noexcept;
   int write(World& world, std::int64_t frame, std::size_t room) noexcept;
@@ -206,7 +205,6 @@ class GeometryStream {
   struct TetPart {         // the tet part's queues and sweep (kSent in nodes.flag: nodes the reader has)
     bool present = false;  // the world has a tet tissue
     Dirty nodes, bases;
-    int rebuilds_seen = 0;
     bool reset_pending = false, sweeping = false, swept = false;
     std::uint32_t sweep_node = 0, sweep_base = 0, sweep_nodes = 0, sweep_bases = 0;
   } tets_;

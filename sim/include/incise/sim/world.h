@@ -123,8 +123,9 @@ struct WorldCounters {
   std::int64_t catch_ups = 0;         // cut phases that did it at once (the queue over half full)
   std::int64_t poses_overflowed = 0;  // poses rejected because the queue was full
   int queue_peak = 0;                 // the most poses queued at the start of a cut phase
-  // Arrays the surface cutter grew past the room reserved at load (incision.reserve_vertices): each an
-  // allocation on the sim thread (0 in every shipped scenario: tests/sim/alloc_free_test.cpp).
+  // Arrays the surface cutter (incision.reserve_vertices) or the tet cutter (TetCutter::kHeadroomNodes) grew
+  // past the room reserved at load: each an allocation on the sim thread (0 in every shipped scenario:
+  // tests/sim/alloc_free_test.cpp).
   std::int64_t reserve_overflows = 0;
   // Cut phases whose budgeted work stopped at their deadline (real time only: World::cut's `deadline`).
   std::int64_t deadline_stops = 0;
