@@ -69,23 +69,6 @@ SurfaceCutter::SurfaceCutter(SurfaceMesh& mesh, const CutterOptions& options)
   reserveIncisionArrays();
 }
 
-void SurfaceCutter::reserveHeadroom() {
-  // Growing OpenMesh's arrays mid-stroke copies every vertex and face (tens of ms on a 1M-triangle mesh):
-  // keep room for a long cut's new elements, topped up between incisions, never during one.
-  TriMesh& m = mesh_.mesh();
-  if (m.n_vertices() + kHeadroomVertices / 2 <= reserved_vertices_) return;  // room left: no copy
-  if (reserved_vertices_ > 0) ++stats_.reserve_overflows;                    // a top-up after load
-  reserved_vertices_ = kHeadroomVertices + m.n_vertices();
-  m.reserve(reserved_vertices_, m.n_edges() + 3 * kHeadroomVertices, m.n_faces() + 2 * kHeadroomVertices);
-  // The grids likewise: the new vertices' entries, and the cells vertices move into.
-  grid_.reserve(kHeadroomVertices);
-  coarse_grid_.reserve(kHeadroomVertices);
-  // The contact queries' per-face stamps (queryRest) for the faces reserved: else the first query of the
-  // sim thread sizes them, in whichever frame the first pose arrives.
-  const std::size_t faces = m.n_faces() + 2 * kHeadroomVertices;
-  if (face_stamp_.size() < faces) face_stamp_.resize(faces, 0u);
-}
-
 void SurfaceCutter::recordChanges(bool on) {
   record_changes_ = on;
   changes_.clear();
@@ -152,15 +135,16 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
     return refused;
   }
   reserveHeadroom();
-  // The previous incision's vertices have moved: the grid indexes where they are now.
-  if (had_previous) {
-    for (const VH v : all_bound_) grid_.move(v.idx(), data(v).rest_m, toEigen(mesh_.mesh().point(v)));
+  if (had_previous) {  // what prepareBegin() has not done of the previous incision's re-indexing
+    WorkBudget all = WorkBudget::unlimited();
+    try {
+      reindexStep(all);
+    } catch (const std::exception& e) {  // an entry not in the grid: a broken invariant
+      fail(std::string("SurfaceCutter::begin: ") + e.what());
+    }
   }
   incision_ = std::move(incision);
   ++incision_index_;
-  // The previous incision's vertices are at rest where it left them now: their edges' lengths changed.
-  if (options_.refine != CutterOptions::Refine::Off)
-    for (const VH v : all_bound_) updateCoarseAround(v);
   ++stats_.incisions;
   stats_.figures.push_back({});
   last_accepted_m_ = first.point_m;
@@ -175,6 +159,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   cell_next_.clear();
   cell_vertex_.clear();
   all_bound_.clear();
+  reindexed_moves_ = reindexed_coarse_ = 0;
   seam_created_.clear();
   chain_.reset(4 * static_cast<std::size_t>(options_.incision.max_columns));
   wall_columns_used_ = 0;

@@ -187,11 +187,12 @@ void SurfaceCutter::initCoarse() {
   }
 }
 
-void SurfaceCutter::updateCoarse(VH v) {
+void SurfaceCutter::updateCoarse(VH v, bool current) {
   TriMesh& m = mesh_.mesh();
+  const auto at_rest = [&](VH u) { return current ? toEigen(m.point(u)) : restPosition(u); };
   double longest_m = 0.0;
-  const Eigen::Vector3d p = restPosition(v);
-  for (auto n = m.cvv_iter(v); n.is_valid(); ++n) longest_m = std::max(longest_m, (restPosition(*n) - p).norm());
+  const Eigen::Vector3d p = at_rest(v);
+  for (auto n = m.cvv_iter(v); n.is_valid(); ++n) longest_m = std::max(longest_m, (at_rest(*n) - p).norm());
   const std::uint8_t coarse = longest_m > refine_edge_m_;
   m.property(coarse_reach_, v) = longest_m;
   std::uint8_t& flag = m.property(coarse_, v);
@@ -209,9 +210,9 @@ void SurfaceCutter::updateCoarse(VH v) {
   flag = coarse;
 }
 
-void SurfaceCutter::updateCoarseAround(VH v) {
-  updateCoarse(v);
-  for (auto n = mesh_.mesh().cvv_iter(v); n.is_valid(); ++n) updateCoarse(*n);
+void SurfaceCutter::updateCoarseAround(VH v, bool current) {
+  updateCoarse(v, current);
+  for (auto n = mesh_.mesh().cvv_iter(v); n.is_valid(); ++n) updateCoarse(*n, current);
 }
 
 bool SurfaceCutter::beginRefine(int column) {

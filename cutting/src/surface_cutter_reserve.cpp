@@ -2,9 +2,11 @@
 // sim thread allocates nothing after its first frame): the arrays an incision fills, sized for
 // CutterOptions::reserved_bound_vertices; the seam's chain, grown at both ends in one buffer; the bound
 // vertices' lattice cells, a list per cell through one pool, with their counts (what redeform() will move,
-// for the budget). The incision's steps are in surface_cutter.cpp.
+// for the budget); the mesh's headroom, topped up between incisions; and the settled incision's vertices
+// re-indexed for the next one (prepareBegin, in budgeted steps). The incision's steps are in surface_cutter.cpp.
 #include <algorithm>
 #include <cstddef>
+#include <exception>
 #include <utility>
 #include <vector>
 
@@ -100,6 +102,57 @@ int SurfaceCutter::redeformMoves() const noexcept {
     next_cell = std::max(next_cell, column + order);
   }
   return moves;
+}
+
+void SurfaceCutter::reserveHeadroom() {
+  // Growing OpenMesh's arrays mid-stroke copies every vertex and face (tens of ms on a 1M-triangle mesh):
+  // keep room for a long cut's new elements, topped up between incisions, never during one.
+  TriMesh& m = mesh_.mesh();
+  if (m.n_vertices() + kHeadroomVertices / 2 <= reserved_vertices_) return;  // room left: no copy
+  if (reserved_vertices_ > 0) ++stats_.reserve_overflows;                    // a top-up after load
+  reserved_vertices_ = kHeadroomVertices + m.n_vertices();
+  m.reserve(reserved_vertices_, m.n_edges() + 3 * kHeadroomVertices, m.n_faces() + 2 * kHeadroomVertices);
+  // The grids likewise: the new vertices' entries, and the cells vertices move into.
+  grid_.reserve(kHeadroomVertices);
+  coarse_grid_.reserve(kHeadroomVertices);
+  // The contact queries' per-face stamps (queryRest) for the faces reserved: else the first query of the
+  // sim thread sizes them, in whichever frame the first pose arrives.
+  const std::size_t faces = m.n_faces() + 2 * kHeadroomVertices;
+  if (face_stamp_.size() < faces) face_stamp_.resize(faces, 0u);
+}
+
+bool SurfaceCutter::prepareBegin(bool unlimited) noexcept {
+  if (!settleStep(unlimited)) return false;
+  if (!incision_ || failed_) return true;
+  WorkBudget budget = unlimited ? WorkBudget::unlimited() : WorkBudget(options_.max_inversions_per_call, deadline_);
+  try {
+    return reindexStep(budget);
+  } catch (const std::exception&) {  // an entry not in the grid: a broken invariant; begin() reports it
+    return true;
+  }
+}
+
+// The settled incision's vertices have moved: the grid indexes them where they are now, then (with
+// refinement) their and their neighbours' coarse flags follow their edges' new lengths. Resumable.
+bool SurfaceCutter::reindexStep(WorkBudget& budget) {
+  const TriMesh& m = mesh_.mesh();
+  for (; reindexed_moves_ < all_bound_.size(); ++reindexed_moves_) {
+    if (reindexed_moves_ % kReindexMovesPerUnit == 0) {
+      if (budget.spent()) return false;
+      budget.take();
+    }
+    const TriMesh::VertexHandle v = all_bound_[reindexed_moves_];
+    grid_.move(v.idx(), data(v).rest_m, toEigen(m.point(v)));
+  }
+  if (options_.refine == CutterOptions::Refine::Off) return true;
+  for (; reindexed_coarse_ < all_bound_.size(); ++reindexed_coarse_) {
+    if (reindexed_coarse_ % kReindexCoarsePerUnit == 0) {
+      if (budget.spent()) return false;
+      budget.take();
+    }
+    updateCoarseAround(all_bound_[reindexed_coarse_], true);
+  }
+  return true;
 }
 
 }  // namespace incise::cutting

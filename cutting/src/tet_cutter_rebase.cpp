@@ -117,8 +117,7 @@ int TetCutter::findEdge(int t, int a, int b) const {
       const auto& nodes = base_tets_[static_cast<size_t>(s)];
       for (int e = 0; e < 6; ++e) {
         const int x = nodes[detail::kTetEdges[e][0]], y = nodes[detail::kTetEdges[e][1]];
-        if ((x == a && y == b) || (x == b && y == a))
-          return tet_edges_[static_cast<size_t>(s)][static_cast<size_t>(e)];
+        if ((x == a && y == b) || (x == b && y == a)) return tet_edges_[static_cast<size_t>(s)][static_cast<size_t>(e)];
       }
     }
   }

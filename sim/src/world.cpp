@@ -223,7 +223,7 @@ void World::cutPose(const devices::PoseSample& pose) noexcept {
 bool World::readyToBegin(bool at_once) noexcept {
   // The previous incision's work in the order begin() did it at once: the surface cut and settled, then
   // the tets caught up with it (a follow after the settle, so they see its final opening).
-  if (!surface_settled_) surface_settled_ = cutter_->settleStep(at_once);
+  if (!surface_settled_) surface_settled_ = cutter_->prepareBegin(at_once);
   if (!surface_settled_) return false;
   if (tets_) {
     followTets(at_once ? cutting::TetBudget::All : cutting::TetBudget::PerCall);

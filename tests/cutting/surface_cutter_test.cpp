@@ -385,6 +385,40 @@ TEST_CASE("surface_cutter: a work budget per call changes when the cut appears, 
   REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
 }
 
+// Issue 17: what begin() did at once with the settled incision's vertices (the grid moves and, with
+// refinement, their coarse flags: O(its bound vertices), up to 1 ms in a frame) prepareBegin() does in
+// budgeted calls first; the next incision cuts the same bytes as when begin() does it all.
+TEST_CASE("surface_cutter: prepareBegin re-indexes the settled incision in budgeted calls, the same bytes",
+          "[cutting]") {
+  const auto refine = GENERATE(CutterOptions::Refine::Off, CutterOptions::Refine::Linear);
+  SurfaceMesh direct_mesh = bunny(2), prepared_mesh = direct_mesh;
+  CutterOptions options = optionsFor(2);
+  options.refine = refine;
+  options.max_inversions_per_call = 1;
+  SurfaceCutter direct(direct_mesh, options), prepared(prepared_mesh, options);
+  const Stroke first = backStroke(direct_mesh, 0.03);
+  const Stroke across =
+      backStroke(direct_mesh, 0.02, 0.0, Eigen::Vector3d(0.0, 0.0, 0.005), Eigen::Vector3d::UnitZ(), 2.0);
+  for (SurfaceCutter* c : {&direct, &prepared}) {
+    c->begin(first.first, first.blade_direction);
+    c->extend(first.samples);
+    c->finish(FinishWork::Later);
+  }
+  int settle_calls = 0, reindex_calls = 0;
+  while (!prepared.settleStep() && settle_calls < 100000) ++settle_calls;
+  while (!prepared.prepareBegin() && reindex_calls < 100000) ++reindex_calls;
+  INFO(settle_calls << " settle calls, " << reindex_calls << " re-index calls");
+  CHECK(reindex_calls > 20);  // hundreds of bound vertices, 8 grid moves (or 4 vertices' flags) a call
+  for (SurfaceCutter* c : {&direct, &prepared}) {
+    c->begin(across.first, across.blade_direction);  // direct: settles and re-indexes here, at once
+    c->extend(across.samples);
+    c->settle();
+  }
+  REQUIRE(direct.stats().incisions == 2);
+  REQUIRE(direct.stats().vertices_duplicated > prepared.stats().vertices_duplicated / 2);
+  REQUIRE(objBytes(direct_mesh, "direct") == objBytes(prepared_mesh, "prepared"));
+}
+
 // Issue 17: a column's grid query is charged to the budget (one unit per 64 vertices found), so a call that
 // starts a column does not also bind a budget's worth of vertices; and so are its crossings' split (one unit
 // per 16 vertices bound in it). With one unit a call, a call that starts a column binds none, a call that

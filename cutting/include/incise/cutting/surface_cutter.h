@@ -82,6 +82,15 @@ class SurfaceCutter {
   // with no incision. A follower (TetCutter) catches up after it returns true, and begin() comes after that.
   // Never throws.
   bool settleStep(bool unlimited = false) noexcept;
+  // All begin() needs done before it, a call's share at a time: settleStep(unlimited), then the settled
+  // incision's vertices indexed where they now are, as the next incision's rest (the vertex grid, and with
+  // refinement the coarse flags around them: O(its bound vertices), 0.2-0.7 us each, one budget unit per
+  // kReindexMovesPerUnit grid moves or kReindexCoarsePerUnit vertices' flags). True when begin() has none of
+  // it left to do; begin() does what is left at once. The mesh is the same however the work falls into
+  // calls. Until begin(), only skinNear() should query the cutter (the grid already holds the vertices where
+  // they are; intersect() would still take their previous rest), and the settled incision must not be
+  // advanced. A sim thread's World calls it while a new incision waits. Never throws.
+  bool prepareBegin(bool unlimited = false) noexcept;
   // Adds stroke samples to the current incision and processes every column they make final (within the
   // per-call budget). A sample off the surface finishes the incision. Never throws.
   CutStep extend(const StrokeSample& sample) noexcept;
@@ -220,8 +229,13 @@ class SurfaceCutter {
   // faces (false: none), continueRefine bisects them within the budget (false: spent, resume next call).
   bool beginRefine(int column);
   bool continueRefine(WorkBudget& budget, CutStep& step);
-  void updateCoarse(TriMesh::VertexHandle v);        // recomputes v's coarse flag (an edge longer than the limit)
-  void updateCoarseAround(TriMesh::VertexHandle v);  // v's and its neighbours'
+  // Recomputes v's coarse flag (an edge longer than the limit) from its and its neighbours' rest positions, or
+  // with `current`, from where they are now (the next incision's rest, before begin() makes it so).
+  void updateCoarse(TriMesh::VertexHandle v, bool current = false);
+  void updateCoarseAround(TriMesh::VertexHandle v, bool current = false);  // v's and its neighbours'
+  bool reindexStep(WorkBudget& budget);  // prepareBegin()'s second part; true when done
+  static constexpr size_t kReindexMovesPerUnit = 8, kReindexCoarsePerUnit = 4;
+  size_t reindexed_moves_ = 0, reindexed_coarse_ = 0;  // of all_bound_, by reindexStep
   void initCoarse();
   bool refinable(TriMesh::FaceHandle f, const Eigen::AlignedBox3d& box) const;
   TriMesh::HalfedgeHandle longestHalfedge(TriMesh::FaceHandle f) const;
