@@ -137,19 +137,13 @@ bool SurfaceCutter::prepareBegin(bool unlimited) noexcept {
 bool SurfaceCutter::reindexStep(WorkBudget& budget) {
   const TriMesh& m = mesh_.mesh();
   for (; reindexed_moves_ < all_bound_.size(); ++reindexed_moves_) {
-    if (reindexed_moves_ % kReindexMovesPerUnit == 0) {
-      if (budget.spent()) return false;
-      budget.take();
-    }
+    if (!budget.takeEvery(reindexed_moves_, kReindexMovesPerUnit)) return false;
     const TriMesh::VertexHandle v = all_bound_[reindexed_moves_];
     grid_.move(v.idx(), data(v).rest_m, toEigen(m.point(v)));
   }
   if (options_.refine == CutterOptions::Refine::Off) return true;
   for (; reindexed_coarse_ < all_bound_.size(); ++reindexed_coarse_) {
-    if (reindexed_coarse_ % kReindexCoarsePerUnit == 0) {
-      if (budget.spent()) return false;
-      budget.take();
-    }
+    if (!budget.takeEvery(reindexed_coarse_, kReindexCoarsePerUnit)) return false;
     updateCoarseAround(all_bound_[reindexed_coarse_], true);
   }
   return true;

@@ -44,10 +44,10 @@ TetCutter::TetCutter(TetMesh tissue, const TetCutterOptions& options) : options_
   if (!check.conforming) throw MeshError("TetCutter: the tissue is not conforming: " + check.first_problem);
   const double median = medianEdgeLength(tissue);
   snap_m_ = options.snap_tolerance_m > 0.0 ? options.snap_tolerance_m : 0.2 * median;
-  rebuild(std::move(tissue));
+  build(std::move(tissue));
 }
 
-void TetCutter::rebuild(TetMesh mesh) {
+void TetCutter::build(TetMesh mesh) {
   const size_t n_nodes = mesh.nodes_m.size(), n_tets = mesh.tets.size();
   const double median = medianEdgeLength(mesh);
   median_edge_m_ = median;

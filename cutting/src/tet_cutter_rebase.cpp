@@ -158,16 +158,10 @@ void TetCutter::rebaseNode(int n) {
 }
 
 bool TetCutter::rebase(WorkBudget& budget) {
-  const auto afford = [&](size_t done, size_t per_unit) {  // one unit per `per_unit` items
-    if (done % per_unit != 0) return true;
-    if (budget.spent()) return false;
-    budget.take();
-    return true;
-  };
   const size_t touched = touched_tets_.size();
   if (rebase_phase_ == Rebase::Tets) {
     for (; rebase_next_ < touched; ++rebase_next_) {
-      if (!afford(rebase_next_, kRebaseTetsPerUnit)) return false;
+      if (!budget.takeEvery(rebase_next_, kRebaseTetsPerUnit)) return false;
       rebaseTet(touched_tets_[rebase_next_]);
     }
     rebase_phase_ = Rebase::Edges, rebase_next_ = 0;
@@ -175,7 +169,7 @@ bool TetCutter::rebase(WorkBudget& budget) {
   if (rebase_phase_ == Rebase::Edges) {  // the replaced tets, then the appended ones
     const size_t appended = base_tets_.size() - static_cast<size_t>(bases_at_start_);
     for (; rebase_next_ < touched + appended; ++rebase_next_) {
-      if (!afford(rebase_next_, kRebaseEdgesPerUnit)) return false;
+      if (!budget.takeEvery(rebase_next_, kRebaseEdgesPerUnit)) return false;
       rebaseEdges(rebase_next_ < touched ? touched_tets_[rebase_next_]
                                          : bases_at_start_ + static_cast<int>(rebase_next_ - touched));
     }
@@ -183,7 +177,7 @@ bool TetCutter::rebase(WorkBudget& budget) {
   }
   const size_t fresh = nodes_.size() - nodes_at_start_, old = touched_nodes_.size();
   for (; rebase_next_ < old + fresh; ++rebase_next_) {
-    if (!afford(rebase_next_, kRebaseNodesPerUnit)) return false;
+    if (!budget.takeEvery(rebase_next_, kRebaseNodesPerUnit)) return false;
     rebaseNode(rebase_next_ < old ? touched_nodes_[rebase_next_]
                                   : static_cast<int>(nodes_at_start_ + (rebase_next_ - old)));
   }

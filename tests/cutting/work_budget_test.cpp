@@ -63,3 +63,14 @@ TEST_CASE("work_budget: a step is afforded when enough is left, or when nothing 
   CHECK(b.affords(3));
   CHECK_FALSE(b.affords(4));
 }
+
+TEST_CASE("work_budget: work counted in items takes one unit per so many items", "[cutting]") {
+  WorkBudget b(2);
+  size_t item = 0;
+  while (b.takeEvery(item, 4)) ++item;
+  CHECK(item == 8);  // items 0-3 on the first unit, 4-7 on the second; item 8 needs a third
+  CHECK(b.spent());
+  CHECK(b.remaining() == 0);
+  WorkBudget all = WorkBudget::unlimited();
+  for (size_t i = 0; i < 1000; ++i) REQUIRE(all.takeEvery(i, 3));
+}

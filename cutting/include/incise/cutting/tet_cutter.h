@@ -110,8 +110,8 @@ class TetCutter {
 
   // Work for the followed incision not done yet (budget carried over): the rebase, or final columns not cut.
   bool pending() const noexcept;
-  // The current mesh, compacted (unused nodes dropped, nodes in creation order, tets in original-parent
-  // order): deformed or at rest. Allocates, O(N + T): for output and checks, not per frame.
+  // The current mesh, compacted (unused nodes dropped, nodes in creation order, tets in base-tet order, each
+  // base tet's children together; after a rebase the extra pieces come last): deformed or at rest. Allocates, O(N + T): for output and checks, not per frame.
   TetView view(TetShape shape = TetShape::Deformed) const;
   const TetCutStats& stats() const noexcept { return stats_; }
   double snapToleranceM() const noexcept { return snap_m_; }
@@ -160,7 +160,7 @@ class TetCutter {
     bool touched = false;  // in touched_nodes_
   };
 
-  void rebuild(TetMesh mesh);
+  void build(TetMesh mesh);  // load time: the base, its edges, incidence and grid
   void reserveHeadroom();
   // New nodes the cutter's incisions may add, over its life, without reallocation (an incision through the
   // 292k-tet bunny adds about 500), with room for 4 new base tets and 8 children each.

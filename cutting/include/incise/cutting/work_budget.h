@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <climits>
+#include <cstddef>
 
 namespace incise::cutting {
 
@@ -49,6 +50,14 @@ class WorkBudget {
   // Whether a step of `units` should start in this call: enough is left, or nothing was done yet (so a step
   // larger than a whole budget still runs, alone in its call).
   bool affords(int units) const noexcept { return untouched() || units_ >= units; }
+  // For work counted in items, one unit per `per_unit` of them: at every per_unit-th item (0, per_unit, ...)
+  // takes a unit, or returns false when the budget is spent (stop before item `item`, resume there).
+  bool takeEvery(std::size_t item, std::size_t per_unit) noexcept {
+    if (item % per_unit != 0) return true;
+    if (spent()) return false;
+    take();
+    return true;
+  }
   // True when the deadline, not the units, ended this budget.
   bool deadlineHit() const noexcept { return deadline_hit_; }
 

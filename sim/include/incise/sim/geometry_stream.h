@@ -36,8 +36,9 @@
 // through two more dirty queues, within the same per-frame budget (a third of it while the surface has
 // work waiting, and what the surface leaves). A TetReset record (the node and base-tet counts) starts a
 // sweep of the tet part alone, after every Reset (the tet cutter never renumbers its mesh after load: a
-// new incision's rebase only appends base tets and reports what it changed). Frame flags kFrameTetsComplete / kFrameTetsExact say the
-// same of the tet part as kFrameComplete / kFrameExact of the surface.
+// new incision's rebase only appends base tets and reports what it changed). Frame flags
+// kFrameTetsComplete / kFrameTetsExact say the same of the tet part as kFrameComplete / kFrameExact of the
+// surface.
 //
 // Shapes: indices are OpenMesh handle indices of the tissue (vertices are never deleted; a deleted face
 // keeps its index, kind kDeletedFace). Units: metres. Threads: attach(), publish() and flush() from the

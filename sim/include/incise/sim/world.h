@@ -18,8 +18,8 @@
 //                            open groove is in its air and starts a new incision at the far lip); a pose in
 //                            contact with the cut button held is a stroke sample (entry point, normal, time).
 //                            A pose that starts an incision while the previous one still has work (columns
-//                            not cut, the wound not settled or not re-indexed, the tets behind) waits, with every pose after
-//                            it, while that work is done within this and later frames' budgets, and begins
+//                            not cut, the wound not settled or not re-indexed, the tets behind) waits, with
+//                            every pose after it, while that work is done within this and later frames' budgets, and begins
 //                            it then. First the proxy refilled around the newest pose when the blade nears
 //                            its edge (inside the frame's deadline); then the cutter's carried work for
 //                            this frame (the budget from cut_budget_us) and the wound's opening at t_s, the
