@@ -9,7 +9,7 @@ namespace incise::sim {
 
 namespace {
 
-constexpr std::size_t kQuantities = 6;
+constexpr std::size_t kQuantities = 7;
 
 // The value of quantity q in a frame, or false when the frame has none (no new cut visible).
 bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
@@ -29,9 +29,12 @@ bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
     case 4:
       value = static_cast<double>(t.pose_to_visible_frames);
       return t.pose_to_visible_frames >= 0;
-    default:
+    case 5:
       value = t.geometry_us;
       return true;
+    default:
+      value = t.haptic_cpu_us;
+      return t.haptic_cpu_us >= 0.0;
   }
 }
 
@@ -75,6 +78,12 @@ void LatencyStats::clear() noexcept {
   }
 }
 
+std::int64_t LatencyStats::framesOver(double FrameTiming::*field, double threshold) const noexcept {
+  std::int64_t n = 0;
+  for (const FrameTiming& t : samples_) n += t.*field > threshold ? 1 : 0;
+  return n;
+}
+
 LatencySummary LatencyStats::summary() const {
   LatencySummary out;
   out.frames = frames_;
@@ -84,7 +93,8 @@ LatencySummary LatencyStats::summary() const {
   out.preempted_misses = preempted_misses_;
   out.late_wakeup_misses = deadline_misses_ - overrun_misses_ - preempted_misses_;
   const std::array<SampleSummary*, kQuantities> targets = {
-      &out.haptic_us, &out.cut_us, &out.frame_us, &out.period_error_us, &out.pose_to_visible_frames, &out.geometry_us};
+      &out.haptic_us,   &out.cut_us,       &out.frame_us, &out.period_error_us, &out.pose_to_visible_frames,
+      &out.geometry_us, &out.haptic_cpu_us};
   std::vector<double> values;
   values.reserve(samples_.size());
   for (std::size_t q = 0; q < kQuantities; ++q) {
@@ -123,6 +133,7 @@ std::string toJson(const LatencySummary& summary, int indent) {
   putSummary(j, "period_error_us", summary.period_error_us);
   putSummary(j, "pose_to_visible_frames", summary.pose_to_visible_frames);
   putSummary(j, "geometry_us", summary.geometry_us);
+  putSummary(j, "haptic_cpu_us", summary.haptic_cpu_us);
   return j.dump(indent);
 }
 

@@ -81,6 +81,7 @@ void Simulation::frame(const FrameInfo& info) noexcept {
       world_.updateTool(std::span(frame_poses_.data(), static_cast<std::size_t>(count)), info.dt_s);
   if (sink_) sink_->apply(haptic.force_N, t_s);
   const auto haptic_end = Clock::now();
+  const std::int64_t cpu_haptic_ns = cpu_start_ns >= 0 ? threadCpuNs() : -1;  // after the force is out
 
   // The cut phase takes the poses and makes lattice columns final; remember when their poses came (this
   // frame, less however long they waited in the world's queue), to measure when the columns are cut.
@@ -127,6 +128,7 @@ void Simulation::frame(const FrameInfo& info) noexcept {
 
   FrameTiming timing;
   timing.haptic_us = microseconds(start, haptic_end);  // not from `s`: the reader owns that slot now
+  if (cpu_haptic_ns >= 0) timing.haptic_cpu_us = 1e-3 * static_cast<double>(cpu_haptic_ns - cpu_start_ns);
   timing.cut_us = microseconds(haptic_end, cut_end);
   timing.geometry_us = last_geometry_us_ = geometry_ ? microseconds(cut_end, geometry_end) : 0.0;
   timing.frame_us = last_frame_us_ = microseconds(start, end);

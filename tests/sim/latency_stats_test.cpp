@@ -17,6 +17,7 @@ FrameTiming uniform(double value, bool missed = false) {
   t.frame_us = value;
   t.period_error_us = value;
   t.geometry_us = value;
+  t.haptic_cpu_us = value;
   t.pose_to_visible_frames = static_cast<int>(value);
   t.deadline_missed = missed;
   return t;
@@ -148,6 +149,36 @@ TEST_CASE("latency_stats: negative samples keep their own maximum", "[sim]") {
   CHECK(stats.summary().period_error_us.max == -2.0);
 }
 
+TEST_CASE("latency_stats: the haptic part's CPU time counts only the frames that read it", "[sim]") {
+  LatencyStats stats(8);
+  FrameTiming read = uniform(30.0);
+  read.haptic_cpu_us = 12.0;
+  stats.record(read);
+  stats.record(uniform(40.0));  // 40 everywhere, the CPU time too
+  FrameTiming unread = uniform(50.0);
+  unread.haptic_cpu_us = -1.0;  // a fast replay: no clock read
+  stats.record(unread);
+  const LatencySummary s = stats.summary();
+  CHECK(s.haptic_us.count == 3);
+  CHECK(s.haptic_us.max == 50.0);
+  CHECK(s.haptic_cpu_us.count == 2);
+  CHECK(s.haptic_cpu_us.max == 40.0);
+  CHECK(s.haptic_cpu_us.p50 == 12.0);
+}
+
+TEST_CASE("latency_stats: framesOver counts the stored frames over a threshold in one field", "[sim]") {
+  LatencyStats stats(100);
+  for (int i = 1; i <= 100; ++i) {
+    FrameTiming t = uniform(i);
+    t.cut_us = 101.0 - i;
+    stats.record(t);
+  }
+  CHECK(stats.framesOver(&FrameTiming::haptic_us, 90.0) == 10);  // 91..100
+  CHECK(stats.framesOver(&FrameTiming::haptic_us, 100.0) == 0);  // strictly over
+  CHECK(stats.framesOver(&FrameTiming::cut_us, 95.0) == 5);      // 96..100, from the other end
+  CHECK(stats.framesOver(&FrameTiming::frame_us, 0.0) == 100);
+}
+
 TEST_CASE("latency_stats: toJson writes the counters and every quantity's statistics", "[sim]") {
   LatencyStats stats(1000);
   for (int i = 1; i <= 1000; ++i) stats.record(uniform(i, i == 1000));
@@ -155,8 +186,8 @@ TEST_CASE("latency_stats: toJson writes the counters and every quantity's statis
   CHECK(j.at("frames") == 1000);
   CHECK(j.at("frames_stored") == 1000);
   CHECK(j.at("deadline_misses") == 1);
-  for (const char* name :
-       {"haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames", "geometry_us"}) {
+  for (const char* name : {"haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames",
+                           "geometry_us", "haptic_cpu_us"}) {
     INFO(name);
     const nlohmann::json& q = j.at(name);
     CHECK(q.at("count") == 1000);

@@ -6,6 +6,7 @@
 #include "incise/sim/geometry_stream.h"
 #include "incise/sim/latency_stats.h"
 #include "incise/sim/plan.h"
+#include "incise/sim/platform_noise.h"
 #include "incise/sim/pose_queue.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/scenario_error.h"

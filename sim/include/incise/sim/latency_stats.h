@@ -27,6 +27,10 @@ struct FrameTiming {
   double frame_us = 0.0;
   double period_error_us = 0.0;  // how late the frame started vs its deadline
   double geometry_us = 0.0;      // the geometry stream's publish (0 without a stream)
+  // The haptic part's CPU time on the sim thread (CLOCK_THREAD_CPUTIME_ID: it leaves out time the thread was
+  // descheduled and the steal a VM reports, but counts interrupts taken inside it when the kernel has no
+  // CONFIG_IRQ_TIME_ACCOUNTING). haptic_us is the wall time a device sees. -1 when not read (no clock).
+  double haptic_cpu_us = -1.0;
   int pose_to_visible_frames = -1;
   bool deadline_missed = false;  // period_error_us + frame_us over the period: the next deadline was missed
   bool overrun = false;          // frame_us alone over the period: not a late wake-up
@@ -55,6 +59,7 @@ struct LatencySummary {
   SampleSummary period_error_us;
   SampleSummary pose_to_visible_frames;  // frames with a value >= 0 only
   SampleSummary geometry_us;
+  SampleSummary haptic_cpu_us;       // frames with haptic_cpu_us >= 0 only
   std::int64_t frames = 0;           // every record() call
   std::int64_t frames_stored = 0;    // min(frames, capacity)
   std::int64_t deadline_misses = 0;  // every recorded frame with deadline_missed
@@ -83,6 +88,10 @@ class LatencyStats {
   // Percentiles of the stored samples, counters over all frames. Allocates; not for the sim thread.
   LatencySummary summary() const;
 
+  // Stored frames whose `field` (e.g. &FrameTiming::haptic_us) is over `threshold`. O(n); not for the sim
+  // thread's frames (it reads every sample).
+  std::int64_t framesOver(double FrameTiming::*field, double threshold) const noexcept;
+
   std::size_t capacity() const noexcept { return capacity_; }
   std::int64_t frames() const noexcept { return frames_; }
   std::int64_t deadlineMisses() const noexcept { return deadline_misses_; }
@@ -94,15 +103,16 @@ class LatencyStats {
   std::vector<FrameTiming> samples_;  // reserved to capacity_, never grown past it
   std::int64_t frames_ = 0;
   std::int64_t deadline_misses_ = 0, overrun_misses_ = 0, preempted_misses_ = 0;
-  // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible, geometry.
-  std::array<double, 6> max_{};
-  std::array<std::int64_t, 6> max_count_{};
+  // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible, geometry,
+  // haptic CPU.
+  std::array<double, 7> max_{};
+  std::array<std::int64_t, 7> max_count_{};
 };
 
-// {"frames", "frames_stored", "deadline_misses", "overrun_misses", "preempted_misses", "late_wakeup_misses", then per quantity {"count", "p50", "p99", "p999", "max",
-// "mean"} under "haptic_us", "cut_us", "frame_us", "period_error_us", "pose_to_visible_frames",
-// "geometry_us"}, keys in that
-// order, indented by `indent` spaces (-1: one line).
+// {"frames", "frames_stored", "deadline_misses", "overrun_misses", "preempted_misses", "late_wakeup_misses",
+// then per quantity {"count", "p50", "p99", "p999", "max", "mean"} under "haptic_us", "cut_us", "frame_us",
+// "period_error_us", "pose_to_visible_frames", "geometry_us", "haptic_cpu_us"}, keys in that order, indented
+// by `indent` spaces (-1: one line).
 std::string toJson(const LatencySummary& summary, int indent = 2);
 
 }  // namespace incise::sim
