@@ -47,8 +47,7 @@ PlatformNoise measurePlatformNoise(const FixedRateLoopOptions& loop_options, dou
   if (!(seconds > 0.0) || multiply_adds < 1)
     throw std::invalid_argument("measurePlatformNoise: seconds must be > 0 and multiply_adds >= 1, got " +
                                 std::to_string(seconds) + " and " + std::to_string(multiply_adds));
-  const auto frames =
-      static_cast<std::int64_t>(std::ceil(seconds * 1e6 / static_cast<double>(loop_options.period_us)));
+  const auto frames = static_cast<std::int64_t>(std::ceil(seconds * 1e6 / static_cast<double>(loop_options.period_us)));
   LatencyStats stats(static_cast<std::size_t>(frames));
   FixedRateLoop loop(loop_options);
   loop.start([&](const FrameInfo& info) {
