@@ -5,22 +5,25 @@
 
 #include <CLI/CLI.hpp>
 
-#include "commands.h"
+#include "geometry/geometry_commands.h"
+#include "hid/hid_commands.h"
+#include "run/run_commands.h"
+#include "training/training_commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"incise: real-time surgical cutting by discontinuous free-form deformation (DFFD)"};
   app.require_subcommand(1);
-  incise::apps::addReplayCommand(app);
-  incise::apps::addRecordCommand(app);
-  incise::apps::addBenchCommand(app);
-  incise::apps::addCutCommand(app);
-  incise::apps::addWrapCommand(app);
-  incise::apps::addHidCommand(app);
-  incise::apps::addImportCommand(app);
-  incise::apps::addViewCommand(app);
-  incise::apps::addTrainCommand(app);
-  incise::apps::addRenderCommand(app);
-  incise::apps::addScoreCommand(app);
+  incise::apps::run::addReplayCommand(app);
+  incise::apps::run::addRecordCommand(app);
+  incise::apps::run::addBenchCommand(app);
+  incise::apps::geometry::addCutCommand(app);
+  incise::apps::geometry::addWrapCommand(app);
+  incise::apps::hid::addHidCommand(app);
+  incise::apps::geometry::addImportCommand(app);
+  incise::apps::training::addViewCommand(app);
+  incise::apps::training::addTrainCommand(app);
+  incise::apps::training::addRenderCommand(app);
+  incise::apps::training::addScoreCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -5,16 +5,16 @@
 
 #include <Eigen/Core>
 
-#include "incise/cutting/stroke_path.h"
+#include "incise/incision/stroke_path.h"
 
 namespace incise::bench {
 
-inline cutting::Stroke bunnyBackStroke(const cutting::SurfaceMesh& mesh) {
-  cutting::StrokePathOptions path;
+inline incision::Stroke bunnyBackStroke(const mesh::SurfaceMesh& mesh) {
+  incision::StrokePathOptions path;
   path.start_m = Eigen::Vector3d(-0.012, 0.0, 0.015);
   path.direction = Eigen::Vector3d::UnitX();
   path.length_m = 0.05;
-  return cutting::strokeAlongPath(mesh, path);
+  return incision::strokeAlongPath(mesh, path);
 }
 
 }  // namespace incise::bench

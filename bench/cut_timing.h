@@ -6,19 +6,19 @@
 #include <chrono>
 #include <vector>
 
-#include "incise/cutting/stroke_path.h"
-#include "incise/cutting/surface_cutter.h"
+#include "incise/incision/stroke_path.h"
+#include "incise/incision/surface_cutter.h"
 
 namespace incise::bench {
 
-inline std::vector<double> timeSamples(cutting::SurfaceCutter& cutter, const cutting::Stroke& stroke) {
+inline std::vector<double> timeSamples(incision::SurfaceCutter& cutter, const incision::Stroke& stroke) {
   using Clock = std::chrono::steady_clock;
   std::vector<double> sample_us;
   sample_us.reserve(stroke.samples.size() + 1);
   auto start = Clock::now();
   cutter.begin(stroke.first, stroke.blade_direction);
   sample_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
-  for (const cutting::StrokeSample& sample : stroke.samples) {
+  for (const incision::StrokeSample& sample : stroke.samples) {
     start = Clock::now();
     cutter.extend(sample);
     sample_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());

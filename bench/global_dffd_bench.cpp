@@ -34,14 +34,16 @@
 
 #include <tbb/task_arena.h>
 
-#include "incise/cutting/global_dffd.h"
-#include "incise/cutting/shapes.h"
-#include "machine_info.h"
+#include "incise/global_dffd/global_dffd.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
+#include "incise/mesh/shapes.h"
 
 namespace {
 
-using namespace incise::cutting;
-using incise::bench::percentile;
+using namespace incise;
+
+using incise::measure::percentile;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kTargetFrameMs = 3.0;  // p99; p50 <= 2 ms (reported)
@@ -86,24 +88,25 @@ Eigen::Vector3d barDirection(const Tilt& tilt) {
 
 Eigen::Vector3d barCentre(int i) { return {(i - 1) * kBarSpacing + kBarOffset, 0.0, kRobotHeight / 2}; }
 
-std::vector<Obstacle> bars(const Tilt& tilt) {
+std::vector<global_dffd::Obstacle> bars(const Tilt& tilt) {
   const Eigen::Vector3d direction = barDirection(tilt);
   const Eigen::Vector3d axis = (kRobotHeight + 2 * tilt.reach_m) / direction.z() * direction;
-  std::vector<Obstacle> out;
+  std::vector<global_dffd::Obstacle> out;
   const char* names[3] = {"bar -x", "bar 0", "bar +x"};
-  for (int i = 0; i < 3; ++i) out.push_back({names[i], makeCylinder(barCentre(i) - axis / 2, axis, tilt.radius_m, 48)});
+  for (int i = 0; i < 3; ++i)
+    out.push_back({names[i], mesh::makeCylinder(barCentre(i) - axis / 2, axis, tilt.radius_m, 48)});
   return out;
 }
 
 // Split vertex pairs (the - copies) at a bar: within 1 mm of its surface, where the lips must open around it.
-int splitAtBars(const DffdSplit& split, const Tilt& tilt) {
+int splitAtBars(const global_dffd::DffdSplit& split, const Tilt& tilt) {
   const Eigen::Vector3d direction = barDirection(tilt);
-  const SurfaceMesh split_mesh = split.surface();
-  const TriMesh& m = split_mesh.mesh();
+  const mesh::SurfaceMesh split_mesh = split.surface();
+  const mesh::TriMesh& m = split_mesh.mesh();
   int count = 0;
   for (const auto v : m.vertices()) {
     if (split.side[static_cast<size_t>(v.idx())] >= 0) continue;
-    const Eigen::Vector3d p = toEigen(m.point(v));
+    const Eigen::Vector3d p = mesh::toEigen(m.point(v));
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector3d d = p - barCentre(i);
       if ((d - d.dot(direction) * direction).norm() < tilt.radius_m + 0.001) {
@@ -115,8 +118,8 @@ int splitAtBars(const DffdSplit& split, const Tilt& tilt) {
   return count;
 }
 
-GlobalDffdOptions latticeOptions() {
-  GlobalDffdOptions o;
+global_dffd::GlobalDffdOptions latticeOptions() {
+  global_dffd::GlobalDffdOptions o;
   o.controls = {48, 12, 12};
   o.margin_m = 0.02;
   o.kernel_width = 4.0;
@@ -125,7 +128,7 @@ GlobalDffdOptions latticeOptions() {
 }
 
 // The robot's connected components (merge order: leg -x, leg +x, torso, arm -x, arm +x, neck, head).
-std::vector<int> components(const TriMesh& mesh) {
+std::vector<int> components(const mesh::TriMesh& mesh) {
   std::vector<int> parent(mesh.n_vertices());
   std::iota(parent.begin(), parent.end(), 0);
   const auto find = [&](int v) {
@@ -148,36 +151,38 @@ std::vector<int> components(const TriMesh& mesh) {
   return label;
 }
 
-SurfaceMesh translated(const SurfaceMesh& mesh, double dy) {
-  SurfaceMesh out = mesh;
+mesh::SurfaceMesh translated(const mesh::SurfaceMesh& mesh, double dy) {
+  mesh::SurfaceMesh out = mesh;
   for (const auto v : out.mesh().vertices()) out.mesh().point(v)[1] += dy;
   return out;
 }
 
-int splitVertices(const DffdSplit& split) {
+int splitVertices(const global_dffd::DffdSplit& split) {
   return static_cast<int>(std::count_if(split.side.begin(), split.side.end(), [](std::int8_t s) { return s != 0; }));
 }
 
-nlohmann::json optionsJson(const GlobalDffdOptions& o) {
+nlohmann::json optionsJson(const global_dffd::GlobalDffdOptions& o) {
   return {{"order", o.order},
           {"controls", o.controls},
           {"margin_m", o.margin_m},
-          {"kernel", o.kernel == DffdKernel::Gaussian ? "Gaussian" : "quadratic B-spline"},
+          {"kernel", o.kernel == global_dffd::DffdKernel::Gaussian ? "Gaussian" : "quadratic B-spline"},
           {"kernel_width_spacings", o.kernel_width},
           {"clearance_m", o.clearance_m},
           {"epsilon", o.epsilon},
-          {"v_knots", o.v_knots == VKnots::AtObstacleExtremes},
-          {"on_fold", o.on_fold == FoldPolicy::Refuse ? "refuse" : "widen"}};
+          {"v_knots", o.v_knots == global_dffd::VKnots::AtObstacleExtremes},
+          {"on_fold", o.on_fold == global_dffd::FoldPolicy::Refuse ? "refuse" : "widen"}};
 }
 
 // The number a "too close" refusal asks controls[0] to be raised to, or 0.
-int raiseControlsTo(const DffdError& e) { return e.kind == DffdErrorKind::TooClose ? e.controls_needed : 0; }
+int raiseControlsTo(const global_dffd::DffdError& e) {
+  return e.kind == global_dffd::DffdErrorKind::TooClose ? e.controls_needed : 0;
+}
 
 // GlobalDffd for the bars, with controls[0] raised as its TooClose refusal asks (at most twice); the
 // options used, the refusals and, when it was built, the lattice's figures go into `out`.
-std::optional<GlobalDffd> buildDffd(const std::vector<Obstacle>& obstacles, GlobalDffdOptions options,
-                                    nlohmann::json& out) {
-  std::optional<GlobalDffd> built;
+std::optional<global_dffd::GlobalDffd> buildDffd(const std::vector<global_dffd::Obstacle>& obstacles,
+                                                 global_dffd::GlobalDffdOptions options, nlohmann::json& out) {
+  std::optional<global_dffd::GlobalDffd> built;
   double build_ms = 0.0;
   nlohmann::json refusals = nlohmann::json::array();
   for (int attempt = 0; attempt < 3 && !built; ++attempt) {
@@ -185,7 +190,7 @@ std::optional<GlobalDffd> buildDffd(const std::vector<Obstacle>& obstacles, Glob
       const auto t_build = Clock::now();
       built.emplace(obstacles, options);
       build_ms = msSince(t_build);
-    } catch (const DffdError& e) {
+    } catch (const global_dffd::DffdError& e) {
       refusals.push_back({{"controls", options.controls}, {"message", e.what()}});
       const int raise = raiseControlsTo(e);
       if (raise <= options.controls[0]) break;
@@ -196,7 +201,7 @@ std::optional<GlobalDffd> buildDffd(const std::vector<Obstacle>& obstacles, Glob
   if (!refusals.empty()) out["refused"] = refusals;
   out["accepted"] = built.has_value();
   if (!built) return built;
-  const GlobalDffd& dffd = *built;
+  const global_dffd::GlobalDffd& dffd = *built;
   out["construction_ms"] = build_ms;
   const auto t_jac = Clock::now();
   out["min_jacobian_2"] = dffd.minJacobian(2);
@@ -205,7 +210,7 @@ std::optional<GlobalDffd> buildDffd(const std::vector<Obstacle>& obstacles, Glob
   out["lattice_box_m"] = {{dffd.box().min().x(), dffd.box().min().y(), dffd.box().min().z()},
                           {dffd.box().max().x(), dffd.box().max().y(), dffd.box().max().z()}};
   nlohmann::json kernels = nlohmann::json::array();
-  for (const DffdObstacle& o : dffd.obstacles())
+  for (const global_dffd::DffdObstacle& o : dffd.obstacles())
     kernels.push_back(
         {{"name", o.name}, {"u_m", o.u}, {"kernel_width_used", o.kernel_width}, {"max_move_m", o.max_move_m}});
   out["discontinuities"] = kernels;
@@ -219,43 +224,44 @@ struct BestFrame {
   int pairs_at_bars = -1;  // split vertex pairs within 1 mm of a bar in that frame
 };
 
-BestFrame timeFrames(const GlobalDffd& dffd, const std::vector<Obstacle>& obstacles, const Tilt& tilt,
-                     const SurfaceMesh& robot, nlohmann::json& out) {
-  const ModelArrays arrays = modelArrays(robot);  // made once: a moving model's triangles never change
+BestFrame timeFrames(const global_dffd::GlobalDffd& dffd, const std::vector<global_dffd::Obstacle>& obstacles,
+                     const Tilt& tilt, const mesh::SurfaceMesh& robot, nlohmann::json& out) {
+  const global_dffd::ModelArrays arrays =
+      global_dffd::modelArrays(robot);  // made once: a moving model's triangles never change
   const std::vector<Eigen::Vector3d>& rest = arrays.positions_m;
   std::vector<double> frame_ms, split_part;  // split_part: of frame_ms, moving and splitting
   int frames_split = 0, frames_at_bars = 0, worst_frame = -1;
   BestFrame best;
   double worst_penetration = 0.0;
   std::vector<Eigen::Vector3d> moved_at(rest.size()), positions_at;
-  DffdSplitter splitter;  // kept frame after frame: only what changed is split again
-  const DffdSplit* split = nullptr;
+  global_dffd::DffdSplitter splitter;  // kept frame after frame: only what changed is split again
+  const global_dffd::DffdSplit* split = nullptr;
   int frames_kept = 0, frames_differing = 0;
   const auto frame = [&](double dy) {
     for (size_t v = 0; v < rest.size(); ++v) moved_at[v] = rest[v] + Eigen::Vector3d(0.0, dy, 0.0);
-    split = &splitter.split(moved_at, arrays.triangles, dffd, Openings::Leave);
+    split = &splitter.split(moved_at, arrays.triangles, dffd, global_dffd::Openings::Leave);
   };
   // One untimed frame first: the split's buffers are allocated once, then reused (steady state timed).
   frame(kStartY);
   positions_at.resize(split->rest_m.size());
-  deformSplit(*split, dffd, positions_at);
+  global_dffd::deformSplit(*split, dffd, positions_at);
   for (int f = 0; f < kFrames; ++f) {
     const auto start = Clock::now();
     frame(kStartY + (kEndY - kStartY) * f / (kFrames - 1));
     const double split_part_ms = msSince(start);
     positions_at.resize(split->rest_m.size());
-    deformSplit(*split, dffd, positions_at);
+    global_dffd::deformSplit(*split, dffd, positions_at);
     frame_ms.push_back(msSince(start));
     split_part.push_back(split_part_ms);
     frames_kept += splitter.keptConnectivity();
-    frames_differing += !(*split == splitAtDiscontinuities(moved_at, arrays.triangles, dffd));  // untimed
-    const DffdSplit& frame_split = *split;
-    const SurfaceMesh deformed = frame_split.surface(positions_at);
+    frames_differing += !(*split == global_dffd::splitAtDiscontinuities(moved_at, arrays.triangles, dffd));  // untimed
+    const global_dffd::DffdSplit& frame_split = *split;
+    const mesh::SurfaceMesh deformed = frame_split.surface(positions_at);
     const int at_bars = splitAtBars(frame_split, tilt);
     frames_split += splitVertices(frame_split) > 0;
     frames_at_bars += at_bars > 0;
     if (at_bars > best.pairs_at_bars) best = {f, at_bars};
-    const double penetration = worstPenetration(deformed.mesh(), obstacles);
+    const double penetration = global_dffd::worstPenetration(deformed.mesh(), obstacles);
     if (penetration > worst_penetration) worst_penetration = penetration, worst_frame = f;
   }
   out["frames"] = kFrames;
@@ -275,7 +281,8 @@ BestFrame timeFrames(const GlobalDffd& dffd, const std::vector<Obstacle>& obstac
 }
 
 // Which robot parts each plane of `split` cuts (by the vertices' sources).
-nlohmann::json partsCut(const DffdSplit& split, const GlobalDffd& dffd, const std::vector<int>& part) {
+nlohmann::json partsCut(const global_dffd::DffdSplit& split, const global_dffd::GlobalDffd& dffd,
+                        const std::vector<int>& part) {
   static const char* part_names[] = {"leg -x", "leg +x", "torso", "arm -x", "arm +x", "neck", "head"};
   nlohmann::json cut = nlohmann::json::object();
   for (size_t i = 0; i < dffd.obstacles().size(); ++i) {
@@ -295,10 +302,10 @@ nlohmann::json partsCut(const DffdSplit& split, const GlobalDffd& dffd, const st
 
 // Re-deforming an existing split with DffdBinding (F and a stitched F in turn), against deformSplit, and the
 // binding's construction.
-nlohmann::json redeformJson(const DffdSplit& split, const GlobalDffd& dffd) {
-  const DffdBinding binding(split, dffd);
-  GlobalDffd stitched = dffd;  // F changed (same lattice): the middle bar's planes stitched
-  stitched.stitch(1, stitchLevel(split, stitched, 1));
+nlohmann::json redeformJson(const global_dffd::DffdSplit& split, const global_dffd::GlobalDffd& dffd) {
+  const global_dffd::DffdBinding binding(split, dffd);
+  global_dffd::GlobalDffd stitched = dffd;  // F changed (same lattice): the middle bar's planes stitched
+  stitched.stitch(1, global_dffd::stitchLevel(split, stitched, 1));
   std::vector<Eigen::Vector3d> positions(binding.size());
   std::vector<double> redeform_ms, deform_split_ms, bind_ms;
   for (int rep = 0; rep < kRedeformReps; ++rep) {
@@ -307,20 +314,20 @@ nlohmann::json redeformJson(const DffdSplit& split, const GlobalDffd& dffd) {
     redeform_ms.push_back(msSince(start));
   }
   bool identical = true;
-  for (const GlobalDffd* f : {&dffd, static_cast<const GlobalDffd*>(&stitched)}) {
+  for (const global_dffd::GlobalDffd* f : {&dffd, static_cast<const global_dffd::GlobalDffd*>(&stitched)}) {
     binding.deform(*f, positions);
-    const SurfaceMesh reference = deformSplit(split, *f);
+    const mesh::SurfaceMesh reference = global_dffd::deformSplit(split, *f);
     for (const auto v : reference.mesh().vertices())
-      identical = identical && toEigen(reference.mesh().point(v)) == positions[static_cast<size_t>(v.idx())];
+      identical = identical && mesh::toEigen(reference.mesh().point(v)) == positions[static_cast<size_t>(v.idx())];
   }
   for (int rep = 0; rep < kDeformSplitReps; ++rep) {
     const auto start = Clock::now();
-    const SurfaceMesh again = deformSplit(split, rep % 2 ? stitched : dffd);
+    const mesh::SurfaceMesh again = global_dffd::deformSplit(split, rep % 2 ? stitched : dffd);
     deform_split_ms.push_back(msSince(start));
   }
   for (int rep = 0; rep < 5; ++rep) {
     const auto start = Clock::now();
-    const DffdBinding b(split, dffd);
+    const global_dffd::DffdBinding b(split, dffd);
     bind_ms.push_back(msSince(start));
   }
   return {
@@ -333,24 +340,25 @@ nlohmann::json redeformJson(const DffdSplit& split, const GlobalDffd& dffd) {
 }
 
 // The frame with the most split vertices at the bars: its split, what it cuts, the penetration.
-nlohmann::json bestFrameJson(const BestFrame& best, const GlobalDffd& dffd, const std::vector<Obstacle>& obstacles,
-                             const SurfaceMesh& robot, const std::vector<int>& part, DffdSplit& split) {
+nlohmann::json bestFrameJson(const BestFrame& best, const global_dffd::GlobalDffd& dffd,
+                             const std::vector<global_dffd::Obstacle>& obstacles, const mesh::SurfaceMesh& robot,
+                             const std::vector<int>& part, global_dffd::DffdSplit& split) {
   const double dy = kStartY + (kEndY - kStartY) * best.frame / (kFrames - 1);
-  const SurfaceMesh moved = translated(robot, dy);
+  const mesh::SurfaceMesh moved = translated(robot, dy);
   auto start = Clock::now();
-  split = splitAtDiscontinuities(moved, dffd);
+  split = global_dffd::splitAtDiscontinuities(moved, dffd);
   const double split_ms = msSince(start);
   start = Clock::now();
-  const SurfaceMesh deformed = deformSplit(split, dffd);
+  const mesh::SurfaceMesh deformed = global_dffd::deformSplit(split, dffd);
   const double deform_ms = msSince(start);
   const auto t_pen = Clock::now();
   std::string which;
-  const double penetration = worstPenetration(deformed.mesh(), obstacles, &which);
+  const double penetration = global_dffd::worstPenetration(deformed.mesh(), obstacles, &which);
   const double pen_ms = msSince(t_pen);
   std::vector<double> build_mesh_ms;  // an OpenMesh mesh of the result (output, checks): not in the frame
   for (int rep = 0; rep < 10; ++rep) {
     start = Clock::now();
-    const SurfaceMesh built = split.surface();
+    const mesh::SurfaceMesh built = split.surface();
     build_mesh_ms.push_back(msSince(start));
   }
   return {
@@ -360,12 +368,12 @@ nlohmann::json bestFrameJson(const BestFrame& best, const GlobalDffd& dffd, cons
       {"split_vertex_pairs_within_1mm_of_a_bar", best.pairs_at_bars},
       {"split_vertices", split.rest_m.size()},
       {"split_faces", split.faces.size()},
-      {"split_boundary_loops", boundaryLoops(split.surface().mesh())},
-      {"deformed_boundary_loops", boundaryLoops(deformed.mesh())},
+      {"split_boundary_loops", global_dffd::boundaryLoops(split.surface().mesh())},
+      {"deformed_boundary_loops", global_dffd::boundaryLoops(deformed.mesh())},
       {"parts_cut_per_plane", partsCut(split, dffd, part)},
       {"worst_penetration_m", penetration},
       {"worst_penetration_undeformed_m",
-       worstPenetration(split.surface().mesh(), obstacles)},  // the measure sees the overlap
+       global_dffd::worstPenetration(split.surface().mesh(), obstacles)},  // the measure sees the overlap
       {"worst_penetration_obstacle", which},
       {"worst_penetration_ms", pen_ms},
       {"split_ms", split_ms},
@@ -374,19 +382,19 @@ nlohmann::json bestFrameJson(const BestFrame& best, const GlobalDffd& dffd, cons
   };
 }
 
-nlohmann::json runScene(const std::string& name, const Tilt& tilt, const GlobalDffdOptions& options,
-                        const SurfaceMesh& robot, const std::vector<int>& part) {
-  const std::vector<Obstacle> obstacles = bars(tilt);
+nlohmann::json runScene(const std::string& name, const Tilt& tilt, const global_dffd::GlobalDffdOptions& options,
+                        const mesh::SurfaceMesh& robot, const std::vector<int>& part) {
+  const std::vector<global_dffd::Obstacle> obstacles = bars(tilt);
   nlohmann::json out = {{"scene", name},
                         {"bar_tilt_about_x_deg", tilt.about_x_deg},
                         {"bar_tilt_about_y_deg", tilt.about_y_deg},
                         {"bars_x_m", {-kBarSpacing + kBarOffset, kBarOffset, kBarSpacing + kBarOffset}},
                         {"bar_radius_m", tilt.radius_m},
                         {"bar_z_m", {-tilt.reach_m, kRobotHeight + tilt.reach_m}}};
-  const std::optional<GlobalDffd> dffd = buildDffd(obstacles, options, out);
+  const std::optional<global_dffd::GlobalDffd> dffd = buildDffd(obstacles, options, out);
   if (!dffd) return out;
   const BestFrame best = timeFrames(*dffd, obstacles, tilt, robot, out);
-  DffdSplit split;
+  global_dffd::DffdSplit split;
   out["frame_most_split_at_bars"] = bestFrameJson(best, *dffd, obstacles, robot, part, split);
   out["redeform_without_split"] = redeformJson(split, *dffd);
   return out;
@@ -395,19 +403,19 @@ nlohmann::json runScene(const std::string& name, const Tilt& tilt, const GlobalD
 }  // namespace
 
 int main() {
-  const SurfaceMesh robot = makeRobot(kRobotHeight, kRobotDetail30k);
+  const mesh::SurfaceMesh robot = mesh::makeRobot(kRobotHeight, mesh::kRobotDetail30k);
   const std::vector<int> part = components(robot.mesh());
   nlohmann::json report = {
       {"benchmark", "global_dffd_robot_through_bars"},
       {"robot",
        {{"height_m", kRobotHeight},
-        {"detail", kRobotDetail30k},
+        {"detail", mesh::kRobotDetail30k},
         {"vertices", robot.mesh().n_vertices()},
         {"faces", robot.mesh().n_faces()},
-        {"boundary_loops", boundaryLoops(robot.mesh())},
+        {"boundary_loops", global_dffd::boundaryLoops(robot.mesh())},
         {"components", *std::max_element(part.begin(), part.end()) + 1}}},
       {"threads", 1},
-      {"machine", incise::bench::machineInfo()},
+      {"machine", incise::measure::machineInfo()},
       {"scenes", nlohmann::json::array()},
   };
   report["scenes"].push_back(runScene("three parallel bars", {}, latticeOptions(), robot, part));
@@ -415,7 +423,7 @@ int main() {
   // A tilt across u the lattice can follow: 2.4 degrees with 2 mm bars from z = -1 cm to 11 cm and the
   // lattice of scenarios/wrap/robot-bars-rotated.json: finer in w (the conservative projection takes the
   // bar's x-range over a control's w-support), a wider kernel.
-  GlobalDffdOptions tilted = latticeOptions();
+  global_dffd::GlobalDffdOptions tilted = latticeOptions();
   tilted.controls = {60, 16, 32};
   tilted.kernel_width = 6.5;
   tilted.margin_m = 0.015;

@@ -16,14 +16,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "incise/cutting/shapes.h"
-#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/hid_pose_source.h"
 #include "incise/devices/hid_profile.h"
 #include "incise/devices/hid_report.h"
 #include "incise/devices/replay_transport.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
+#include "incise/mesh/shapes.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/simulation.h"
-#include "machine_info.h"
 
 namespace {
 
@@ -111,7 +112,7 @@ nlohmann::json arrivalFigures(double seconds) {
   options.device.vid = 0x28bd;
   options.device.pid = 0x095b;
   devices::ReplayTransport transport(bytes, reports, options);
-  sim::World world(cutting::makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 0)), 2), {});
+  sim::World world(mesh::makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 0)), 2), {});
   sim::Simulation simulation(world, nullptr, 1000, 0.0);
   TimingSink sink(simulation, static_cast<std::size_t>(count) + 16);
   devices::HidPoseSource source(transport, devices::parseHidDeviceSelector("28bd:095b"), {}, sink);
@@ -123,9 +124,9 @@ nlohmann::json arrivalFigures(double seconds) {
   return {{"reports", count},
           {"poses_timed", l.size()},
           {"rate_hz", 200},
-          {"p50_us", bench::percentile(l, 0.5)},
-          {"p99_us", bench::percentile(l, 0.99)},
-          {"max_us", bench::percentile(l, 1.0)},
+          {"p50_us", measure::percentile(l, 0.5)},
+          {"p99_us", measure::percentile(l, 0.99)},
+          {"max_us", measure::percentile(l, 1.0)},
           {"target_p99_us", 50.0},
           {"bad_reports", source.badReports()},
           {"dropped", source.posesDropped()}};
@@ -137,7 +138,7 @@ int main(int argc, char** argv) {
   double seconds = 10.0;
   for (int i = 1; i + 1 < argc; ++i)
     if (std::strcmp(argv[i], "--seconds") == 0) seconds = std::stod(argv[i + 1]);
-  nlohmann::json report = {{"benchmark", "hid_input"}, {"machine", bench::machineInfo()}};
+  nlohmann::json report = {{"benchmark", "hid_input"}, {"machine", measure::machineInfo()}};
   report["decode"] = {decodeFigures("wacom_pth660_intuos_pro_m_056a_0357.txt", 0x10),
                       decodeFigures("xppen_artist_pro16_gen2_28bd_095b.txt", 7)};
   report["arrival_to_queue"] = arrivalFigures(seconds);

@@ -12,28 +12,30 @@
 
 #include "bunny_stroke.h"
 #include "cut_timing.h"
-#include "incise/cutting/stroke_path.h"
-#include "incise/cutting/surface_cutter.h"
-#include "machine_info.h"
+#include "incise/incision/stroke_path.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
 
 namespace {
 
-using namespace incise::cutting;
-using incise::bench::percentile;
+using namespace incise;
+
+using incise::measure::percentile;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kTargetP99Us = 300.0;
 constexpr double kTargetRatio = 2.0;
 constexpr int kBudget = 32;
 
-nlohmann::json runMesh(const SurfaceMesh& base, int subdivisions, int budget) {
+nlohmann::json runMesh(const mesh::SurfaceMesh& base, int subdivisions, int budget) {
   const auto t0 = Clock::now();
-  SurfaceMesh mesh = subdivided(base, subdivisions);
+  mesh::SurfaceMesh mesh = mesh::subdivided(base, subdivisions);
   const double subdivide_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  const Stroke stroke = incise::bench::bunnyBackStroke(mesh);
-  CutterOptions options;
+  const incision::Stroke stroke = incise::bench::bunnyBackStroke(mesh);
+  incision::CutterOptions options;
   options.max_inversions_per_call = budget;
-  SurfaceCutter cutter(mesh, options);
+  incision::SurfaceCutter cutter(mesh, options);
   const std::vector<double> sample_us = incise::bench::timeSamples(cutter, stroke);
   int trailing_calls = 0;  // calls' worth of carried work still to do when the stroke ends (and after finish)
   while (cutter.pending() && trailing_calls < 1000) cutter.advance(stroke.samples.back().time_s), ++trailing_calls;
@@ -42,7 +44,7 @@ nlohmann::json runMesh(const SurfaceMesh& base, int subdivisions, int budget) {
   const double finish_us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
   // The columns the end of the stroke made final, still under the budget: the cut reaches the last sample.
   while (cutter.pending() && trailing_calls < 100000) cutter.advance(stroke.samples.back().time_s), ++trailing_calls;
-  const ManifoldReport report = checkManifold(mesh.mesh());
+  const mesh::ManifoldReport report = mesh::checkManifold(mesh.mesh());
   return {
       {"subdivisions", subdivisions},
       {"max_inversions_per_call", budget},
@@ -65,12 +67,12 @@ nlohmann::json runMesh(const SurfaceMesh& base, int subdivisions, int budget) {
 }  // namespace
 
 int main() {
-  const SurfaceMesh bunny = loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
+  const mesh::SurfaceMesh bunny = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
   nlohmann::json report = {
       {"benchmark", "incision_per_sample"},
       {"stroke", "5 cm over the bunny's back, 1 kHz, 5 cm/s, spacing 0.5 mm, order 4"},
       {"threads", 1},
-      {"machine", incise::bench::machineInfo()},
+      {"machine", incise::measure::machineInfo()},
       {"results", nlohmann::json::array()},
   };
   // Unlimited: each call does all final work. Budgeted: at most kBudget inversions per call (about 1 kHz

@@ -16,59 +16,61 @@
 
 #include "bunny_stroke.h"
 #include "cut_timing.h"
-#include "incise/cutting/shapes.h"
-#include "incise/cutting/stroke_path.h"
-#include "incise/cutting/surface_cutter.h"
-#include "machine_info.h"
+#include "incise/incision/stroke_path.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
+#include "incise/mesh/shapes.h"
 
 namespace {
 
-using namespace incise::cutting;
-using incise::bench::percentile;
+using namespace incise;
+
+using incise::measure::percentile;
 
 constexpr double kTargetRatio = 1.10;
 constexpr int kRuns = 5;
 
 struct Config {
   const char* name;
-  const SurfaceMesh* mesh;
-  CutterOptions::Refine refine;
+  const mesh::SurfaceMesh* mesh;
+  incision::CutterOptions::Refine refine;
   bool bunny;                  // the bunny's back stroke, else the sphere's top stroke
   double refine_edge_m = 0.0;  // CutterOptions::refine_edge_m (0: the default, 1.5 mm)
 };
 
-Stroke strokeFor(const Config& c, const SurfaceMesh& mesh) {
+incision::Stroke strokeFor(const Config& c, const mesh::SurfaceMesh& mesh) {
   if (c.bunny) return incise::bench::bunnyBackStroke(mesh);
-  StrokePathOptions path;
+  incision::StrokePathOptions path;
   path.start_m = Eigen::Vector3d(-0.0175, 0.1, 0.0011);
   path.length_m = 0.035;
-  return strokeAlongPath(mesh, path);
+  return incision::strokeAlongPath(mesh, path);
 }
 
 // One cut: per-sample times (us) and the figures.
 struct Run {
   std::vector<double> sample_us;
-  IncisionFigures figures;
+  incision::IncisionFigures figures;
   int refined_vertices = 0;
   bool closed = false;
 };
 
 Run cutOnce(const Config& c, int budget) {
-  SurfaceMesh mesh = *c.mesh;
-  const Stroke stroke = strokeFor(c, mesh);
-  CutterOptions options;
+  mesh::SurfaceMesh mesh = *c.mesh;
+  const incision::Stroke stroke = strokeFor(c, mesh);
+  incision::CutterOptions options;
   options.max_inversions_per_call = budget;
   options.refine = c.refine;
   options.refine_edge_m = c.refine_edge_m;
-  SurfaceCutter cutter(mesh, options);
+  incision::SurfaceCutter cutter(mesh, options);
   Run run;
   run.sample_us = incise::bench::timeSamples(cutter, stroke);
-  cutter.finish(FinishWork::Later);
+  cutter.finish(incision::FinishWork::Later);
   for (int calls = 0; cutter.pending() && calls < 100000; ++calls) cutter.advance(stroke.samples.back().time_s);
   cutter.advance(stroke.samples.back().time_s + 1.0);
   run.figures = cutter.stats().figures.back();
   run.refined_vertices = cutter.stats().refined_vertices;
-  run.closed = checkManifold(mesh.mesh()).closed_two_manifold;
+  run.closed = mesh::checkManifold(mesh.mesh()).closed_two_manifold;
   return run;
 }
 
@@ -88,7 +90,8 @@ nlohmann::json summarize(const Config& c, int budget, const std::vector<Run>& ru
   return {{"mesh", c.name},
           {"triangles", c.mesh->mesh().n_faces()},
           {"refine", toString(c.refine)},
-          {"refine_edge_m", c.refine_edge_m > 0.0 ? c.refine_edge_m : refineEdgeLength(CutterOptions{})},
+          {"refine_edge_m",
+           c.refine_edge_m > 0.0 ? c.refine_edge_m : incision::refineEdgeLength(incision::CutterOptions{})},
           {"max_inversions_per_call", budget},
           {"runs", runs.size()},
           {"samples", r.sample_us.size()},
@@ -106,23 +109,25 @@ nlohmann::json summarize(const Config& c, int budget, const std::vector<Run>& ru
 }  // namespace
 
 int main() {
-  const SurfaceMesh sphere = makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);
-  const SurfaceMesh sphere_subdivided = subdivided(sphere, 2);
-  const SurfaceMesh bunny = subdivided(loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01), 3);
+  const mesh::SurfaceMesh sphere = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);
+  const mesh::SurfaceMesh sphere_subdivided = mesh::subdivided(sphere, 2);
+  const mesh::SurfaceMesh bunny =
+      mesh::subdivided(mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01), 3);
   const std::vector<std::pair<Config, Config>> pairs = {
-      {{"icosphere r 5 cm, 3 subdivisions (4-7 mm edges)", &sphere, CutterOptions::Refine::Linear, false},
-       {"the same, Loop-subdivided twice beforehand", &sphere_subdivided, CutterOptions::Refine::Off, false}},
+      {{"icosphere r 5 cm, 3 subdivisions (4-7 mm edges)", &sphere, incision::CutterOptions::Refine::Linear, false},
+       {"the same, Loop-subdivided twice beforehand", &sphere_subdivided, incision::CutterOptions::Refine::Off, false}},
       // Refined to 2 mm: about the pre-subdivided mesh's own density (its edges are 1-2 mm).
-      {{"icosphere r 5 cm, 3 subdivisions, refined to 2 mm", &sphere, CutterOptions::Refine::Linear, false, 0.002},
-       {"the same, Loop-subdivided twice beforehand", &sphere_subdivided, CutterOptions::Refine::Off, false}},
-      {{"bunny, 3 Loop subdivisions", &bunny, CutterOptions::Refine::Linear, true},
-       {"bunny, 3 Loop subdivisions", &bunny, CutterOptions::Refine::Off, true}},
+      {{"icosphere r 5 cm, 3 subdivisions, refined to 2 mm", &sphere, incision::CutterOptions::Refine::Linear, false,
+        0.002},
+       {"the same, Loop-subdivided twice beforehand", &sphere_subdivided, incision::CutterOptions::Refine::Off, false}},
+      {{"bunny, 3 Loop subdivisions", &bunny, incision::CutterOptions::Refine::Linear, true},
+       {"bunny, 3 Loop subdivisions", &bunny, incision::CutterOptions::Refine::Off, true}},
   };
   nlohmann::json report = {
       {"benchmark", "refine_per_sample"},
       {"stroke", "sphere: 3.5 cm over the top; bunny: 5 cm over the back; 1 kHz, 5 cm/s, spacing 0.5 mm, order 4"},
       {"threads", 1},
-      {"machine", incise::bench::machineInfo()},
+      {"machine", incise::measure::machineInfo()},
       {"results", nlohmann::json::array()},
   };
   for (const int budget : {32, 0}) {

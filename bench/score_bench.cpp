@@ -13,11 +13,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "incise/cutting/surface_mesh.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/score.h"
 #include "incise/sim/simulation.h"
 #include "incise/sim/stroke_poses.h"
-#include "machine_info.h"
 
 namespace {
 
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; ++i)
     if (std::strcmp(argv[i], "--rounds") == 0) rounds = std::stoi(argv[i + 1]);
   const incise::sim::Scenario scenario = incise::sim::loadScenario(INCISE_SCENARIOS_DIR "/pad-straight.json");
-  const incise::cutting::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
+  const incise::mesh::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
   const auto poses = incise::sim::posesForStrokes(tissue, sixtySeconds(), scenario.world, scenario.rate_hz);
   std::vector<double> replay_s, score_s, ratio;
   incise::sim::Score score;
@@ -69,13 +70,13 @@ int main(int argc, char** argv) {
                                  {"poses", poses.size()},
                                  {"incisions", score.incisions},
                                  {"rounds", rounds},
-                                 {"replay_fast_s_median", incise::bench::percentile(replay_s, 0.5)},
-                                 {"score_s_median", incise::bench::percentile(score_s, 0.5)},
-                                 {"score_over_replay_median", incise::bench::percentile(ratio, 0.5)},
-                                 {"score_over_replay_max", incise::bench::percentile(ratio, 1.0)},
+                                 {"replay_fast_s_median", incise::measure::percentile(replay_s, 0.5)},
+                                 {"score_s_median", incise::measure::percentile(score_s, 0.5)},
+                                 {"score_over_replay_median", incise::measure::percentile(ratio, 0.5)},
+                                 {"score_over_replay_max", incise::measure::percentile(ratio, 1.0)},
                                  {"target_score_over_replay", 2.0},
-                                 {"meets_target", incise::bench::percentile(ratio, 0.5) <= 2.0},
-                                 {"machine", incise::bench::machineInfo()}};
+                                 {"meets_target", incise::measure::percentile(ratio, 0.5) <= 2.0},
+                                 {"machine", incise::measure::machineInfo()}};
   std::printf("%s\n", report.dump(2).c_str());
   return 0;
 }

@@ -22,17 +22,19 @@
 #include <vector>
 
 #include "bunny_stroke.h"
-#include "incise/cutting/stroke_path.h"
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/tet_cutter.h"
-#include "incise/cutting/tet_mesh.h"
-#include "incise/cutting/tetrahedralize.h"
-#include "machine_info.h"
+#include "incise/incision/stroke_path.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
+#include "incise/tets/tet_cutter.h"
+#include "incise/tets/tet_mesh.h"
+#include "incise/tets/tetrahedralize.h"
 
 namespace {
 
-using namespace incise::cutting;
-using incise::bench::percentile;
+using namespace incise;
+
+using incise::measure::percentile;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kTargetP99Us = 300.0;
@@ -44,10 +46,10 @@ constexpr double kMaxVolumeM3 = 1.2e-9;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // One timed TetGen run: {"seconds", "ok", "tets" or "error"}.
-nlohmann::json timeTetGen(const SurfaceMesh& surface, const TetrahedralizeOptions& options) {
+nlohmann::json timeTetGen(const mesh::SurfaceMesh& surface, const tets::TetrahedralizeOptions& options) {
   const auto start = Clock::now();
   try {
-    const TetMesh tets = tetrahedralize(surface, options);
+    const tets::TetMesh tets = tets::tetrahedralize(surface, options);
     return {{"seconds", secondsSince(start)}, {"ok", true}, {"tets", tets.tets.size()}, {"nodes", tets.nodes_m.size()}};
   } catch (const std::exception& e) {
     return {{"seconds", secondsSince(start)}, {"ok", false}, {"error", e.what()}};
@@ -65,10 +67,10 @@ struct FollowRun {
   double final_follow_ms = 0.0;
 };
 
-FollowRun followStroke(SurfaceCutter& cutter, TetCutter& tets, const Stroke& stroke) {
+FollowRun followStroke(incision::SurfaceCutter& cutter, tets::TetCutter& tets, const incision::Stroke& stroke) {
   FollowRun run;
   cutter.settle();  // a previous incision (the second stroke): the surface done, its tets caught up
-  if (cutter.incision()) tets.follow(*cutter.incision(), cutter.stats().incisions, TetBudget::All);
+  if (cutter.incision()) tets.follow(*cutter.incision(), cutter.stats().incisions, tets::TetBudget::All);
   run.sample_us.reserve(stroke.samples.size() + 1);
   const auto timedFollow = [&] {
     const auto start = Clock::now();
@@ -77,7 +79,7 @@ FollowRun followStroke(SurfaceCutter& cutter, TetCutter& tets, const Stroke& str
   };
   cutter.begin(stroke.first, stroke.blade_direction);
   timedFollow();
-  for (const StrokeSample& sample : stroke.samples) {
+  for (const incision::StrokeSample& sample : stroke.samples) {
     cutter.extend(sample);
     timedFollow();
   }
@@ -86,14 +88,15 @@ FollowRun followStroke(SurfaceCutter& cutter, TetCutter& tets, const Stroke& str
   while (cutter.pending() && run.surface_trailing_calls < 100000)
     cutter.advance(stroke.samples.back().time_s), ++run.surface_trailing_calls;
   const auto start = Clock::now();
-  tets.follow(*cutter.incision(), cutter.stats().incisions, TetBudget::All);
+  tets.follow(*cutter.incision(), cutter.stats().incisions, tets::TetBudget::All);
   run.final_follow_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return run;
 }
 
 // The naive alternative: TetGen again on the cut surface (what one sample would cost); if TetGen's check
 // refuses the cut surface, the uncut surface as a lower bound. "ratio_from" names the run the ratio uses.
-nlohmann::json naiveTetGen(const SurfaceMesh& cut, const SurfaceMesh& uncut, const TetrahedralizeOptions& options) {
+nlohmann::json naiveTetGen(const mesh::SurfaceMesh& cut, const mesh::SurfaceMesh& uncut,
+                           const tets::TetrahedralizeOptions& options) {
   nlohmann::json naive = {{"max_volume_m3", kMaxVolumeM3}};
   naive["cut_surface"] = timeTetGen(cut, options);
   naive["seconds_used"] = naive["cut_surface"]["seconds"];
@@ -103,7 +106,7 @@ nlohmann::json naiveTetGen(const SurfaceMesh& cut, const SurfaceMesh& uncut, con
     naive["seconds_used"] = naive["uncut_surface_lower_bound"]["seconds"];
     naive["ratio_from"] = naive["uncut_surface_lower_bound"]["ok"].get<bool>() ? "uncut_surface_lower_bound" : "none";
   }
-  const MeshSummary summary = summarize(cut);
+  const mesh::MeshSummary summary = mesh::summarize(cut);
   naive["cut_surface_triangles"] = summary.faces;
   naive["cut_surface_closed_two_manifold"] = summary.closed_two_manifold;
   return naive;
@@ -128,10 +131,10 @@ nlohmann::json perSampleJson(const std::vector<double>& sample_us) {
           {"met", p99_us <= kTargetP99Us}};
 }
 
-nlohmann::json cutJson(const FollowRun& run, const TetCutter& tets, const SurfaceCutter& cutter) {
-  const TetView rest = tets.view(TetShape::Rest);
-  const TetView deformed = tets.view(TetShape::Deformed);
-  const TetCutStats& stats = tets.stats();
+nlohmann::json cutJson(const FollowRun& run, const tets::TetCutter& tets, const incision::SurfaceCutter& cutter) {
+  const tets::TetView rest = tets.view(tets::TetShape::Rest);
+  const tets::TetView deformed = tets.view(tets::TetShape::Deformed);
+  const tets::TetCutStats& stats = tets.stats();
   return {{"tets_pending_at_last_sample", run.pending_at_last_sample},
           {"surface_calls_to_catch_up_after_finish", run.surface_trailing_calls},
           {"final_unlimited_follow_ms", run.final_follow_ms},
@@ -154,13 +157,14 @@ nlohmann::json cutJson(const FollowRun& run, const TetCutter& tets, const Surfac
 }
 
 // The second stroke: 3 cm along +z across the first one's middle, starting 10 s after it.
-nlohmann::json secondIncisionJson(SurfaceCutter& cutter, TetCutter& tets, const SurfaceMesh& mesh) {
-  StrokePathOptions path;
+nlohmann::json secondIncisionJson(incision::SurfaceCutter& cutter, tets::TetCutter& tets,
+                                  const mesh::SurfaceMesh& mesh) {
+  incision::StrokePathOptions path;
   path.start_m = Eigen::Vector3d(0.013, 0.0, 0.0);
   path.direction = Eigen::Vector3d::UnitZ();
   path.length_m = 0.03;
   path.start_time_s = 10.0;
-  const Stroke stroke = strokeAlongPath(mesh, path);
+  const incision::Stroke stroke = incision::strokeAlongPath(mesh, path);
   const int tets_before = tets.tetCount();
   const FollowRun run = followStroke(cutter, tets, stroke);
   nlohmann::json out = {{"stroke", "3 cm along +z from (13, 0, 0) mm, across the first"},
@@ -177,15 +181,15 @@ nlohmann::json secondIncisionJson(SurfaceCutter& cutter, TetCutter& tets, const 
 }
 
 int main() {
-  const SurfaceMesh bunny = loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
-  SurfaceMesh mesh = subdivided(bunny, 1);
-  const SurfaceMesh uncut = mesh;  // for the naive lower bound, should TetGen refuse the cut surface
-  TetrahedralizeOptions tet_options;
+  const mesh::SurfaceMesh bunny = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
+  mesh::SurfaceMesh mesh = mesh::subdivided(bunny, 1);
+  const mesh::SurfaceMesh uncut = mesh;  // for the naive lower bound, should TetGen refuse the cut surface
+  tets::TetrahedralizeOptions tet_options;
   tet_options.max_volume_m3 = kMaxVolumeM3;
 
   // Load time: TetGen on the tissue surface (validation included), then the tet cutter's own setup.
   auto start = Clock::now();
-  TetMesh tissue = tetrahedralize(mesh, tet_options);
+  tets::TetMesh tissue = tets::tetrahedralize(mesh, tet_options);
   const double tetgen_load_s = secondsSince(start);
   const nlohmann::json tissue_json = {{"surface", "bunny.obj x 0.01, Loop-subdivided once"},
                                       {"surface_triangles", uncut.mesh().n_faces()},
@@ -193,20 +197,20 @@ int main() {
                                       {"tets", tissue.tets.size()},
                                       {"nodes", tissue.nodes_m.size()},
                                       {"volume_m3", volume(tissue)},
-                                      {"min_dihedral_deg", minDihedralAngleDeg(tissue)},
+                                      {"min_dihedral_deg", tets::minDihedralAngleDeg(tissue)},
                                       {"target_min_tets", kMinTets},
                                       {"meets_min_tets", tissue.tets.size() >= static_cast<size_t>(kMinTets)},
                                       {"tetgen_load_s", tetgen_load_s}};
-  TetCutterOptions tet_cutter_options;
+  tets::TetCutterOptions tet_cutter_options;
   tet_cutter_options.max_inversions_per_call = kBudget;
   start = Clock::now();
-  TetCutter tets(std::move(tissue), tet_cutter_options);
+  tets::TetCutter tets(std::move(tissue), tet_cutter_options);
   const double tet_cutter_setup_s = secondsSince(start);
 
-  const Stroke stroke = incise::bench::bunnyBackStroke(mesh);
-  CutterOptions options;
+  const incision::Stroke stroke = incise::bench::bunnyBackStroke(mesh);
+  incision::CutterOptions options;
   options.max_inversions_per_call = kBudget;
-  SurfaceCutter cutter(mesh, options);
+  incision::SurfaceCutter cutter(mesh, options);
   const FollowRun run = followStroke(cutter, tets, stroke);  // only follow() is timed
   nlohmann::json cut_json = cutJson(run, tets, cutter);
 
@@ -219,7 +223,7 @@ int main() {
       {"stroke", "5 cm over the bunny's back, 1 kHz, 5 cm/s, spacing 0.5 mm, order 4"},
       {"threads", 1},
       {"max_inversions_per_call", kBudget},
-      {"machine", incise::bench::machineInfo()},
+      {"machine", incise::measure::machineInfo()},
       {"tissue", tissue_json},
       {"per_sample_us", perSampleJson(run.sample_us)},
       {"naive_tetgen", naive},

@@ -22,17 +22,18 @@
 
 #include <nlohmann/json.hpp>
 
-#include "incise/cutting/surface_mesh.h"
-#include "incise/cutting/tet_cutter.h"
 #include "incise/devices/trace_csv.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
 #include "incise/sim/triple_buffer.h"
+#include "incise/tets/tet_cutter.h"
 #include "incise/viewer/gl_context.h"
 #include "incise/viewer/viewer_window.h"
-#include "machine_info.h"
 
 using namespace incise;
 
@@ -51,7 +52,7 @@ Loaded load(int subdivide, const char* scenario = "bunny-straight") {
   Loaded l;
   l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + scenario + ".json");
   if (subdivide >= 0) l.scenario.subdivide = subdivide;
-  cutting::SurfaceMesh tissue = sim::loadTissue(l.scenario);
+  mesh::SurfaceMesh tissue = sim::loadTissue(l.scenario);
   l.triangles = tissue.mesh().n_faces();
   l.world = std::make_unique<sim::World>(std::move(tissue), l.scenario.world);
   l.poses = devices::TraceReader::readAll(l.scenario.trace);
@@ -235,7 +236,7 @@ int main(int argc, char** argv) {
                              {"sim_frame_p99_change_with_viewer", 0.10},
                              {"screen_latency_display_frames", 2},
                              {"viewer_fps_aim_235k_llvmpipe", 30}}},
-                           {"machine", bench::machineInfo()}};
+                           {"machine", measure::machineInfo()}};
   report["geometry"] = nlohmann::json::array();
   for (const int subdivide : {3, 4})
     for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(subdivide, seeded));

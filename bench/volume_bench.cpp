@@ -11,14 +11,15 @@
 #include <random>
 #include <vector>
 
-#include "incise/cutting/bspline_volume.h"
-#include "incise/cutting/volume_binding.h"
-#include "machine_info.h"
+#include "incise/bspline/bspline_volume.h"
+#include "incise/bspline/volume_binding.h"
+#include "incise/measure/machine_info.h"
+#include "incise/measure/percentile.h"
 
 namespace {
 
-using incise::cutting::BSplineVolume;
-using incise::cutting::VolumeBinding;
+using incise::bspline::BSplineVolume;
+using incise::bspline::VolumeBinding;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kPoints = 32768;
@@ -59,10 +60,10 @@ nlohmann::json runLattice(int count, std::mt19937_64& rng) {
 
   const int passes = 201;
   const double bound_s = medianSeconds(passes, [&] { binding.deformAll(volume, bound); });
-  incise::cutting::preferAvx2BoundKernel(true);
+  incise::bspline::preferAvx2BoundKernel(true);
   std::vector<Eigen::Vector3d> bound_avx2(kPoints);
   const double bound_avx2_s = medianSeconds(passes, [&] { binding.deformAll(volume, bound_avx2); });
-  incise::cutting::preferAvx2BoundKernel(false);
+  incise::bspline::preferAvx2BoundKernel(false);
   const double per_call_s = medianSeconds(passes, [&] {
     for (int p = 0; p < kPoints; ++p) per_call[p] = volume.evaluateUnchecked(params[p][0], params[p][1], params[p][2]);
   });
@@ -77,7 +78,7 @@ nlohmann::json runLattice(int count, std::mt19937_64& rng) {
       {"order", kOrder},
       {"points", kPoints},
       {"passes", passes},
-      {"bound_kernel", incise::cutting::boundKernelName()},
+      {"bound_kernel", incise::bspline::boundKernelName()},
       {"bound_vertices_per_s", bound_rate},
       {"bound_avx2_kernel_vertices_per_s", kPoints / bound_avx2_s},
       {"bound_kernels_bit_identical", kernels_agree},
@@ -96,7 +97,7 @@ int main() {
   nlohmann::json report = {
       {"benchmark", "volume_redeform"},
       {"threads", 1},
-      {"machine", incise::bench::machineInfo()},
+      {"machine", incise::measure::machineInfo()},
       {"results", nlohmann::json::array()},
   };
   for (int count : {8, 20}) report["results"].push_back(runLattice(count, rng));

@@ -12,7 +12,7 @@ if ! ctags --version 2> /dev/null | grep -q "Universal Ctags"; then
 fi
 max_function=${1:-80}
 max_file=${2:-600}
-files=$(git ls-files 'cutting/*.cpp' 'cutting/*.h' 'devices/*.cpp' 'devices/*.h' 'sim/*.cpp' 'sim/*.h' \
+files=$(git ls-files 'measure/*.cpp' 'measure/*.h' 'cutting/*.cpp' 'cutting/*.h' 'devices/*.cpp' 'devices/*.h' 'sim/*.cpp' 'sim/*.h' \
   'viewer/*.cpp' 'viewer/*.h' 'apps/*.cpp' 'apps/*.h')
 status=0
 for f in $files; do

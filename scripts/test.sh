@@ -14,7 +14,7 @@ quick=0
 scripts/install-deps.sh
 jobs=$(nproc)
 # The sanitizer builds: -O1 with line tables only (enough for file:line in every report) compiles in about
-# half the time of RelWithDebInfo's -O2 -g (measured on cutting/src/surface_cutter.cpp under ASan: 15 s
+# half the time of RelWithDebInfo's -O2 -g (measured on cutting/incision/src/surface_cutter.cpp under ASan: 15 s
 # against 32 s), which is most of this script's time on a 2-core machine.
 sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
   -DINCISE_BUILD_BENCH=OFF)

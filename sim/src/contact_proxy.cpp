@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <span>
 
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/surface_query.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/surface_query.h"
 
 namespace incise::sim {
 
@@ -22,7 +22,7 @@ Eigen::AlignedBox3d segmentBox(const Eigen::Vector3d& a, const Eigen::Vector3d& 
 ContactProxy::ContactProxy() : triangles_(kCapacity) {}
 ContactProxy::~ContactProxy() = default;
 
-void ContactProxy::refill(const cutting::SurfaceCutter& cutter, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+void ContactProxy::refill(const incision::SurfaceCutter& cutter, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                           double reach_m, int stamp) noexcept {
   if (!a.allFinite() || !b.allFinite() || !(reach_m > 0.0)) return;
   region_ = segmentBox(a, b, reach_m);
@@ -54,8 +54,8 @@ std::optional<ProxyHit> ContactProxy::firstCrossing(const Eigen::Vector3d& a, co
   std::optional<ProxyHit> best;
   double best_t = 1.0;
   for (int i = 0; i < count_; ++i) {
-    const cutting::SkinTriangle& tri = triangles_[static_cast<std::size_t>(i)];
-    const auto t = cutting::segmentTriangle(a, b, tri.corners_m[0], tri.corners_m[1], tri.corners_m[2]);
+    const mesh::SkinTriangle& tri = triangles_[static_cast<std::size_t>(i)];
+    const auto t = mesh::segmentTriangle(a, b, tri.corners_m[0], tri.corners_m[1], tri.corners_m[2]);
     if (!t || *t > best_t) continue;
     best_t = *t;
     best = ProxyHit{a + *t * (b - a), tri.normal, *t};

@@ -5,10 +5,10 @@
 #include <string>
 #include <thread>
 
-#include "incise/cutting/surface_mesh.h"
-#include "incise/cutting/tet_cutter.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/world.h"
+#include "incise/tets/tet_cutter.h"
 
 namespace incise::sim {
 
@@ -64,10 +64,10 @@ std::uint32_t GeometryStream::Dirty::pop() noexcept {
 }
 
 void GeometryStream::attach(World& world) {
-  const cutting::TriMesh& m = world.tissue().mesh();
+  const mesh::TriMesh& m = world.tissue().mesh();
   vertices_.reserve(m.n_vertices() + m.n_vertices() / 2 + kHeadroomVertices);
   faces_.reserve(m.n_faces() + m.n_faces() / 2 + kHeadroomFaces);
-  if (const cutting::TetCutter* tets = world.tets()) {
+  if (const tets::TetCutter* tets = world.tets()) {
     tets_.present = true;
     tets_.nodes.reserve(static_cast<std::size_t>(tets->nodeCount()) * 3 / 2 + kHeadroomTetNodes);
     tets_.bases.reserve(static_cast<std::size_t>(tets->tetCount()) * 3 / 2 + kHeadroomTetNodes);
@@ -80,7 +80,7 @@ void GeometryStream::seed(World& world, GeometryMirror& mirror) {
   const std::size_t n = world.tissue().mesh().n_vertices();
   if (vertices_.flag.size() < n) vertices_.reserve(n);
   for (std::size_t v = 0; v < n; ++v) vertices_.flag[v] |= kSent;
-  if (const cutting::TetCutter* tets = world.tets()) {
+  if (const tets::TetCutter* tets = world.tets()) {
     const auto nodes = static_cast<std::size_t>(tets->nodeCount());
     if (tets_.nodes.flag.size() < nodes) tets_.nodes.reserve(nodes);
     for (std::size_t i = 0; i < nodes; ++i) tets_.nodes.flag[i] |= kSent;
@@ -95,7 +95,7 @@ void GeometryStream::seed(World& world, GeometryMirror& mirror) {
 }
 
 void GeometryStream::take(World& world) noexcept {
-  const cutting::MeshChanges& changes = world.meshChanges();
+  const incision::MeshChanges& changes = world.meshChanges();
   try {
     for (const int v : changes.vertices) vertices_.mark(static_cast<std::size_t>(v), counters_.regrowths);
     for (const int f : changes.faces) faces_.mark(static_cast<std::size_t>(f), counters_.regrowths);
@@ -107,8 +107,8 @@ void GeometryStream::take(World& world) noexcept {
 }
 
 void GeometryStream::emitVertex(const World& world, std::uint32_t v) noexcept {
-  const cutting::SurfaceMesh& tissue = world.tissue();
-  const cutting::TriMesh::VertexHandle h(static_cast<int>(v));
+  const mesh::SurfaceMesh& tissue = world.tissue();
+  const mesh::TriMesh::VertexHandle h(static_cast<int>(v));
   const auto& p = tissue.mesh().point(h);
   vertices_.flag[v] |= kSent;  // a vertex sent was marked or swept: within the flags
   GeometryRecord& r = next();
@@ -119,9 +119,9 @@ void GeometryStream::emitVertex(const World& world, std::uint32_t v) noexcept {
 }
 
 void GeometryStream::emitFace(const World& world, std::uint32_t f) noexcept {
-  const cutting::SurfaceMesh& tissue = world.tissue();
-  const cutting::TriMesh& m = tissue.mesh();
-  const cutting::TriMesh::FaceHandle h(static_cast<int>(f));
+  const mesh::SurfaceMesh& tissue = world.tissue();
+  const mesh::TriMesh& m = tissue.mesh();
+  const mesh::TriMesh::FaceHandle h(static_cast<int>(f));
   GeometryRecord& r = next();
   r.type = GeometryRecordType::Face;
   r.index = f;
@@ -150,8 +150,8 @@ void GeometryStream::startReset(std::int64_t frame, std::uint32_t n_vertices, st
 }
 
 bool GeometryStream::sendable(const World& world, std::uint32_t f) const noexcept {
-  const cutting::TriMesh& m = world.tissue().mesh();
-  const cutting::TriMesh::FaceHandle h(static_cast<int>(f));
+  const mesh::TriMesh& m = world.tissue().mesh();
+  const mesh::TriMesh::FaceHandle h(static_cast<int>(f));
   if (m.status(h).deleted()) return true;
   for (auto v = m.cfv_iter(h); v.is_valid(); ++v)
     if (static_cast<std::size_t>(v->idx()) >= vertices_.flag.size() ||
@@ -195,7 +195,7 @@ std::size_t GeometryStream::backlog() const noexcept {
 }
 
 int GeometryStream::write(World& world, std::int64_t frame, std::size_t room) noexcept {
-  const cutting::TriMesh& m = world.tissue().mesh();
+  const mesh::TriMesh& m = world.tissue().mesh();
   const auto n_vertices = static_cast<std::uint32_t>(m.n_vertices());
   const auto n_faces = static_cast<std::uint32_t>(m.n_faces());
   const std::uint64_t first = head_local_;
@@ -235,7 +235,7 @@ int GeometryStream::write(World& world, std::int64_t frame, std::size_t room) no
 GeometryPublish GeometryStream::publish(World& world, std::int64_t frame) noexcept {
   GeometryPublish out;
   out.marked = static_cast<int>(world.meshChanges().vertices.size() + world.meshChanges().faces.size());
-  if (const cutting::TetCutter* tets = world.tets())
+  if (const tets::TetCutter* tets = world.tets())
     out.marked += static_cast<int>(tets->changes().nodes.size() + tets->changes().base_tets.size());
   take(world);
   ++counters_.frames;

@@ -4,16 +4,16 @@
 // appends base tets and reports the ones it changed), so the reader follows every incision without a reset.
 #include <algorithm>
 
-#include "incise/cutting/tet_cutter.h"
 #include "incise/sim/geometry_stream.h"
 #include "incise/sim/world.h"
+#include "incise/tets/tet_cutter.h"
 
 namespace incise::sim {
 
 void GeometryStream::takeTets(const World& world) noexcept {
-  const cutting::TetCutter* cutter = world.tets();
+  const tets::TetCutter* cutter = world.tets();
   if (!cutter) return;
-  const cutting::TetChanges& changes = cutter->changes();
+  const tets::TetChanges& changes = cutter->changes();
   try {
     for (const int n : changes.nodes) tets_.nodes.mark(static_cast<std::size_t>(n), counters_.regrowths);
     for (const int t : changes.base_tets) tets_.bases.mark(static_cast<std::size_t>(t), counters_.regrowths);
@@ -23,7 +23,7 @@ void GeometryStream::takeTets(const World& world) noexcept {
 }
 
 void GeometryStream::startTetReset(const World& world, std::int64_t frame) noexcept {
-  const cutting::TetCutter& cutter = *world.tets();
+  const tets::TetCutter& cutter = *world.tets();
   const auto nodes = static_cast<std::uint32_t>(cutter.nodeCount());
   const auto bases = static_cast<std::uint32_t>(cutter.baseTetCount());
   GeometryRecord& r = next();
@@ -39,7 +39,7 @@ void GeometryStream::startTetReset(const World& world, std::int64_t frame) noexc
 }
 
 std::size_t GeometryStream::writeTetNodes(const World& world, std::size_t budget) noexcept {
-  const cutting::TetCutter& cutter = *world.tets();
+  const tets::TetCutter& cutter = *world.tets();
   const auto emit = [&](std::uint32_t n) {
     if (n >= tets_.nodes.flag.size()) return;  // a swept node past the flags: cannot happen after attach()
     tets_.nodes.flag[n] |= kSent;
@@ -59,9 +59,9 @@ std::size_t GeometryStream::writeTetNodes(const World& world, std::size_t budget
 // All of a base tet's children at once, if the budget holds them and the reader has their nodes; false
 // (nothing written) otherwise.
 bool GeometryStream::sendTets(const World& world, std::uint32_t base, std::size_t& budget) noexcept {
-  const std::span<const cutting::TetChild> children = world.tets()->children(static_cast<int>(base));
+  const std::span<const tets::TetChild> children = world.tets()->children(static_cast<int>(base));
   if (std::max<std::size_t>(children.size(), 1) > budget) return false;
-  for (const cutting::TetChild& c : children)
+  for (const tets::TetChild& c : children)
     for (const int n : c.nodes)
       if (static_cast<std::size_t>(n) >= tets_.nodes.flag.size() ||
           !(tets_.nodes.flag[static_cast<std::size_t>(n)] & kSent))

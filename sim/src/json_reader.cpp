@@ -6,11 +6,11 @@
 #include <sstream>
 #include <system_error>
 
-#include "incise/cutting/format.h"
+#include "incise/core/format.h"
 
 namespace incise::sim::detail {
 
-using cutting::formatNumber;
+using core::formatNumber;
 using nlohmann::json;
 
 TextPosition positionOf(const std::string& text, std::size_t offset) {

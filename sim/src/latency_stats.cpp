@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "incise/measure/percentile.h"
+
 namespace incise::sim {
 
 namespace {
@@ -36,14 +38,6 @@ bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
       value = t.haptic_cpu_us;
       return t.haptic_cpu_us >= 0.0;
   }
-}
-
-// Nearest rank: the ceil(n * num / den)-th smallest sample (1-based), in integers so that p99.9 of 1000
-// samples is exactly the 999th and not the 1000th through rounding of 0.999.
-double nearestRank(const std::vector<double>& sorted, std::size_t num, std::size_t den) noexcept {
-  const std::size_t n = sorted.size();
-  const std::size_t rank = std::max<std::size_t>(1, (n * num + den - 1) / den);
-  return sorted[std::min(rank, n) - 1];
 }
 
 void putSummary(nlohmann::ordered_json& j, const char* name, const SampleSummary& s) {
@@ -111,9 +105,9 @@ LatencySummary LatencyStats::summary() const {
     s.count = values.size();
     if (values.empty()) continue;
     std::sort(values.begin(), values.end());
-    s.p50 = nearestRank(values, 1, 2);
-    s.p99 = nearestRank(values, 99, 100);
-    s.p999 = nearestRank(values, 999, 1000);
+    s.p50 = measure::nearestRank(values, 1, 2);
+    s.p99 = measure::nearestRank(values, 99, 100);
+    s.p999 = measure::nearestRank(values, 999, 1000);
     s.mean = sum / static_cast<double>(values.size());
   }
   return out;

@@ -4,7 +4,7 @@
 #include <string>
 #include <thread>
 
-#include "incise/cutting/surface_cutter.h"
+#include "incise/incision/surface_cutter.h"
 
 namespace incise::sim {
 

@@ -6,29 +6,29 @@
 #include <optional>
 #include <string>
 
-#include "incise/cutting/format.h"
-#include "incise/cutting/surface_mesh.h"
-#include "incise/cutting/surface_query.h"
-#include "incise/cutting/vertex_grid.h"
+#include "incise/core/format.h"
+#include "incise/mesh/surface_mesh.h"
+#include "incise/mesh/surface_query.h"
+#include "incise/mesh/vertex_grid.h"
 
 namespace incise::sim {
 
 namespace {
 
 struct TissueIndex {
-  const cutting::TriMesh& mesh;
-  cutting::VertexGrid grid;
+  const mesh::TriMesh& mesh;
+  mesh::VertexGrid grid;
   double radius_m;  // the query radius: the projection limit plus the longest edge
 };
 
-double longestEdge(const cutting::TriMesh& mesh) {
+double longestEdge(const mesh::TriMesh& mesh) {
   double longest_m = 0.0;
   for (const auto e : mesh.edges()) longest_m = std::max(longest_m, static_cast<double>(mesh.calc_edge_length(e)));
   return longest_m;
 }
 
-std::optional<cutting::SurfacePoint> project(const TissueIndex& index, const Eigen::Vector3d& p) {
-  auto hit = cutting::closestSurfacePoint(index.mesh, index.grid, p, index.radius_m);
+std::optional<mesh::SurfacePoint> project(const TissueIndex& index, const Eigen::Vector3d& p) {
+  auto hit = mesh::closestSurfacePoint(index.mesh, index.grid, p, index.radius_m);
   if (!hit || hit->distance_m > kPlanMaxProjectionM) return std::nullopt;
   return hit;
 }
@@ -50,23 +50,23 @@ void frame(std::vector<PlanStation>& stations) {
 
 }  // namespace
 
-Plan projectPlan(const PlanSpec& spec, const cutting::SurfaceMesh& tissue, double spacing_m,
+Plan projectPlan(const PlanSpec& spec, const mesh::SurfaceMesh& tissue, double spacing_m,
                  const std::filesystem::path& file) {
-  TissueIndex index{tissue.mesh(), cutting::VertexGrid(std::max(2.0 * kPlanMaxProjectionM, 1e-4)), 0.0};
+  TissueIndex index{tissue.mesh(), mesh::VertexGrid(std::max(2.0 * kPlanMaxProjectionM, 1e-4)), 0.0};
   index.radius_m = kPlanMaxProjectionM + longestEdge(index.mesh);
-  for (const auto v : index.mesh.vertices()) index.grid.insert(v.idx(), cutting::toEigen(index.mesh.point(v)));
+  for (const auto v : index.mesh.vertices()) index.grid.insert(v.idx(), mesh::toEigen(index.mesh.point(v)));
   Plan plan;
   plan.station_m = spacing_m;
   plan.depth_m = spec.depth_m;
   plan.lateral_tolerance_m = spec.lateral_tolerance_m;
   plan.depth_tolerance_m = spec.depth_tolerance_m;
-  std::vector<cutting::SurfacePoint> given;
+  std::vector<mesh::SurfacePoint> given;
   for (std::size_t i = 0; i < spec.points_m.size(); ++i) {
     const auto hit = project(index, spec.points_m[i]);
     if (!hit)
       fail(file, "points_m[" + std::to_string(i) + "]",
-           cutting::formatPoint(spec.points_m[i]) + " does not project onto the tissue (no surface within " +
-               cutting::formatNumber(1e3 * kPlanMaxProjectionM) + " mm)");
+           core::formatPoint(spec.points_m[i]) + " does not project onto the tissue (no surface within " +
+               core::formatNumber(1e3 * kPlanMaxProjectionM) + " mm)");
     given.push_back(*hit);
   }
   for (std::size_t i = 0; i + 1 < given.size(); ++i) {
@@ -78,7 +78,7 @@ Plan projectPlan(const PlanSpec& spec, const cutting::SurfaceMesh& tissue, doubl
       if (!hit)
         fail(file, "points_m[" + std::to_string(i) + "]",
              "the plan from here to points_m[" + std::to_string(i + 1) + "] leaves the tissue near " +
-                 cutting::formatPoint(p));
+                 core::formatPoint(p));
       PlanStation station;
       station.point_m = hit->point_m;
       station.normal = hit->normal;
@@ -90,9 +90,9 @@ Plan projectPlan(const PlanSpec& spec, const cutting::SurfaceMesh& tissue, doubl
   plan.length_m = plan.stations.back().s_m;
   if (!(plan.length_m >= spacing_m))
     fail(file, "points_m",
-         "the plan is " + cutting::formatNumber(1e3 * plan.length_m) +
+         "the plan is " + core::formatNumber(1e3 * plan.length_m) +
              " mm long on the tissue, shorter than one lattice spacing (incision.spacing_m = " +
-             cutting::formatNumber(1e3 * spacing_m) + " mm)");
+             core::formatNumber(1e3 * spacing_m) + " mm)");
   frame(plan.stations);
   return plan;
 }

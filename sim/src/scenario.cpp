@@ -1,9 +1,9 @@
 #include "incise/sim/scenario.h"
 
-#include "incise/cutting/format.h"
-#include "incise/cutting/incision.h"
-#include "incise/cutting/shapes.h"
-#include "incise/cutting/surface_mesh.h"
+#include "incise/core/format.h"
+#include "incise/incision/incision.h"
+#include "incise/mesh/shapes.h"
+#include "incise/mesh/surface_mesh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,8 +23,8 @@ using nlohmann::json;
 
 using Reader = detail::JsonReader;
 
-void readIncision(const Reader& r, cutting::CutterOptions& c) {
-  cutting::IncisionOptions& i = c.incision;
+void readIncision(const Reader& r, incision::CutterOptions& c) {
+  incision::IncisionOptions& i = c.incision;
   i.depth_m = r.number("depth_m", i.depth_m, 1e-6, 1.0);
   i.opening_m = r.number("opening_m", i.opening_m, 1e-6, 1.0);
   i.alpha_m = r.number("alpha_m", i.alpha_m, 1e-6, 1.0);
@@ -36,10 +36,10 @@ void readIncision(const Reader& r, cutting::CutterOptions& c) {
   i.normal_controls = r.integer("normal_controls", i.normal_controls, 2, 63);
   i.max_columns = r.integer("max_columns", i.max_columns, 16, 1 << 20);
   c.wall_rows = r.integer("wall_rows", c.wall_rows, 1, 64);
-  const std::string refine = r.choice("refine", cutting::toString(c.refine), {"linear", "pn", "off"});
-  c.refine = refine == "off"  ? cutting::CutterOptions::Refine::Off
-             : refine == "pn" ? cutting::CutterOptions::Refine::PnTriangles
-                              : cutting::CutterOptions::Refine::Linear;
+  const std::string refine = r.choice("refine", incision::toString(c.refine), {"linear", "pn", "off"});
+  c.refine = refine == "off"  ? incision::CutterOptions::Refine::Off
+             : refine == "pn" ? incision::CutterOptions::Refine::PnTriangles
+                              : incision::CutterOptions::Refine::Linear;
   c.refine_edge_m = r.number("refine_edge_m", c.refine_edge_m, 0.0, 1.0);
   c.reserved_bound_vertices = r.integer("reserve_vertices", c.reserved_bound_vertices, 64, 1 << 24);
 }
@@ -91,7 +91,7 @@ PlanSpec readPlan(const Reader& r) {
   }
   const auto positive = [&r](const char* key, double fallback) {
     const double value = r.number(key, fallback, -1e9, 1.0);
-    if (!(value > 0.0)) r.fail("must be > 0 (metres), got " + cutting::formatNumber(value), key);
+    if (!(value > 0.0)) r.fail("must be > 0 (metres), got " + core::formatNumber(value), key);
     return value;
   };
   plan.depth_m = positive("depth_m", plan.depth_m);
@@ -100,7 +100,7 @@ PlanSpec readPlan(const Reader& r) {
   return plan;
 }
 
-// "tissue": a mesh file, or "shape": "pad" (cutting::makeSkinPad).
+// "tissue": a mesh file, or "shape": "pad" (mesh::makeSkinPad).
 void readTissueSource(const Reader& tissue, Scenario& s) {
   if (!tissue.has("shape")) {
     s.mesh = tissue.file("mesh");
@@ -143,7 +143,7 @@ Scenario loadScenario(const std::filesystem::path& file) {
 
   readIncision(root.child("incision"), s.world.cutter);
   try {
-    cutting::Incision::validateOptions(s.world.cutter.incision);
+    incision::Incision::validateOptions(s.world.cutter.incision);
   } catch (const std::invalid_argument& e) {
     root.fail(e.what(), "incision");
   }
@@ -175,10 +175,10 @@ Scenario loadScenario(const std::filesystem::path& file) {
   return s;
 }
 
-cutting::SurfaceMesh loadTissue(const Scenario& scenario) {
+mesh::SurfaceMesh loadTissue(const Scenario& scenario) {
   if (scenario.shape.given)
-    return cutting::subdivided(cutting::makeSkinPad(scenario.shape.size_m, scenario.shape.grid_m), scenario.subdivide);
-  return cutting::subdivided(cutting::loadSurfaceMesh(scenario.mesh, scenario.scale), scenario.subdivide);
+    return mesh::subdivided(mesh::makeSkinPad(scenario.shape.size_m, scenario.shape.grid_m), scenario.subdivide);
+  return mesh::subdivided(mesh::loadSurfaceMesh(scenario.mesh, scenario.scale), scenario.subdivide);
 }
 
 }  // namespace incise::sim

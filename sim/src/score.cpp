@@ -6,8 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/surface_mesh.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/simulation.h"
 #include "incise/sim/smoothness.h"
 
@@ -129,13 +129,13 @@ void scoreMotion(const std::vector<ScoreFrame>& frames, const ScoreOptions& opti
   scoreForce(frames, score);
 }
 
-Score scoreSession(const Scenario& scenario, const cutting::SurfaceMesh& tissue,
+Score scoreSession(const Scenario& scenario, const mesh::SurfaceMesh& tissue,
                    std::span<const devices::PoseSample> trace, const ScoreOptions& options) {
   World world(tissue, scenario.world);
   return scoreReplay(scenario, tissue, world, trace, options);
 }
 
-Score scoreReplay(const Scenario& scenario, const cutting::SurfaceMesh& tissue, World& world,
+Score scoreReplay(const Scenario& scenario, const mesh::SurfaceMesh& tissue, World& world,
                   std::span<const devices::PoseSample> trace, const ScoreOptions& options) {
   if (trace.empty()) throw std::invalid_argument("scoreSession: the trace is empty (no pose to replay)");
   Score score;

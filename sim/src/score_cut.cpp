@@ -4,7 +4,7 @@
 #include <cmath>
 #include <optional>
 
-#include "incise/cutting/surface_mesh.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/score.h"
 
 namespace incise::sim {
@@ -22,17 +22,17 @@ struct BinSums {
 // centroid): the walls tile the groove, so a bin is cut when a face covers it, whatever the mesh's
 // resolution. Lateral: the covering faces' centroids (the two walls are symmetric about the groove's centre
 // line); depth: their deepest vertex (the V's bottom).
-std::vector<BinSums> binWallFaces(const Plan& plan, const cutting::SurfaceMesh& cut, double bin_m, double capture_m) {
+std::vector<BinSums> binWallFaces(const Plan& plan, const mesh::SurfaceMesh& cut, double bin_m, double capture_m) {
   std::vector<BinSums> sums(static_cast<std::size_t>(std::ceil(plan.length_m / bin_m - 1e-9)));
-  const cutting::TriMesh& mesh = cut.mesh();
+  const mesh::TriMesh& mesh = cut.mesh();
   std::vector<std::optional<PlanLocation>> located(mesh.n_vertices());
-  const auto at = [&](cutting::TriMesh::VertexHandle v) -> const PlanLocation& {
+  const auto at = [&](mesh::TriMesh::VertexHandle v) -> const PlanLocation& {
     auto& slot = located[static_cast<std::size_t>(v.idx())];
-    if (!slot) slot = locate(plan, cutting::toEigen(mesh.point(v)));
+    if (!slot) slot = locate(plan, mesh::toEigen(mesh.point(v)));
     return *slot;
   };
   for (const auto f : mesh.faces()) {
-    if (cut.kind(f) != cutting::FaceKind::Wall) continue;
+    if (cut.kind(f) != mesh::FaceKind::Wall) continue;
     double s_lo = plan.length_m, s_hi = 0.0, s_sum = 0.0, lateral_sum = 0.0, deepest = 0.0;
     bool inside = true;
     for (const auto v : mesh.fv_range(f)) {
@@ -92,7 +92,7 @@ void scoreBladeDepth(const Plan& plan, const std::vector<ScoreFrame>& frames, co
   if (seen > 0) score.blade_depth_mean_abs_error_m = error_sum / seen;
 }
 
-PlanScore scoreCut(const Plan& plan, const cutting::SurfaceMesh& cut, double groove_length_m,
+PlanScore scoreCut(const Plan& plan, const mesh::SurfaceMesh& cut, double groove_length_m,
                    const ScoreOptions& options) {
   PlanScore s;
   s.length_m = plan.length_m;

@@ -1,5 +1,5 @@
 #include "incise/sim/simulation.h"
-#include "incise/cutting/surface_cutter.h"
+#include "incise/incision/surface_cutter.h"
 
 #include <pthread.h>
 #include <sched.h>
@@ -57,7 +57,7 @@ void Simulation::resetOnNewIncision() noexcept {
 }
 
 int Simulation::poseToVisible(std::int64_t frame) noexcept {
-  const cutting::SurfaceCutter& cutter = world_.cutter();
+  const incision::SurfaceCutter& cutter = world_.cutter();
   resetOnNewIncision();
   int latency = -1;
   const int done = cutter.columnsDone();
@@ -85,12 +85,12 @@ void Simulation::frame(const FrameInfo& info) noexcept {
 
   // The cut phase takes the poses and makes lattice columns final; remember when their poses came (this
   // frame, less however long they waited in the world's queue), to measure when the columns are cut.
-  const cutting::SurfaceCutter& cutter = world_.cutter();
+  const incision::SurfaceCutter& cutter = world_.cutter();
   const auto lag_frames = static_cast<std::int64_t>(std::llround(world_.cutLagS() / dt_s_));  // before: the most
   // Against the clock the surface's budgeted work also stops at its share of cut_budget_us (work_budget.h).
   const auto cut_deadline = info.against_clock
                                 ? haptic_end + std::chrono::nanoseconds(std::llround(1e3 * world_.surfaceCutBudgetUs()))
-                                : cutting::WorkBudget::Clock::time_point::max();
+                                : core::WorkBudget::Clock::time_point::max();
   world_.cut(t_s, cut_deadline);
   const auto cut_end = Clock::now();
   resetOnNewIncision();

@@ -6,8 +6,8 @@
 
 #include <Eigen/Geometry>
 
-#include "incise/cutting/format.h"
-#include "incise/cutting/stroke_path.h"
+#include "incise/core/format.h"
+#include "incise/incision/stroke_path.h"
 
 namespace incise::sim {
 
@@ -57,7 +57,7 @@ class Timeline {
 
 }  // namespace
 
-std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tissue,
+std::vector<devices::PoseSample> posesForStrokes(const mesh::SurfaceMesh& tissue,
                                                  const std::vector<StrokeSpec>& strokes, const WorldOptions& world,
                                                  double rate_hz) {
   std::vector<devices::PoseSample> poses;
@@ -65,9 +65,9 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
   const double tip_depth_m = 0.9 * world.cutter.incision.depth_m;
   for (const StrokeSpec& spec : strokes) {
     if (!(std::isfinite(spec.pause_s) && spec.pause_s >= 0.0))
-      throw std::invalid_argument("posesForStrokes: pause_s = " + cutting::formatNumber(spec.pause_s) +
+      throw std::invalid_argument("posesForStrokes: pause_s = " + core::formatNumber(spec.pause_s) +
                                   " must be finite and >= 0");
-    cutting::StrokePathOptions path;
+    incision::StrokePathOptions path;
     path.start_m = spec.start_m;
     path.direction = spec.direction;
     path.length_m = spec.length_m;
@@ -75,7 +75,7 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
     path.wave_m = spec.wave_m;
     path.speed_m_per_s = spec.speed_m_per_s;
     path.rate_hz = rate_hz;
-    const cutting::Stroke stroke = cutting::strokeAlongPath(tissue, path);
+    const incision::Stroke stroke = incision::strokeAlongPath(tissue, path);
     const Eigen::Vector3d n0 = stroke.first.normal;
     const Eigen::Quaterniond q0 = bladeOrientation(n0, stroke.blade_direction);
     const Eigen::Vector3d above = stroke.first.point_m + kHoverM * n0;
@@ -85,7 +85,7 @@ std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tis
     Eigen::Vector3d tip = in;
     Eigen::Quaterniond q = q0;
     for (size_t k = 0; k < stroke.samples.size(); ++k) {
-      const cutting::StrokeSample& s = stroke.samples[k];
+      const incision::StrokeSample& s = stroke.samples[k];
       const Eigen::Vector3d travel = k + 1 < stroke.samples.size()
                                          ? Eigen::Vector3d(stroke.samples[k + 1].point_m - s.point_m)
                                          : stroke.blade_direction;

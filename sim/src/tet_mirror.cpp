@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "incise/cutting/tet_mesh.h"
+#include "incise/tets/tet_mesh.h"
 
 namespace incise::sim {
 
@@ -27,7 +27,7 @@ void TetMirror::reset(std::uint32_t nodes, std::uint32_t bases) {
 void TetMirror::addFaces(const Child& child, int sign) {
   const std::array<int, 4> t = {child.nodes[0], child.nodes[1], child.nodes[2], child.nodes[3]};
   for (int i = 0; i < 4; ++i) {
-    const std::array<int, 3> f = cutting::faceOpposite(t, i);
+    const std::array<int, 3> f = tets::faceOpposite(t, i);
     std::array<std::int32_t, 3> s = {f[0], f[1], f[2]};
     std::sort(s.begin(), s.end());
     const FaceKey key{s[0], s[1], s[2]};

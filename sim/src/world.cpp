@@ -1,9 +1,9 @@
 #include "incise/sim/world.h"
 
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/surface_mesh.h"
-#include "incise/cutting/tet_cutter.h"
-#include "incise/cutting/tetrahedralize.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/surface_mesh.h"
+#include "incise/tets/tet_cutter.h"
+#include "incise/tets/tetrahedralize.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,9 +31,9 @@ int workBudget(const WorldOptions& options) {
 // The surface cutter's options in this world: the frame's budget, and no local refinement in a tet tissue
 // (the tets are not bisected with it yet: the surface must keep matching their boundary; loadTissue refuses
 // a tet tissue too coarse to be cut without it).
-cutting::CutterOptions withBudget(cutting::CutterOptions cutter, const WorldOptions& options) {
+incision::CutterOptions withBudget(incision::CutterOptions cutter, const WorldOptions& options) {
   cutter.max_inversions_per_call = workBudget(options);
-  if (options.tets.enabled) cutter.refine = cutting::CutterOptions::Refine::Off;
+  if (options.tets.enabled) cutter.refine = incision::CutterOptions::Refine::Off;
   return cutter;
 }
 
@@ -42,10 +42,10 @@ cutting::CutterOptions withBudget(cutting::CutterOptions cutter, const WorldOpti
 // short: its mean edge must be at most half the lattice's width across the cut, where a face the cut
 // crosses still has vertices inside the lattice. Checked after TetGen, so a broken surface (open,
 // self-intersecting) is reported as such first. Throws std::invalid_argument.
-void requireFineTets(const cutting::SurfaceMesh& tissue, const cutting::TetCutter& tets,
-                     const cutting::IncisionOptions& lattice) {
+void requireFineTets(const mesh::SurfaceMesh& tissue, const tets::TetCutter& tets,
+                     const incision::IncisionOptions& lattice) {
   const double width_m = (lattice.across_controls - 1) * lattice.alpha_m;
-  const cutting::EdgeLengths edges = cutting::edgeLengths(tissue.mesh());
+  const mesh::EdgeLengths edges = mesh::edgeLengths(tissue.mesh());
   if (edges.mean_m <= 0.5 * width_m) return;
   char text[640];
   std::snprintf(text, sizeof text,
@@ -60,7 +60,7 @@ void requireFineTets(const cutting::SurfaceMesh& tissue, const cutting::TetCutte
 
 }  // namespace
 
-World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options_(options) {
+World::World(mesh::SurfaceMesh tissue, const WorldOptions& options) : options_(options) {
   requireNonNegative(options.tissue.stiffness_N_per_m, "stiffness_N_per_m");
   requireNonNegative(options.tissue.damping_N_s_per_m, "damping_N_s_per_m");
   requireNonNegative(options.tissue.cutting_resistance_N, "cutting_resistance_N");
@@ -75,12 +75,12 @@ World::World(cutting::SurfaceMesh tissue, const WorldOptions& options) : options
   probe_m_ = std::min(options.tool.blade_length_m, options.cutter.incision.depth_m + 0.002);
   queued_ = std::make_unique<PoseQueue<kQueuedPoses>>();
   proxy_ = std::make_unique<ContactProxy>();
-  tissue_ = std::make_unique<cutting::SurfaceMesh>(std::move(tissue));
-  cutter_ = std::make_unique<cutting::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
+  tissue_ = std::make_unique<mesh::SurfaceMesh>(std::move(tissue));
+  cutter_ = std::make_unique<incision::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
   if (options.tets.enabled) {
-    cutting::TetCutterOptions tet_options = options.tets.cutter;
+    tets::TetCutterOptions tet_options = options.tets.cutter;
     tet_options.max_inversions_per_call = workBudget(options);
-    tets_ = std::make_unique<cutting::TetCutter>(cutting::tetrahedralize(*tissue_, options.tets.mesh), tet_options);
+    tets_ = std::make_unique<tets::TetCutter>(tets::tetrahedralize(*tissue_, options.tets.mesh), tet_options);
     requireFineTets(*tissue_, *tets_, options.cutter.incision);
     tets_->prepare(options.cutter.incision);  // the sim thread then allocates nothing for the first incision
   }
@@ -96,13 +96,13 @@ void World::recordMeshChanges(bool on) {
   cutter_->recordChanges(on);
   if (tets_) tets_->recordChanges(on);
 }
-const cutting::MeshChanges& World::meshChanges() const noexcept { return cutter_->changes(); }
+const incision::MeshChanges& World::meshChanges() const noexcept { return cutter_->changes(); }
 void World::clearMeshChanges() noexcept {
   cutter_->clearChanges();
   if (tets_) tets_->clearChanges();
 }
 
-void World::followTets(cutting::TetBudget budget) noexcept {
+void World::followTets(tets::TetBudget budget) noexcept {
   if (tets_ && cutter_->incision()) tets_->follow(*cutter_->incision(), cutter_->stats().incisions, budget);
 }
 
@@ -117,7 +117,7 @@ bool World::buttonDown(const devices::PoseSample& pose) const noexcept {
 }
 
 World::Contact World::exactContact(const devices::PoseSample& pose) const noexcept {
-  std::optional<cutting::SurfacePoint> hit;
+  std::optional<mesh::SurfacePoint> hit;
   try {
     hit = cutter_->intersect(handleOf(pose), pose.tip_m);
   } catch (...) {  // allocation in the grid query: treat as no contact this pose
@@ -207,16 +207,16 @@ void World::cutPose(const devices::PoseSample& pose) noexcept {
   last_cut_pose_s_ = pose.time_s;
   const Contact c = exactContact(pose);
   if (c.cutting) {
-    const cutting::StrokeSample sample{c.point_m, c.normal, pose.time_s};
+    const incision::StrokeSample sample{c.point_m, c.normal, pose.time_s};
     if (!cutter_->active()) {  // a new incision: it begins once the previous one's work is done
       begin_waiting_ = true;
       begin_sample_ = sample;
       begin_direction_ = pose.orientation * Eigen::Vector3d::UnitX();
     } else {
-      cutter_->addSample(sample, cutting::SampleOrigin::OnSurface);  // on the surface by contact
+      cutter_->addSample(sample, incision::SampleOrigin::OnSurface);  // on the surface by contact
     }
   } else if (cutter_->active()) {
-    cutter_->finish(cutting::FinishWork::Later);  // the blade left the tissue (or the button was released)
+    cutter_->finish(incision::FinishWork::Later);  // the blade left the tissue (or the button was released)
   }
 }
 
@@ -226,7 +226,7 @@ bool World::readyToBegin(bool at_once) noexcept {
   if (!surface_settled_) surface_settled_ = cutter_->prepareBegin(at_once);
   if (!surface_settled_) return false;
   if (tets_) {
-    followTets(at_once ? cutting::TetBudget::All : cutting::TetBudget::PerCall);
+    followTets(at_once ? tets::TetBudget::All : tets::TetBudget::PerCall);
     if (tets_->pending()) return false;
   }
   surface_settled_ = false;
@@ -259,7 +259,7 @@ void World::refreshProxy() noexcept {
   if (!has_pose_) return;
   const Eigen::Vector3d handle = handleOf(last_pose_);
   const int stamp = cutter_->stats().incisions;
-  const bool skin_moved = options_.cutter.refine == cutting::CutterOptions::Refine::PnTriangles &&
+  const bool skin_moved = options_.cutter.refine == incision::CutterOptions::Refine::PnTriangles &&
                           cutter_->stats().refined_vertices != proxy_refined_;
   if (!skin_moved && !proxy_->refillDue(handle, last_pose_.tip_m, stamp)) return;
   proxy_->refill(*cutter_, handle, last_pose_.tip_m, proxyReachM(), stamp);
@@ -269,7 +269,7 @@ void World::refreshProxy() noexcept {
   counters_.proxy_largest = proxy_->largest();
 }
 
-cutting::CutStep World::cut(double t_s, cutting::WorkBudget::Clock::time_point deadline) noexcept {
+incision::CutStep World::cut(double t_s, core::WorkBudget::Clock::time_point deadline) noexcept {
   cutter_->setDeadline(deadline);
   const std::size_t queued = queued_->sizeApprox();  // exact: this thread is both ends
   counters_.queue_peak = std::max(counters_.queue_peak, static_cast<int>(queued));
@@ -280,10 +280,10 @@ cutting::CutStep World::cut(double t_s, cutting::WorkBudget::Clock::time_point d
   // do not add up past the budget. The rest surface it copies is the same before and after this frame's
   // work (the current incision changes it only where its own walls are, which the proxy leaves out).
   refreshProxy();
-  cutting::CutStep step;
+  incision::CutStep step;
   if (takeQueuedPoses(at_once)) {
     step = cutter_->advance(t_s);
-    followTets(cutting::TetBudget::PerCall);
+    followTets(tets::TetBudget::PerCall);
   }
   refreshProxy();  // again only when an incision began in this frame or PN refinement moved the skin
   if (step.deadline_hit) ++counters_.deadline_stops;

@@ -9,8 +9,8 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "incise/cutting/format.h"
-#include "incise/cutting/shapes.h"
+#include "incise/core/format.h"
+#include "incise/mesh/shapes.h"
 #include "json_reader.h"
 
 namespace incise::sim {
@@ -19,7 +19,7 @@ namespace {
 
 using nlohmann::json;
 using Reader = detail::JsonReader;
-using cutting::SurfaceMesh;
+using mesh::SurfaceMesh;
 
 // The most triangles one model or obstacle may have. A wrap scene is a real-time global-DFFD scene: its frame
 // target is a few milliseconds on the ~30k-vertex robot (65,088 triangles), so a mesh of more than about
@@ -63,7 +63,7 @@ SurfaceMesh boxOf(const Reader& k) {
                                 k.vector("max_m", Eigen::Vector3d::Constant(0.01)));
   const int n = k.integer("divisions", 8, 1, 1000);
   requireTriangles(k, "divisions", "a box of " + counted(n, "division"), 12LL * n * n, "a shape");
-  return cutting::makeBox(box, n);
+  return mesh::makeBox(box, n);
 }
 
 // A cylinder: 2 segments (rings + 2 cap_rings - 1) triangles (makeCylinder).
@@ -78,7 +78,7 @@ SurfaceMesh cylinderOf(const Reader& k) {
                    "a cylinder of " + counted(segments, "segment") + ", " + counted(rings, "ring") + " and " +
                        counted(cap_rings, "cap ring"),
                    2LL * segments * (rings + 2LL * cap_rings - 1), "a shape");
-  return cutting::makeCylinder(base, axis, radius, segments, rings, cap_rings);
+  return mesh::makeCylinder(base, axis, radius, segments, rings, cap_rings);
 }
 
 // An icosphere: 20 * 4^subdivisions triangles (makeSphere).
@@ -88,7 +88,7 @@ SurfaceMesh sphereOf(const Reader& k) {
   const int subdivisions = k.integer("subdivisions", 3, 0, 8);
   requireTriangles(k, "subdivisions", "a sphere of " + counted(subdivisions, "subdivision"), 20LL << (2 * subdivisions),
                    "a shape");
-  return cutting::makeSphere(centre, radius, subdivisions);
+  return mesh::makeSphere(centre, radius, subdivisions);
 }
 
 // The face silhouette of n points extruded in `rings` layers: 2 n rings + 2 (n - 2) triangles (makePrism).
@@ -101,15 +101,15 @@ SurfaceMesh prismOf(const Reader& k) {
   requireTriangles(k, largest({"points", "rings"}, {points, rings}),
                    "a prism of " + counted(points, "point") + " and " + counted(rings, "ring"),
                    2LL * points * rings + 2LL * (points - 2), "a shape");
-  return cutting::makePrism(cutting::faceSilhouette(height, points), z0, z1, rings);
+  return mesh::makePrism(mesh::faceSilhouette(height, points), z0, z1, rings);
 }
 
 // The robot of detail d: 1032 d^2 - 120 d triangles (makeRobot).
 SurfaceMesh robotOf(const Reader& k) {
   const double height = k.number("height_m", 0.1, 1e-4, 100.0);
-  const int d = k.integer("detail", cutting::kRobotDetail30k, 1, 200);
+  const int d = k.integer("detail", mesh::kRobotDetail30k, 1, 200);
   requireTriangles(k, "detail", "a robot of detail " + std::to_string(d), 1032LL * d * d - 120LL * d, "a shape");
-  return cutting::makeRobot(height, d);
+  return mesh::makeRobot(height, d);
 }
 
 // A shape ("shape": box, cylinder, sphere, prism with "outline": "face", robot) from its keys.
@@ -127,7 +127,7 @@ SurfaceMesh shapeOf(const Reader& k) {
 // over the limit before subdividing.
 SurfaceMesh fileMeshOf(const Reader& k) {
   const std::filesystem::path p = k.file("mesh");
-  SurfaceMesh mesh = cutting::loadSurfaceMesh(p, k.number("scale", 1.0, 1e-9, 1e9));
+  SurfaceMesh mesh = mesh::loadSurfaceMesh(p, k.number("scale", 1.0, 1e-9, 1e9));
   const int subdivide = k.integer("subdivide", 0, 0, 4);
   const auto faces = static_cast<long long>(mesh.mesh().n_faces());
   requireTriangles(
@@ -135,7 +135,7 @@ SurfaceMesh fileMeshOf(const Reader& k) {
       p.filename().string() +
           (subdivide > 0 ? " (" + grouped(faces) + " triangles) subdivided " + counted(subdivide, "time") : ""),
       faces << (2 * subdivide), "a mesh");
-  return cutting::subdivided(mesh, subdivide);
+  return mesh::subdivided(mesh, subdivide);
 }
 
 // A closed mesh from a scenario entry: a file ("mesh", "scale", "subdivide") or a shape, then scaled per
@@ -147,9 +147,9 @@ SurfaceMesh meshOf(const Reader& k) {
   if ((stretch.array() <= 0).any()) k.fail("must be positive", "stretch");
   const double angle = k.number("rotate_x_deg", 0.0, -360.0, 360.0) * M_PI / 180.0;
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  cutting::TriMesh& m = mesh.mesh();
+  mesh::TriMesh& m = mesh.mesh();
   for (const auto v : m.vertices())
-    m.set_point(v, cutting::toOpenMesh(rotation * cutting::toEigen(m.point(v)).cwiseProduct(stretch) + offset));
+    m.set_point(v, mesh::toOpenMesh(rotation * mesh::toEigen(m.point(v)).cwiseProduct(stretch) + offset));
   return mesh;
 }
 
@@ -164,18 +164,18 @@ void readMeshes(const Reader& root, WrapScenario& s) {
       const std::string name = entries[i].text("name", ("obstacle " + std::to_string(i)).c_str());
       try {
         s.obstacles.push_back({name, meshOf(entries[i])});
-      } catch (const cutting::MeshError& e) {
+      } catch (const mesh::MeshError& e) {
         throw ScenarioError(file + ": obstacle '" + name + "': " + e.what());
       }
     }
   } catch (const std::invalid_argument& e) {
     throw ScenarioError(file + ": " + e.what());
-  } catch (const cutting::MeshError& e) {
+  } catch (const mesh::MeshError& e) {
     throw ScenarioError(file + ": " + e.what());
   }
 }
 
-void readLattice(const Reader& l, cutting::GlobalDffdOptions& o) {
+void readLattice(const Reader& l, global_dffd::GlobalDffdOptions& o) {
   o.order = l.integer("order", o.order, 2, 8);
   if (l.has("controls")) {
     // Whole numbers in [order, 4096] (GlobalDffd's bounds), checked before the cast to int: a number beyond
@@ -183,7 +183,7 @@ void readLattice(const Reader& l, cutting::GlobalDffdOptions& o) {
     const Eigen::Vector3d c = l.vector("controls", Eigen::Vector3d::Zero());
     for (int a = 0; a < 3; ++a) {
       if (!(c[a] >= o.order && c[a] <= 4096 && c[a] == std::floor(c[a])))
-        l.fail("[" + std::to_string(a) + "] = " + cutting::formatNumber(c[a]) + " is not a whole number in [" +
+        l.fail("[" + std::to_string(a) + "] = " + core::formatNumber(c[a]) + " is not a whole number in [" +
                    std::to_string(o.order) + ", 4096]",
                "controls");
       o.controls[static_cast<std::size_t>(a)] = static_cast<int>(c[a]);
@@ -191,22 +191,22 @@ void readLattice(const Reader& l, cutting::GlobalDffdOptions& o) {
   }
   o.margin_m = l.number("margin_m", o.margin_m, 0.0, 100.0);
   o.kernel = l.choice("kernel", "bspline", {"bspline", "gaussian"}) == "gaussian"
-                 ? cutting::DffdKernel::Gaussian
-                 : cutting::DffdKernel::QuadraticBSpline;
+                 ? global_dffd::DffdKernel::Gaussian
+                 : global_dffd::DffdKernel::QuadraticBSpline;
   o.kernel_width = l.number("kernel_width", o.kernel_width, 1e-3, 1e4);
   o.clearance_m = l.number("clearance_m", o.clearance_m, 0.0, 1.0);
-  o.v_knots = l.boolean("v_knots", o.v_knots == cutting::VKnots::AtObstacleExtremes)
-                  ? cutting::VKnots::AtObstacleExtremes
-                  : cutting::VKnots::None;
-  o.on_fold = l.choice("on_fold", "refuse", {"refuse", "widen"}) == "widen" ? cutting::FoldPolicy::Widen
-                                                                            : cutting::FoldPolicy::Refuse;
+  o.v_knots = l.boolean("v_knots", o.v_knots == global_dffd::VKnots::AtObstacleExtremes)
+                  ? global_dffd::VKnots::AtObstacleExtremes
+                  : global_dffd::VKnots::None;
+  o.on_fold = l.choice("on_fold", "refuse", {"refuse", "widen"}) == "widen" ? global_dffd::FoldPolicy::Widen
+                                                                            : global_dffd::FoldPolicy::Refuse;
 }
 
-cutting::OpeningTreatment readTreatment(const Reader& root) {
+global_dffd::OpeningTreatment readTreatment(const Reader& root) {
   const std::string t = root.choice("treatment", "open", {"open", "stitched", "capped"});
-  return t == "stitched" ? cutting::OpeningTreatment::Stitched
-         : t == "capped" ? cutting::OpeningTreatment::Capped
-                         : cutting::OpeningTreatment::Open;
+  return t == "stitched" ? global_dffd::OpeningTreatment::Stitched
+         : t == "capped" ? global_dffd::OpeningTreatment::Capped
+                         : global_dffd::OpeningTreatment::Open;
 }
 
 }  // namespace
@@ -225,9 +225,10 @@ WrapScenario loadWrapScenario(const std::filesystem::path& file) {
     s.frames = m.integer("frames", s.frames, 1, 100000);
   }
   try {
-    const bool capped = s.treatment == cutting::OpeningTreatment::Capped;
-    cutting::validateModel(s.model, capped ? cutting::ModelClosure::Closed : cutting::ModelClosure::MayBeOpen);
-  } catch (const cutting::DffdError& e) {
+    const bool capped = s.treatment == global_dffd::OpeningTreatment::Capped;
+    global_dffd::validateModel(s.model,
+                               capped ? global_dffd::ModelClosure::Closed : global_dffd::ModelClosure::MayBeOpen);
+  } catch (const global_dffd::DffdError& e) {
     root.fail(e.what(), "model");
   }
   s.format = root.choice("format", "obj", {"obj", "ply"}) == "ply" ? WrapFormat::Ply : WrapFormat::Obj;
@@ -235,13 +236,13 @@ WrapScenario loadWrapScenario(const std::filesystem::path& file) {
   return s;
 }
 
-const char* treatmentName(cutting::OpeningTreatment treatment) {
+const char* treatmentName(global_dffd::OpeningTreatment treatment) {
   switch (treatment) {
-    case cutting::OpeningTreatment::Stitched:
+    case global_dffd::OpeningTreatment::Stitched:
       return "stitched";
-    case cutting::OpeningTreatment::Capped:
+    case global_dffd::OpeningTreatment::Capped:
       return "capped";
-    case cutting::OpeningTreatment::Open:
+    case global_dffd::OpeningTreatment::Open:
       break;
   }
   return "open";

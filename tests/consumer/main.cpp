@@ -1,11 +1,11 @@
 // Uses the public API exactly as the foundation issue fixes it: exits 0 only if an o-fold insertion and
 // a moved + plane give the expected discontinuity.
-#include <incise/cutting/bspline_volume.h>
+#include <incise/bspline/bspline_volume.h>
 
 #include <cstdio>
 
 int main() {
-  using incise::cutting::BSplineVolume;
+  using incise::bspline::BSplineVolume;
   BSplineVolume volume = BSplineVolume::identity(Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()),
                                                  {4, 4, 4}, {6, 6, 6});
   volume.insertKnot(0, 0.5, 4);

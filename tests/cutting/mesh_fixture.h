@@ -7,9 +7,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "incise/cutting/surface_mesh.h"
+#include "incise/mesh/surface_mesh.h"
 
-namespace incise::cutting::test {
+namespace incise::mesh::test {
 
 // The MeshError message of loading `path`; fails the test if loading succeeds.
 inline std::string loadError(const std::filesystem::path& path) {
@@ -22,4 +22,4 @@ inline std::string loadError(const std::filesystem::path& path) {
   return {};
 }
 
-}  // namespace incise::cutting::test
+}  // namespace incise::mesh::test

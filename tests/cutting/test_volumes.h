@@ -4,10 +4,10 @@
 #include <random>
 #include <vector>
 
-#include "incise/cutting/bspline_volume.h"
-#include "incise/cutting/knot_vector.h"
+#include "incise/bspline/bspline_volume.h"
+#include "incise/bspline/knot_vector.h"
 
-namespace incise::cutting::testing {
+namespace incise::bspline::testing {
 
 // A volume with random non-uniform knots (interior knots sorted uniform draws, some repeated) and
 // random control points in [-1, 1]^3: nothing about it is special.
@@ -39,4 +39,4 @@ inline Eigen::Vector3d randomParameter(std::mt19937_64& rng, const BSplineVolume
   return t;
 }
 
-}  // namespace incise::cutting::testing
+}  // namespace incise::bspline::testing

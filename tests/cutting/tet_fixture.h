@@ -4,14 +4,14 @@
 #include <map>
 #include <utility>
 
-#include "incise/cutting/tet_mesh.h"
-#include "incise/cutting/tetrahedralize.h"
+#include "incise/tets/tet_mesh.h"
+#include "incise/tets/tetrahedralize.h"
 #include "stroke_fixture.h"
 
-namespace incise::cutting::testing {
+namespace incise::tets::testing {
 
 struct Tissue {
-  SurfaceMesh surface;
+  mesh::SurfaceMesh surface;
   TetMesh tets;
 };
 
@@ -21,7 +21,7 @@ inline const Tissue& bunnyTissue(double max_volume_m3 = 2e-8) {
   static std::map<double, Tissue> tissues;
   auto it = tissues.find(max_volume_m3);
   if (it == tissues.end()) {
-    Tissue t{bunny(1), {}};
+    Tissue t{incision::testing::bunny(1), {}};
     TetrahedralizeOptions o;
     o.max_volume_m3 = max_volume_m3;
     t.tets = tetrahedralize(t.surface, o);
@@ -30,4 +30,4 @@ inline const Tissue& bunnyTissue(double max_volume_m3 = 2e-8) {
   return it->second;
 }
 
-}  // namespace incise::cutting::testing
+}  // namespace incise::tets::testing

@@ -9,16 +9,16 @@
 #include <cstdint>
 
 #include "fuzz_input.h"
-#include "incise/cutting/surface_mesh.h"
+#include "incise/mesh/surface_mesh.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   static constexpr std::array<const char*, 4> kNames = {"mesh.obj", "mesh.off", "mesh.stl", "mesh.ply"};
   const std::filesystem::path path = incise::fuzz::writeInput(data + 1, size - 1, kNames[data[0] % 4]);
   try {
-    const incise::cutting::SurfaceMesh mesh = incise::cutting::loadSurfaceMesh(path);
-    if (!incise::cutting::summarize(mesh).closed_two_manifold) __builtin_trap();
-  } catch (const incise::cutting::MeshError&) {
+    const incise::mesh::SurfaceMesh mesh = incise::mesh::loadSurfaceMesh(path);
+    if (!incise::mesh::summarize(mesh).closed_two_manifold) __builtin_trap();
+  } catch (const incise::mesh::MeshError&) {
   }
   return 0;
 }

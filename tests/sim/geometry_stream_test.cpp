@@ -14,14 +14,14 @@
 #include <memory>
 #include <thread>
 
-#include "incise/cutting/mesh_hash.h"
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/surface_mesh.h"
-#include "incise/cutting/tet_cutter.h"
-#include "incise/cutting/tet_mesh.h"
 #include "incise/devices/trace_csv.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/mesh_hash.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
+#include "incise/tets/tet_cutter.h"
+#include "incise/tets/tet_mesh.h"
 #include "shipped_scenario.h"
 
 using namespace incise;
@@ -41,24 +41,24 @@ sim::ReplayOptions options(const Loaded& l, sim::ReplayPace pace, sim::GeometryS
 }
 
 // The mirror as a SurfaceMesh (live faces in index order), for the geometry hash replay reports.
-cutting::SurfaceMesh rebuild(const sim::GeometryMirror& mirror) {
-  cutting::SurfaceMesh mesh;
+mesh::SurfaceMesh rebuild(const sim::GeometryMirror& mirror) {
+  mesh::SurfaceMesh mesh;
   for (std::size_t v = 0; v < mirror.positions_m().size(); ++v) {
     const auto& p = mirror.positions_m()[v];
-    mesh.addVertex({p[0], p[1], p[2]}, static_cast<cutting::VertexKind>(mirror.vertexKind()[v]));
+    mesh.addVertex({p[0], p[1], p[2]}, static_cast<mesh::VertexKind>(mirror.vertexKind()[v]));
   }
   for (std::size_t f = 0; f < mirror.faces().size(); ++f) {
     if (mirror.faceKind()[f] == sim::kDeletedFace) continue;
     const auto& t = mirror.faces()[f];
-    mesh.addFace(cutting::TriMesh::VertexHandle(t[0]), cutting::TriMesh::VertexHandle(t[1]),
-                 cutting::TriMesh::VertexHandle(t[2]), static_cast<cutting::FaceKind>(mirror.faceKind()[f]));
+    mesh.addFace(mesh::TriMesh::VertexHandle(t[0]), mesh::TriMesh::VertexHandle(t[1]),
+                 mesh::TriMesh::VertexHandle(t[2]), static_cast<mesh::FaceKind>(mirror.faceKind()[f]));
   }
   return mesh;
 }
 
 // Every vertex position bit for bit, every face's vertices (in OpenMesh's order) and kind, deleted faces.
-void requireSameMesh(const sim::GeometryMirror& mirror, const cutting::SurfaceMesh& tissue) {
-  const cutting::TriMesh& m = tissue.mesh();
+void requireSameMesh(const sim::GeometryMirror& mirror, const mesh::SurfaceMesh& tissue) {
+  const mesh::TriMesh& m = tissue.mesh();
   REQUIRE(mirror.exact());
   REQUIRE(mirror.positions_m().size() == m.n_vertices());
   REQUIRE(mirror.faces().size() == m.n_faces());
@@ -82,7 +82,7 @@ void requireSameMesh(const sim::GeometryMirror& mirror, const cutting::SurfaceMe
     differing += mirror.faceKind()[i] != static_cast<std::uint8_t>(tissue.kind(f));
   }
   CHECK(differing == 0);
-  CHECK(cutting::geometryHash(rebuild(mirror)) == cutting::geometryHash(tissue));
+  CHECK(mesh::geometryHash(rebuild(mirror)) == mesh::geometryHash(tissue));
 }
 
 // Faces name only vertices the copy has: what a reader sees at a frame's end is a mesh, not a torn state.
@@ -169,7 +169,7 @@ TEST_CASE("geometry_stream: without a reader the stream sends nothing and the re
   CHECK_FALSE(a.geometry_flushed);
   CHECK(a.geometry.records == 0);
   CHECK(a.frames == b.frames);
-  CHECK(cutting::geometryHash(with.world->tissue()) == cutting::geometryHash(without.world->tissue()));
+  CHECK(mesh::geometryHash(with.world->tissue()) == mesh::geometryHash(without.world->tissue()));
 }
 
 TEST_CASE("geometry_stream: bad options are refused with the value", "[sim]") {
@@ -269,15 +269,15 @@ std::vector<Corners> canonical(const std::vector<std::array<double, 3>>& positio
 }
 
 // The mirror's tet boundary against the tet cutter's (compacted) mesh's boundary, positions bit for bit.
-void requireSameTetBoundary(const sim::GeometryMirror& mirror, const cutting::TetCutter& tets) {
+void requireSameTetBoundary(const sim::GeometryMirror& mirror, const tets::TetCutter& tets) {
   REQUIRE(mirror.tets().exact());
-  const cutting::TetView view = tets.view();
+  const tets::TetView view = tets.view();
   CHECK(mirror.tets().tetCount() == view.mesh.tets.size());
   std::vector<std::array<double, 3>> nodes;
   for (const Eigen::Vector3d& x : view.mesh.nodes_m) nodes.push_back({x[0], x[1], x[2]});
   std::vector<std::array<int, 3>> mirrored;
   for (const auto& f : mirror.tets().boundary()) mirrored.push_back({f[0], f[1], f[2]});
-  const std::vector<Corners> expected = canonical(nodes, cutting::boundaryFaces(view.mesh));
+  const std::vector<Corners> expected = canonical(nodes, tets::boundaryFaces(view.mesh));
   const std::vector<Corners> got = canonical(mirror.tets().positions_m(), mirrored);
   REQUIRE(got.size() == expected.size());
   CHECK(std::memcmp(got.data(), expected.data(), got.size() * sizeof(Corners)) == 0);

@@ -10,11 +10,11 @@
 #include <thread>
 #include <vector>
 
-#include "incise/cutting/shapes.h"
-#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/hid_pose_source.h"
 #include "incise/devices/hid_report.h"
 #include "incise/devices/replay_transport.h"
+#include "incise/mesh/shapes.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/fixed_rate_loop.h"
 #include "incise/sim/simulation.h"
 
@@ -82,8 +82,8 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   // The slab (5 mm cells) is coarse next to the lattice; this test times the device's unplug, not the cut:
   // without refinement its frames stay as light as they were (under TSan a refined cut's frames lag the
   // clock, and the test reads frames by their simulated time; it failed so once in a fresh-clone CI run).
-  world_options.cutter.refine = cutting::CutterOptions::Refine::Off;
-  sim::World world(cutting::makeBox(Eigen::AlignedBox3d(Vector3d(-0.05, -0.05, -0.04), Vector3d(0.05, 0.05, 0.0)), 20),
+  world_options.cutter.refine = incision::CutterOptions::Refine::Off;
+  sim::World world(mesh::makeBox(Eigen::AlignedBox3d(Vector3d(-0.05, -0.05, -0.04), Vector3d(0.05, 0.05, 0.0)), 20),
                    world_options);
   devices::ReplayTransportOptions transport_options;
   transport_options.device.vid = 0x28bd;
@@ -150,5 +150,5 @@ TEST_CASE("hid_live: unplugged mid-stroke, the simulation sees the tool lifted w
   CHECK(lifted_frame_t_s > 0.0);
   CHECK(source.connects() == 2);
   CHECK(world.incisions() == 2);
-  CHECK(cutting::checkManifold(world.tissue().mesh()).closed_two_manifold);
+  CHECK(mesh::checkManifold(world.tissue().mesh()).closed_two_manifold);
 }

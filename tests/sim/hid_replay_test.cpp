@@ -4,11 +4,11 @@
 // about as long as the stroke.
 #include <catch2/catch.hpp>
 
-#include "incise/cutting/mesh_hash.h"
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/hid_recording.h"
 #include "incise/devices/hid_recording_poses.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/mesh_hash.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
 
@@ -34,9 +34,9 @@ HidRun replayHid(const char* name, sim::ReplayPace pace) {
   options.period_us = s.periodUs();
   options.settle_s = s.settle_s;
   sim::replay(world, replayed.poses, options);
-  REQUIRE(cutting::checkManifold(world.tissue().mesh()).closed_two_manifold);
+  REQUIRE(mesh::checkManifold(world.tissue().mesh()).closed_two_manifold);
   HidRun run;
-  run.hash = cutting::geometryHash(world.tissue());
+  run.hash = mesh::geometryHash(world.tissue());
   run.incisions = world.incisions();
   for (const auto& f : world.cutter().stats().figures)
     run.groove_m += f.groove_length_m, run.stroke_m += f.stroke_length_m;

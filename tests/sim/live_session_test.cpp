@@ -8,10 +8,10 @@
 #include <atomic>
 #include <thread>
 
-#include "incise/cutting/mesh_hash.h"
-#include "incise/cutting/surface_cutter.h"
-#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/trace_csv.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/mesh_hash.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
 #include "shipped_scenario.h"
@@ -73,7 +73,7 @@ TEST_CASE("live_session: poses pushed live cut as their recording replays, byte 
   replay.settle_s = options.settle_s;
   const sim::ReplayReport replayed = sim::replay(*again.world, session.poses(), replay);
   CHECK(replayed.incisions == 1);
-  CHECK(cutting::geometryHash(again.world->tissue()) == cutting::geometryHash(l.world->tissue()));
+  CHECK(mesh::geometryHash(again.world->tissue()) == mesh::geometryHash(l.world->tissue()));
   CHECK(again.world->cutter().stats().edges_split == l.world->cutter().stats().edges_split);
 }
 

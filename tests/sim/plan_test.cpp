@@ -4,7 +4,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "incise/cutting/surface_mesh.h"
+#include "incise/mesh/surface_mesh.h"
 #include "scenario_fixture.h"
 
 namespace {

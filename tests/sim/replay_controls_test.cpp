@@ -9,8 +9,8 @@
 #include <chrono>
 #include <thread>
 
-#include "incise/cutting/mesh_hash.h"
 #include "incise/devices/trace_csv.h"
+#include "incise/mesh/mesh_hash.h"
 #include "incise/sim/scenario.h"
 
 using namespace incise;
@@ -33,7 +33,7 @@ Result run(Configure&& configure) {
   o.settle_s = s.settle_s;
   configure(o);
   Result r{sim::replay(world, poses, o), 0};
-  r.hash = cutting::geometryHash(world.tissue());
+  r.hash = mesh::geometryHash(world.tissue());
   return r;
 }
 

@@ -146,9 +146,10 @@ TEST_CASE("scenario: local refinement's keys", "[sim]") {
     "tissue": {"mesh": "meshes/bunny.obj", "scale": 0.01},
     "incision": {"refine": "pn", "refine_edge_m": 0.001},
     "pose_source": {"kind": "strokes", "strokes": [{}]}})"));
-  REQUIRE(refined.world.cutter.refine == cutting::CutterOptions::Refine::PnTriangles);
+  REQUIRE(refined.world.cutter.refine == incision::CutterOptions::Refine::PnTriangles);
   REQUIRE(refined.world.cutter.refine_edge_m == 0.001);
-  REQUIRE(sim::loadScenario(scenarioFile("good", kGood)).world.cutter.refine == cutting::CutterOptions::Refine::Linear);
+  REQUIRE(sim::loadScenario(scenarioFile("good", kGood)).world.cutter.refine ==
+          incision::CutterOptions::Refine::Linear);
   REQUIRE_THROWS_WITH(sim::loadScenario(scenarioFile("refineword", R"({
     "tissue": {"mesh": "meshes/bunny.obj"}, "incision": {"refine": "cubic"},
     "pose_source": {"kind": "strokes", "strokes": [{}]}})")),

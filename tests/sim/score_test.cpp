@@ -9,8 +9,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "incise/cutting/mesh_hash.h"
-#include "incise/cutting/surface_mesh.h"
+#include "incise/mesh/mesh_hash.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/simulation.h"
 #include "incise/sim/smoothness.h"
 #include "incise/sim/stroke_poses.h"
@@ -36,7 +36,7 @@ StrokeSpec stroke(double x0_m, double length_m, double beside_m = 0.0) {
 }
 
 Score scoreStrokes(Scenario scenario, const std::vector<StrokeSpec>& strokes) {
-  const incise::cutting::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
+  const incise::mesh::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
   const std::vector<PoseSample> poses = incise::sim::posesForStrokes(tissue, strokes, scenario.world, scenario.rate_hz);
   return incise::sim::scoreSession(scenario, tissue, poses);
 }
@@ -127,7 +127,7 @@ TEST_CASE("score: the same trace scores to the same bytes; the JSON has units in
 
 TEST_CASE("score: the session is the replay's: the same cut as replay --fast, bit for bit", "[score]") {
   const Scenario scenario = padScenario();
-  const incise::cutting::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
+  const incise::mesh::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
   const auto poses = incise::sim::posesForStrokes(tissue, {stroke(-0.025, 0.05)}, scenario.world, 1000.0);
   incise::sim::World scored(tissue, scenario.world), replayed(tissue, scenario.world);
   const Score s = incise::sim::scoreReplay(scenario, tissue, scored, poses);
@@ -136,7 +136,7 @@ TEST_CASE("score: the session is the replay's: the same cut as replay --fast, bi
   options.settle_s = scenario.settle_s;
   const incise::sim::ReplayReport report = incise::sim::replay(replayed, poses, options);
   CHECK(s.frames == report.frames);
-  CHECK(incise::cutting::geometryHash(scored.tissue()) == incise::cutting::geometryHash(replayed.tissue()));
+  CHECK(incise::mesh::geometryHash(scored.tissue()) == incise::mesh::geometryHash(replayed.tissue()));
   CHECK(s.frames_seen.size() == static_cast<std::size_t>(report.frames));
 }
 
@@ -172,7 +172,7 @@ std::vector<PoseSample> jerky(std::vector<PoseSample> poses, double a, double f_
 
 TEST_CASE("score: a jerky stroke scores worse than a steady one on both smoothness measures", "[score]") {
   const Scenario scenario = padScenario();
-  const incise::cutting::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
+  const incise::mesh::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
   const auto steady = incise::sim::posesForStrokes(tissue, {stroke(-0.025, 0.05)}, scenario.world, 1000.0);
   const Score smooth = incise::sim::scoreSession(scenario, tissue, steady);
   const Score rough = incise::sim::scoreSession(scenario, tissue, jerky(steady, 0.6, 4.0));

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/trace_csv.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/stroke_poses.h"
 #include "incise/sim/world.h"
@@ -23,7 +23,7 @@ struct ShippedScenario {
 inline ShippedScenario loadShipped(const std::string& name) {
   ShippedScenario l;
   l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
-  cutting::SurfaceMesh tissue = sim::loadTissue(l.scenario);
+  mesh::SurfaceMesh tissue = sim::loadTissue(l.scenario);
   l.poses = l.scenario.source == sim::Scenario::Source::Strokes
                 ? sim::posesForStrokes(tissue, l.scenario.strokes, l.scenario.world, l.scenario.rate_hz)
                 : devices::TraceReader::readAll(l.scenario.trace);

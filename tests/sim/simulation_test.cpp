@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "incise/cutting/shapes.h"
-#include "incise/cutting/surface_mesh.h"
+#include "incise/mesh/shapes.h"
+#include "incise/mesh/surface_mesh.h"
 
 using namespace incise;
 using Eigen::Vector3d;
@@ -16,8 +16,8 @@ using Eigen::Vector3d;
 namespace {
 
 // A slab whose top face is the plane z = 0: the identity orientation's blade (local -z) points into it.
-cutting::SurfaceMesh slab() {
-  return cutting::makeBox(Eigen::AlignedBox3d(Vector3d(-0.05, -0.05, -0.04), Vector3d(0.05, 0.05, 0.0)), 10);
+mesh::SurfaceMesh slab() {
+  return mesh::makeBox(Eigen::AlignedBox3d(Vector3d(-0.05, -0.05, -0.04), Vector3d(0.05, 0.05, 0.0)), 10);
 }
 
 // The cut button is bit 0 and the poses leave it up: contact and force, never an incision.

@@ -6,8 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "incise/cutting/shapes.h"
-#include "incise/cutting/stroke_path.h"
+#include "incise/incision/stroke_path.h"
+#include "incise/mesh/shapes.h"
 
 using namespace incise;
 using Catch::Matchers::Contains;
@@ -16,8 +16,8 @@ using Eigen::Vector3d;
 namespace {
 
 // A slab whose top face is the plane y = 0, facing +y (the strokes' rays go down -y).
-cutting::SurfaceMesh slab() {
-  return cutting::makeBox(Eigen::AlignedBox3d(Vector3d(-0.05, -0.02, -0.05), Vector3d(0.05, 0.0, 0.05)), 8);
+mesh::SurfaceMesh slab() {
+  return mesh::makeBox(Eigen::AlignedBox3d(Vector3d(-0.05, -0.02, -0.05), Vector3d(0.05, 0.0, 0.05)), 8);
 }
 
 sim::StrokeSpec straightStroke() {
@@ -31,15 +31,15 @@ sim::StrokeSpec straightStroke() {
 }
 
 // The samples strokeAlongPath gives for the spec (the stroke phase's source).
-cutting::Stroke pathOf(const cutting::SurfaceMesh& tissue, const sim::StrokeSpec& spec, double rate_hz) {
-  cutting::StrokePathOptions o;
+incision::Stroke pathOf(const mesh::SurfaceMesh& tissue, const sim::StrokeSpec& spec, double rate_hz) {
+  incision::StrokePathOptions o;
   o.start_m = spec.start_m;
   o.direction = spec.direction;
   o.length_m = spec.length_m;
   o.bend_m = spec.bend_m;
   o.speed_m_per_s = spec.speed_m_per_s;
   o.rate_hz = rate_hz;
-  return cutting::strokeAlongPath(tissue, o);
+  return incision::strokeAlongPath(tissue, o);
 }
 
 void requireNear(const Vector3d& got, const Vector3d& want, double tol = 1e-12) {
@@ -58,13 +58,13 @@ void requireBlade(const devices::PoseSample& p, const Vector3d& normal, const Ve
 
 TEST_CASE("stroke_poses: idle above the start, a 30 ms descent, the stroke with the button held, a 30 ms rise",
           "[sim]") {
-  const cutting::SurfaceMesh tissue = slab();
+  const mesh::SurfaceMesh tissue = slab();
   sim::WorldOptions world;
   world.cutter.incision.depth_m = 0.003;
   const double tip_depth = 0.9 * 0.003;
   const double rate_hz = 1000.0;
   const sim::StrokeSpec spec = straightStroke();
-  const cutting::Stroke path = pathOf(tissue, spec, rate_hz);
+  const incision::Stroke path = pathOf(tissue, spec, rate_hz);
   REQUIRE(path.samples.size() >= 390);  // 2 cm at 0.05 mm a sample
 
   const std::vector<devices::PoseSample> poses = sim::posesForStrokes(tissue, {spec}, world, rate_hz);
@@ -101,7 +101,7 @@ TEST_CASE("stroke_poses: idle above the start, a 30 ms descent, the stroke with 
   // The stroke: each of strokeAlongPath's samples with the tip 0.9 x depth below it, the button held.
   for (std::size_t j = 0; j < stroke; ++j, ++k) {
     INFO("stroke pose " << j);
-    const cutting::StrokeSample& s = path.samples[j];
+    const incision::StrokeSample& s = path.samples[j];
     requireNear(poses[k].tip_m, s.point_m - tip_depth * s.normal);
     REQUIRE(poses[k].tip_m.y() == Approx(-tip_depth).margin(1e-12));
     REQUIRE(poses[k].buttons == 1);
@@ -118,7 +118,7 @@ TEST_CASE("stroke_poses: idle above the start, a 30 ms descent, the stroke with 
 }
 
 TEST_CASE("stroke_poses: strokes follow each other on one timeline, at any rate", "[sim]") {
-  const cutting::SurfaceMesh tissue = slab();
+  const mesh::SurfaceMesh tissue = slab();
   const sim::WorldOptions world;
   sim::StrokeSpec a = straightStroke();
   sim::StrokeSpec b = straightStroke();
@@ -144,14 +144,14 @@ TEST_CASE("stroke_poses: strokes follow each other on one timeline, at any rate"
 }
 
 TEST_CASE("stroke_poses: on the bunny the tip is 0.9 x depth below each sample along its normal", "[sim]") {
-  const cutting::SurfaceMesh tissue = cutting::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
+  const mesh::SurfaceMesh tissue = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
   sim::WorldOptions world;
   const double tip_depth = 0.9 * world.cutter.incision.depth_m;
   sim::StrokeSpec spec;
   spec.start_m = Vector3d(-0.012, 0.0, 0.015);  // across the back, as in the shipped strokes
   spec.length_m = 0.03;
   spec.pause_s = 0.02;
-  const cutting::Stroke path = pathOf(tissue, spec, 1000.0);
+  const incision::Stroke path = pathOf(tissue, spec, 1000.0);
   const std::vector<devices::PoseSample> poses = sim::posesForStrokes(tissue, {spec}, world, 1000.0);
   REQUIRE(poses.size() == 21 + 31 + path.samples.size() + 31);
   const std::size_t begin = 21 + 31;
@@ -159,7 +159,7 @@ TEST_CASE("stroke_poses: on the bunny the tip is 0.9 x depth below each sample a
   requireNear(poses[begin - 1].tip_m, path.first.point_m - tip_depth * path.first.normal);
   for (std::size_t j = 0; j < path.samples.size(); ++j) {
     INFO("stroke pose " << j);
-    const cutting::StrokeSample& s = path.samples[j];
+    const incision::StrokeSample& s = path.samples[j];
     const devices::PoseSample& p = poses[begin + j];
     REQUIRE(s.normal.dot(Vector3d::UnitY()) > 0.0);  // the back faces up
     requireNear(p.tip_m, s.point_m - tip_depth * s.normal);
@@ -173,7 +173,7 @@ TEST_CASE("stroke_poses: on the bunny the tip is 0.9 x depth below each sample a
 }
 
 TEST_CASE("stroke_poses: a bad stroke or rate is refused", "[sim]") {
-  const cutting::SurfaceMesh tissue = slab();
+  const mesh::SurfaceMesh tissue = slab();
   const sim::WorldOptions world;
   sim::StrokeSpec spec = straightStroke();
   spec.length_m = 0.0;
@@ -201,7 +201,7 @@ TEST_CASE("stroke_poses: a bad stroke or rate is refused", "[sim]") {
 // in the timeline), where the header promises std::invalid_argument for a bad stroke (loadScenario
 // range-checks pause_s to [0, 100], but posesForStrokes is public).
 TEST_CASE("stroke_poses: a negative or NaN pause is refused", "[sim]") {
-  const cutting::SurfaceMesh tissue = slab();
+  const mesh::SurfaceMesh tissue = slab();
   const sim::WorldOptions world;
   sim::StrokeSpec spec = straightStroke();
   spec.pause_s = -1.0;

@@ -1,5 +1,5 @@
 #include "incise/sim/world.h"
-#include "incise/cutting/surface_cutter.h"
+#include "incise/incision/surface_cutter.h"
 
 #include <catch2/catch.hpp>
 
@@ -7,8 +7,8 @@
 #include <limits>
 #include <tuple>
 
-#include "incise/cutting/mesh_hash.h"
-#include "incise/cutting/stroke_path.h"
+#include "incise/incision/stroke_path.h"
+#include "incise/mesh/mesh_hash.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/stroke_poses.h"
 
@@ -17,8 +17,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-cutting::SurfaceMesh bunny() {
-  return cutting::subdivided(cutting::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01), 2);
+mesh::SurfaceMesh bunny() {
+  return mesh::subdivided(mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01), 2);
 }
 
 // A pose with the blade pointing down -y (local -z) and its edge along +x, tip at `tip`.
@@ -34,11 +34,11 @@ devices::PoseSample poseAt(const Eigen::Vector3d& tip, double t_s, std::uint32_t
 }
 
 // Where a vertical ray at (x, z) meets the bunny's back.
-Eigen::Vector3d surfaceAt(const cutting::SurfaceMesh& mesh, double x, double z) {
-  cutting::StrokePathOptions o;
+Eigen::Vector3d surfaceAt(const mesh::SurfaceMesh& mesh, double x, double z) {
+  incision::StrokePathOptions o;
   o.start_m = Eigen::Vector3d(x, 0.0, z);
   o.length_m = 0.001;
-  return cutting::strokeAlongPath(mesh, o).first.point_m;
+  return incision::strokeAlongPath(mesh, o).first.point_m;
 }
 
 // One frame: the haptic part, then the cut phase (which takes the pose and refills the contact proxy).
@@ -53,7 +53,7 @@ sim::HapticState frameOf(sim::World& world, const devices::PoseSample& pose) {
 TEST_CASE("world: no contact above the surface, a penalty force along the normal below it", "[sim]") {
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  const cutting::SurfaceMesh tissue = bunny();
+  const mesh::SurfaceMesh tissue = bunny();
   const Eigen::Vector3d surface = surfaceAt(tissue, 0.005, 0.015);
   sim::World world(tissue, options);
 
@@ -101,7 +101,7 @@ TEST_CASE("world: no contact above the surface, a penalty force along the normal
 TEST_CASE("world: cutting resistance opposes the blade's motion while it cuts", "[sim]") {
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  const cutting::SurfaceMesh tissue = bunny();
+  const mesh::SurfaceMesh tissue = bunny();
   sim::World world(tissue, options);
   const Eigen::Vector3d s0 = surfaceAt(tissue, 0.004, 0.015), s1 = surfaceAt(tissue, 0.0041, 0.015);
   const devices::PoseSample poses[2] = {poseAt(s0 - Eigen::Vector3d(0, 0.002, 0), 0.0),
@@ -117,7 +117,7 @@ TEST_CASE("world: cutting resistance opposes the blade's motion while it cuts", 
 TEST_CASE("world: a stroke of poses cuts the tissue, bad poses are skipped", "[sim]") {
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  const cutting::SurfaceMesh tissue = bunny();
+  const mesh::SurfaceMesh tissue = bunny();
   sim::StrokeSpec stroke;
   stroke.start_m = Eigen::Vector3d(-0.012, 0.0, 0.015);
   stroke.length_m = 0.03;
@@ -139,13 +139,13 @@ TEST_CASE("world: a stroke of poses cuts the tissue, bad poses are skipped", "[s
   REQUIRE(world.incisions() == 1);
   REQUIRE(world.cutter().stats().vertices_duplicated > 40);
   REQUIRE_FALSE(world.cutter().pending());
-  const cutting::ManifoldReport report = cutting::checkManifold(world.tissue().mesh());
+  const mesh::ManifoldReport report = mesh::checkManifold(world.tissue().mesh());
   REQUIRE(report.closed_two_manifold);
   REQUIRE(report.euler_characteristic == 2);
 }
 
 TEST_CASE("world: bad parameters are refused at construction", "[sim]") {
-  const cutting::SurfaceMesh tissue = bunny();
+  const mesh::SurfaceMesh tissue = bunny();
   sim::WorldOptions bad;
   bad.tissue.stiffness_N_per_m = -1.0;
   REQUIRE_THROWS_WITH(sim::World(tissue, bad), Contains("stiffness_N_per_m"));
@@ -162,7 +162,7 @@ TEST_CASE("world: a tet tissue too coarse for the lattice is refused at load; a 
   // is never refined (it must keep matching the tets' boundary).
   sim::WorldOptions options;
   options.tets.enabled = true;
-  const cutting::SurfaceMesh coarse = cutting::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
+  const mesh::SurfaceMesh coarse = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
   REQUIRE_THROWS_WITH(sim::World(coarse, options),
                       Contains("the tet tissue (tissue.tets) is coarse next to the lattice") &&
                           Contains("3.83 mm on average") && Contains("its tets' median edge") &&
@@ -171,7 +171,7 @@ TEST_CASE("world: a tet tissue too coarse for the lattice is refused at load; a 
   // surface, whose edges are longer than refinement's 1.5 mm in places, is not refined. Without tets it is.
   options.tets.mesh.max_volume_m3 = 5e-9;
   options.tool.cut_button = 0;
-  const cutting::SurfaceMesh fine = cutting::subdivided(coarse, 1);
+  const mesh::SurfaceMesh fine = mesh::subdivided(coarse, 1);
   sim::StrokeSpec stroke;
   stroke.start_m = Eigen::Vector3d(-0.012, 0.0, 0.015);
   stroke.length_m = 0.03;
@@ -191,7 +191,7 @@ TEST_CASE("world: a tet tissue too coarse for the lattice is refused at load; a 
 namespace {
 
 // Two strokes over the bunny's back, the second beginning 20 ms after the first lifts off.
-std::vector<devices::PoseSample> twoStrokes(const cutting::SurfaceMesh& tissue, const sim::WorldOptions& options) {
+std::vector<devices::PoseSample> twoStrokes(const mesh::SurfaceMesh& tissue, const sim::WorldOptions& options) {
   sim::StrokeSpec first, second;
   first.start_m = Eigen::Vector3d(-0.012, 0.0, 0.015);
   first.length_m = 0.025;
@@ -210,7 +210,7 @@ struct FramesRun {
 
 // `deadline_due`: every cut phase is given a deadline that has already passed (a frame whose time is gone),
 // so it does one unit of budgeted work.
-FramesRun runFrames(const cutting::SurfaceMesh& tissue, const sim::WorldOptions& options,
+FramesRun runFrames(const mesh::SurfaceMesh& tissue, const sim::WorldOptions& options,
                     const std::vector<devices::PoseSample>& poses, bool deadline_due = false) {
   sim::World world(tissue, options);
   FramesRun run;
@@ -224,12 +224,12 @@ FramesRun runFrames(const cutting::SurfaceMesh& tissue, const sim::WorldOptions&
     world.updateTool(std::span(&pose, 1), 0.001);
     run.haptic_did_no_cutting = run.haptic_did_no_cutting && progress() == before;
     world.cut(t_s = pose.time_s,
-              deadline_due ? cutting::WorkBudget::Clock::now() : cutting::WorkBudget::Clock::time_point::max());
+              deadline_due ? core::WorkBudget::Clock::now() : core::WorkBudget::Clock::time_point::max());
   }
   // The same frames for every budget, to a time where the wounds' openings have settled and the work is done.
   for (int frame = 0; frame < 3000; ++frame) world.cut(t_s += 0.001);
   REQUIRE_FALSE(world.pending());
-  run.hash = cutting::geometryHash(world.tissue());
+  run.hash = mesh::geometryHash(world.tissue());
   run.counters = world.counters();
   return run;
 }
@@ -247,8 +247,8 @@ TEST_CASE("world: a new incision waits for the previous one's work in later fram
   // meets (the same plane, other triangles: a normal that differs in its last bits), so with it the cut
   // depends on how far the work had got when that pose came, whatever the waiting (a known limit, in the
   // issue's notes).
-  options.cutter.refine = cutting::CutterOptions::Refine::Off;
-  const cutting::SurfaceMesh tissue = bunny();
+  options.cutter.refine = incision::CutterOptions::Refine::Off;
+  const mesh::SurfaceMesh tissue = bunny();
   const std::vector<devices::PoseSample> poses = twoStrokes(tissue, options);
   sim::WorldOptions at_once = options, starved = options;
   at_once.cut_budget_us = 1e9;
@@ -268,8 +268,8 @@ TEST_CASE("world: a cut phase stopped by its deadline carries its work over, the
   // deadline; here every deadline has passed when the cut phase starts, so each does one inversion.
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  options.cutter.refine = cutting::CutterOptions::Refine::Off;  // as above
-  const cutting::SurfaceMesh tissue = bunny();
+  options.cutter.refine = incision::CutterOptions::Refine::Off;  // as above
+  const mesh::SurfaceMesh tissue = bunny();
   const std::vector<devices::PoseSample> poses = twoStrokes(tissue, options);
   const FramesRun free = runFrames(tissue, options, poses), due = runFrames(tissue, options, poses, true);
   REQUIRE(free.counters.deadline_stops == 0);
@@ -281,7 +281,7 @@ TEST_CASE("world: a cut phase stopped by its deadline carries its work over, the
 TEST_CASE("world: the haptic contact from the proxy is the cutter's exact contact", "[sim]") {
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  const cutting::SurfaceMesh tissue = bunny();
+  const mesh::SurfaceMesh tissue = bunny();
   const std::vector<devices::PoseSample> poses = twoStrokes(tissue, options);
   sim::World world(tissue, options);
   const double probe_m = std::min(options.tool.blade_length_m, options.cutter.incision.depth_m + 0.002);
@@ -317,7 +317,7 @@ TEST_CASE("world: a blade that goes through the skin within one frame is caught 
   options.tool.cut_button = 0;
   options.tool.blade_length_m = 0.001;
   options.cutter.incision.depth_m = 0.0005;
-  const cutting::SurfaceMesh tissue = bunny();
+  const mesh::SurfaceMesh tissue = bunny();
   const Eigen::Vector3d surface = surfaceAt(tissue, 0.005, 0.015);
   sim::World world(tissue, options);
   frameOf(world, poseAt(surface + Eigen::Vector3d(0, 0.0003, 0), 0.0, 0));

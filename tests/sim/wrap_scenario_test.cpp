@@ -39,12 +39,12 @@ TEST_CASE("wrap scenario: the shipped scenarios load with their values", "[sim]"
   CHECK(s.options.order == 4);
   CHECK(s.options.controls == std::array<int, 3>{24, 16, 8});
   CHECK(s.options.margin_m == 0.025);
-  CHECK(s.options.kernel == cutting::DffdKernel::QuadraticBSpline);
+  CHECK(s.options.kernel == global_dffd::DffdKernel::QuadraticBSpline);
   CHECK(s.options.kernel_width == 6.0);
   CHECK(s.options.clearance_m == 0.0005);
-  CHECK(s.options.v_knots == cutting::VKnots::AtObstacleExtremes);
-  CHECK(s.options.on_fold == cutting::FoldPolicy::Refuse);
-  CHECK(s.treatment == cutting::OpeningTreatment::Open);
+  CHECK(s.options.v_knots == global_dffd::VKnots::AtObstacleExtremes);
+  CHECK(s.options.on_fold == global_dffd::FoldPolicy::Refuse);
+  CHECK(s.treatment == global_dffd::OpeningTreatment::Open);
   CHECK(s.translate_m == Eigen::Vector3d(0.0, 0.07, 0.0));
   CHECK(s.frames == 14);
   CHECK(s.format == sim::WrapFormat::Obj);
@@ -55,14 +55,14 @@ TEST_CASE("wrap scenario: the shipped scenarios load with their values", "[sim]"
   CHECK(std::abs(z_max - 0.01) < 1e-9);
 
   const sim::WrapScenario capped = sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/part-silhouette.json");
-  CHECK(capped.treatment == cutting::OpeningTreatment::Capped);
-  CHECK(capped.options.on_fold == cutting::FoldPolicy::Widen);
+  CHECK(capped.treatment == global_dffd::OpeningTreatment::Capped);
+  CHECK(capped.options.on_fold == global_dffd::FoldPolicy::Widen);
   CHECK(capped.obstacles.at(0).name == "face");
   const sim::WrapScenario stitched = sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/bunny-tool-stitched.json");
-  CHECK(stitched.treatment == cutting::OpeningTreatment::Stitched);
+  CHECK(stitched.treatment == global_dffd::OpeningTreatment::Stitched);
   CHECK(stitched.obstacles.at(0).name == "tool");
   CHECK(sim::loadWrapScenario(INCISE_SCENARIOS_DIR "/wrap/sphere-cylinder-no-v-knots.json").options.v_knots ==
-        cutting::VKnots::None);
+        global_dffd::VKnots::None);
 }
 
 TEST_CASE("wrap scenario: defaults fill what a scenario leaves out", "[sim]") {
@@ -71,14 +71,14 @@ TEST_CASE("wrap scenario: defaults fill what a scenario leaves out", "[sim]") {
   CHECK(s.name == "defaults");
   REQUIRE(s.obstacles.size() == 2);
   CHECK(s.obstacles[1].name == "obstacle 1");  // an obstacle without a name is named by its index
-  const cutting::GlobalDffdOptions o;
+  const global_dffd::GlobalDffdOptions o;
   CHECK(s.options.controls == o.controls);
   CHECK(s.options.kernel_width == o.kernel_width);
-  CHECK(s.treatment == cutting::OpeningTreatment::Open);
+  CHECK(s.treatment == global_dffd::OpeningTreatment::Open);
   CHECK(s.frames == 20);
   CHECK(s.translate_m == Eigen::Vector3d(0.0, 0.1, 0.0));
   CHECK(s.format == sim::WrapFormat::Obj);
-  CHECK(sim::treatmentName(cutting::OpeningTreatment::Stitched) == std::string("stitched"));
+  CHECK(sim::treatmentName(global_dffd::OpeningTreatment::Stitched) == std::string("stitched"));
   CHECK(sim::formatName(sim::WrapFormat::Ply) == std::string("ply"));
 }
 

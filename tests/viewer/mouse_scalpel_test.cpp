@@ -6,7 +6,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "incise/cutting/shapes.h"
+#include "incise/mesh/shapes.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/world.h"
 #include "incise/viewer/picture.h"
@@ -30,7 +30,7 @@ viewer::Camera topDown() {
 // A 10 x 10 x 2 cm box whose top is the plane z = 0, as the viewer has it.
 viewer::SurfaceModel box() {
   sim::World world(
-      cutting::makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.05, -0.02), Eigen::Vector3d(0.05, 0.05, 0.0)), 8),
+      mesh::makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.05, -0.02), Eigen::Vector3d(0.05, 0.05, 0.0)), 8),
       sim::WorldOptions{});
   sim::GeometryMirror mirror;
   sim::copyGeometry(world, 0, mirror);

@@ -4,7 +4,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "incise/cutting/surface_mesh.h"
+#include "incise/mesh/surface_mesh.h"
 #include "viewer_fixture.h"
 
 using namespace incise;
@@ -36,7 +36,7 @@ TEST_CASE("surface_model: updated after every pull, it ends as a model built fro
   for (std::size_t i = 0; i < fresh.normals().size(); ++i)
     differing += std::abs(followed.normals()[i] - fresh.normals()[i]) > 1e-5f;  // sums in another order
   CHECK(differing == 0);
-  const cutting::MeshSummary summary = cutting::summarize(run->world->tissue());
+  const mesh::MeshSummary summary = mesh::summarize(run->world->tissue());
   CHECK(fresh.liveFaces() == static_cast<std::size_t>(summary.faces));
   CHECK(fresh.wallFaces() == static_cast<std::size_t>(summary.wall_faces));
   CHECK(followed.wallFaces() == fresh.wallFaces());
@@ -46,23 +46,23 @@ TEST_CASE("surface_model: skin normals point out of the tissue and leave the wal
   const auto run = test::followRun("bunny-straight");
   viewer::SurfaceModel model;
   REQUIRE(model.update(run->mirror));
-  const cutting::TriMesh& m = run->world->tissue().mesh();
+  const mesh::TriMesh& m = run->world->tissue().mesh();
   std::size_t checked = 0, outward = 0, zero_on_wall_only = 0;
-  cutting::TriMesh mesh = m;
+  mesh::TriMesh mesh = m;
   mesh.update_face_normals();
   for (const auto v : m.vertices()) {
     const auto i = static_cast<std::size_t>(v.idx());
     const Eigen::Vector3f n(&model.normals()[3 * i]);
     bool skin = false;
     for (auto f = m.cvf_iter(v); f.is_valid(); ++f)
-      skin = skin || run->world->tissue().kind(*f) != cutting::FaceKind::Wall;
+      skin = skin || run->world->tissue().kind(*f) != mesh::FaceKind::Wall;
     if (!skin) {
       zero_on_wall_only += n.norm() == 0.0f;
       continue;
     }
     ++checked;
     // Against OpenMesh's own vertex normal of the uncut parts: the same direction.
-    if (run->world->tissue().kind(v) == cutting::VertexKind::Original) {
+    if (run->world->tissue().kind(v) == mesh::VertexKind::Original) {
       const auto on = mesh.calc_vertex_normal(v);
       outward += n.cast<double>().dot(Eigen::Vector3d(on[0], on[1], on[2])) > 0.99;
     } else {

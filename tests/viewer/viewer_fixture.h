@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "incise/cutting/surface_mesh.h"
 #include "incise/devices/trace_csv.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "incise/measure/percentile.h"
+
 namespace incise::viewer {
 
 namespace {
@@ -11,11 +13,7 @@ Percentiles percentiles(std::vector<double> values) {
   Percentiles p;
   if (values.empty()) return p;
   std::sort(values.begin(), values.end());
-  const auto rank = [&](double q) {  // nearest rank, as LatencyStats
-    const auto r = static_cast<std::size_t>(std::ceil(q * static_cast<double>(values.size())));
-    return values[std::min(std::max<std::size_t>(r, 1), values.size()) - 1];
-  };
-  p.p50 = rank(0.5), p.p99 = rank(0.99), p.max = values.back();
+  p.p50 = measure::nearestRank(values, 1, 2), p.p99 = measure::nearestRank(values, 99, 100), p.max = values.back();
   return p;
 }
 

@@ -10,7 +10,7 @@ namespace incise::viewer {
 
 namespace {
 
-constexpr std::uint8_t kWallKind = 2;  // cutting::FaceKind::Wall
+constexpr std::uint8_t kWallKind = 2;  // mesh::FaceKind::Wall
 
 // Möller and Trumbore, "Fast, minimum storage ray/triangle intersection" (1997): the ray's parameter t
 // at its hit of triangle (a, b, c), or a negative value for no hit.

@@ -9,7 +9,7 @@
 
 #include <png.h>
 
-#include "incise/cutting/atomic_file.h"
+#include "incise/core/atomic_file.h"
 
 namespace incise::viewer {
 
@@ -26,7 +26,7 @@ namespace {
 void pngWarning(png_structp, png_const_charp) {}
 
 void writeToFile(png_structp png, png_bytep data, png_size_t size) {
-  auto* file = static_cast<cutting::AtomicFile*>(png_get_io_ptr(png));
+  auto* file = static_cast<core::AtomicFile*>(png_get_io_ptr(png));
   bool failed = false;
   try {
     *file << std::string_view(reinterpret_cast<const char*>(data), size);
@@ -46,7 +46,7 @@ void writePng(const std::filesystem::path& path, const RgbImage& image) {
       image.rgb.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
     throw std::invalid_argument("writePng: " + path.string() + ": the pixels do not match " +
                                 std::to_string(image.width) + "x" + std::to_string(image.height) + " RGB");
-  cutting::AtomicFile file(path);
+  core::AtomicFile file(path);
   std::string error;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, pngError, pngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;

@@ -10,7 +10,7 @@ namespace incise::viewer {
 
 namespace {
 
-constexpr std::uint8_t kWallKind = 2;  // cutting::FaceKind::Wall
+constexpr std::uint8_t kWallKind = 2;  // mesh::FaceKind::Wall
 
 bool live(std::uint8_t kind) { return kind != sim::kDeletedFace; }
 
@@ -64,7 +64,7 @@ bool SurfaceModel::update(const sim::TetMirror& tets) {
   tets_version_ = tets.version();
   std::vector<std::uint8_t> kinds;
   const std::vector<std::array<std::int32_t, 3>> faces = tets.boundary(&kinds);
-  for (std::uint8_t& k : kinds) k = k ? kWallKind : 0;  // cutting::FaceKind::Wall / Original
+  for (std::uint8_t& k : kinds) k = k ? kWallKind : 0;  // mesh::FaceKind::Wall / Original
   rebuild(tets.positions_m(), faces, kinds);
   return true;
 }

@@ -21,10 +21,12 @@
 #include <Eigen/Geometry>
 
 // OpenMesh stays out of sim's public headers: the triangles' type is complete in contact_proxy.cpp only.
-namespace incise::cutting {
-class SurfaceCutter;
+namespace incise::mesh {
 struct SkinTriangle;
-}  // namespace incise::cutting
+}
+namespace incise::incision {
+class SurfaceCutter;
+}
 
 namespace incise::sim {
 
@@ -46,7 +48,7 @@ class ContactProxy {
   // Cut phase: the skin within `reach_m` of the box around segment a-b (the blade's probe), from `cutter`.
   // `stamp` names the surface it was taken from (World: the incision count); refills() asks whether a new
   // one is due.
-  void refill(const cutting::SurfaceCutter& cutter, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double reach_m,
+  void refill(const incision::SurfaceCutter& cutter, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double reach_m,
               int stamp) noexcept;
   // Due when segment a-b is not within the region shrunk by half the reach (the blade got close to its
   // edge) or the surface is another one.
@@ -62,7 +64,7 @@ class ContactProxy {
   int largest() const noexcept { return largest_; }               // the most faces a refill found
 
  private:
-  std::vector<cutting::SkinTriangle> triangles_;  // kCapacity, filled to count_
+  std::vector<mesh::SkinTriangle> triangles_;  // kCapacity, filled to count_
   int count_ = 0;
   Eigen::AlignedBox3d region_;  // empty until the first refill
   double reach_m_ = 0.0;

@@ -9,7 +9,7 @@
 // before that the copy is a partial mesh, which a viewer should not draw.
 //
 // Shapes: positions_m()[v] (metres, the sim's doubles bit for bit), faces()[f] (vertex indices,
-// counter-clockwise from outside), face_kind()[f] (cutting::FaceKind, or kDeletedFace), vertex_kind()[v].
+// counter-clockwise from outside), face_kind()[f] (mesh::FaceKind, or kDeletedFace), vertex_kind()[v].
 // Threads: one reader thread (the one that calls GeometryStream::read). Cost: O(records) per pull; the
 // arrays grow with the mesh (amortised). Failure: nothing throws but std::bad_alloc.
 #pragma once

@@ -32,7 +32,7 @@
 // With a tet tissue (World::tets()) the stream also carries the tet cutter's working mesh, so that a reader
 // can follow the tet mesh's boundary (TetMirror, tet_mirror.h): TetNode records (a node's deformed
 // position) and Tet records (one per child of a base tet; all of a base tet's children in the same frame,
-// slot 0 first, once the reader has their nodes), from the tet cutter's journal (cutting::TetChanges)
+// slot 0 first, once the reader has their nodes), from the tet cutter's journal (tets::TetChanges)
 // through two more dirty queues, within the same per-frame budget (a third of it while the surface has
 // work waiting, and what the surface leaves). A TetReset record (the node and base-tet counts) starts a
 // sweep of the tet part alone, after every Reset (the tet cutter never renumbers its mesh after load: a
@@ -82,7 +82,7 @@ struct GeometryFrameInfo {
   std::uint8_t flags;     // Frame: kFrameComplete | kFrameExact | kFrameTetsComplete | kFrameTetsExact
 };
 
-// A Tet record's body: one child of base tet `index` (slot `kind` of `count`), as cutting::TetChild.
+// A Tet record's body: one child of base tet `index` (slot `kind` of `count`), as tets::TetChild.
 struct GeometryTet {
   std::int32_t nodes[4];
   std::uint8_t count;
@@ -90,7 +90,7 @@ struct GeometryTet {
   std::uint8_t cut_faces;  // bit i: the face opposite nodes[i] lies on the cut
 };
 
-// 32 bytes. Vertex: index, kind (cutting::VertexKind), position_m. Face: index, kind (cutting::FaceKind or
+// 32 bytes. Vertex: index, kind (mesh::VertexKind), position_m. Face: index, kind (mesh::FaceKind or
 // kDeletedFace), vertices (counter-clockwise from outside, in OpenMesh's order from the face's halfedge).
 // TetReset: info (vertices = tet nodes, faces = base tets). TetNode: index, position_m. Tet: index (the base
 // tet), kind (the slot), tet.

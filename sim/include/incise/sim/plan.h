@@ -2,7 +2,7 @@
 // projected onto the tissue's surface at load, resampled into stations, and the queries the scoring asks of
 // it: where along the plan a point lies and how far beside it.
 //
-// Projection: every given point goes to its closest point on the surface (cutting::closestSurfacePoint);
+// Projection: every given point goes to its closest point on the surface (mesh::closestSurfacePoint);
 // the polyline between consecutive projected points is resampled every station_m (at most the lattice
 // spacing, incision.spacing_m) and each sample projected again, so the plan follows a curved surface. The
 // stations carry the arc length s_m from the start (measured along the projected stations), the unit
@@ -23,7 +23,7 @@
 
 #include "incise/sim/scenario.h"
 
-namespace incise::cutting {
+namespace incise::mesh {
 class SurfaceMesh;
 }
 
@@ -49,7 +49,7 @@ struct Plan {
 
 // The spec projected onto `tissue` (the uncut tissue), stations every spacing_m at most (> 0: the lattice
 // spacing). `file` names the scenario in errors.
-Plan projectPlan(const PlanSpec& spec, const cutting::SurfaceMesh& tissue, double spacing_m,
+Plan projectPlan(const PlanSpec& spec, const mesh::SurfaceMesh& tissue, double spacing_m,
                  const std::filesystem::path& file);
 
 // Where a point lies against the plan: its closest point on the stations' polyline at arc length s_m,

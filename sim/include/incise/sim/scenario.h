@@ -46,7 +46,7 @@ struct StrokeSpec {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
   double length_m = 0.05;
   double bend_m = 0.0;
-  double wave_m = 0.0;  // an S sideways (cutting::StrokePathOptions::wave_m)
+  double wave_m = 0.0;  // an S sideways (incision::StrokePathOptions::wave_m)
   double speed_m_per_s = 0.05;
   double pause_s = 0.1;  // tool idle above the surface before the stroke
 };
@@ -71,7 +71,7 @@ struct HidRecordingSource {
 };
 
 // The tissue made by the program instead of read from a file: "tissue": {"shape": "pad", "size_m": [x, y, z],
-// "grid_m": g} (cutting::makeSkinPad: the top at y = 0, a regular grid of g on top).
+// "grid_m": g} (mesh::makeSkinPad: the top at y = 0, a regular grid of g on top).
 struct TissueShape {
   bool given = false;
   Eigen::Vector3d size_m{0.1, 0.02, 0.1};
@@ -111,7 +111,7 @@ struct Scenario {
 
 Scenario loadScenario(const std::filesystem::path& file);
 
-// The scenario's tissue mesh: loaded, scaled and subdivided, or made (shape); throws cutting::MeshError.
-cutting::SurfaceMesh loadTissue(const Scenario& scenario);
+// The scenario's tissue mesh: loaded, scaled and subdivided, or made (shape); throws mesh::MeshError.
+mesh::SurfaceMesh loadTissue(const Scenario& scenario);
 
 }  // namespace incise::sim

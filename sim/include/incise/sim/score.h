@@ -35,7 +35,7 @@
 // O((wall vertices + cutting frames) x plan stations + wall faces), O(frames) for the motion and an FFT per
 // stroke (benchmark: 1.1-1.3x the replay for a 60 s session, README). Allocation: a ScoreFrame kept per
 // frame. Failure: std::invalid_argument for an empty trace; ScenarioError for a plan that does not project
-// (plan.h); cutting::MeshError for a bad tissue (World).
+// (plan.h); mesh::MeshError for a bad tissue (World).
 #pragma once
 
 #include <cstdint>
@@ -49,7 +49,7 @@
 #include "incise/sim/plan.h"
 #include "incise/sim/scenario.h"
 
-namespace incise::cutting {
+namespace incise::mesh {
 class SurfaceMesh;
 }
 
@@ -129,18 +129,18 @@ struct Score {
 };
 
 // The session of `trace` on `tissue` (the scenario's uncut tissue, loadTissue) scored as above.
-Score scoreSession(const Scenario& scenario, const cutting::SurfaceMesh& tissue,
+Score scoreSession(const Scenario& scenario, const mesh::SurfaceMesh& tissue,
                    std::span<const devices::PoseSample> trace, const ScoreOptions& options = {});
 
 // The same on a world the caller made over a copy of `tissue` (World(tissue, scenario.world)): the replay
 // leaves the cut in it (for a picture of the cut).
-Score scoreReplay(const Scenario& scenario, const cutting::SurfaceMesh& tissue, World& world,
+Score scoreReplay(const Scenario& scenario, const mesh::SurfaceMesh& tissue, World& world,
                   std::span<const devices::PoseSample> trace, const ScoreOptions& options = {});
 
 // The parts, for tests and for a caller that already has the frames: the strokes and motion figures of a
 // run's frames (scenario's force threshold), and the cut in `cut_tissue` against `plan`.
 void scoreMotion(const std::vector<ScoreFrame>& frames, const ScoreOptions& options, Score& score);
-PlanScore scoreCut(const Plan& plan, const cutting::SurfaceMesh& cut_tissue, double groove_length_m,
+PlanScore scoreCut(const Plan& plan, const mesh::SurfaceMesh& cut_tissue, double groove_length_m,
                    const ScoreOptions& options);
 // The blade's depth per bin from the cutting frames (their entry points located on the plan), into `plan`.
 void scoreBladeDepth(const Plan& plan, const std::vector<ScoreFrame>& frames, const ScoreOptions& options,

@@ -16,7 +16,7 @@
 
 namespace incise::sim {
 
-std::vector<devices::PoseSample> posesForStrokes(const cutting::SurfaceMesh& tissue,
+std::vector<devices::PoseSample> posesForStrokes(const mesh::SurfaceMesh& tissue,
                                                  const std::vector<StrokeSpec>& strokes, const WorldOptions& world,
                                                  double rate_hz);
 

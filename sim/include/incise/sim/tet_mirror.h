@@ -1,12 +1,12 @@
 // A reader's copy of the tet cutter's working mesh, rebuilt from a GeometryStream's tet records
 // (geometry_stream.h; GeometryMirror forwards them here), and the tet mesh's boundary kept up to date as
 // tets change: every triangle that belongs to exactly one tet, oriented outwards. A viewer draws
-// boundary(); a test compares it with cutting::boundaryFaces of the cutter's view().
+// boundary(); a test compares it with tets::boundaryFaces of the cutter's view().
 //
 // Shapes: positions_m()[n] (metres, the cutter's deformed doubles bit for bit), indexed as the cutter's
 // nodes (some unused); children(b) the pieces of base tet b (nodes in the cutter's order, positively
 // oriented). boundary(): triangles of node indices, counter-clockwise seen from outside
-// (cutting::faceOpposite's convention; each starts at its smallest index). Threads: the reader's (the one that pulls the GeometryMirror).
+// (tets::faceOpposite's convention; each starts at its smallest index). Threads: the reader's (the one that pulls the GeometryMirror).
 // Cost: O(1) per node record, O(children) per tet record (a hash map of faces, updated as tets come and
 // go); boundary() O(faces). Failure: nothing throws but std::bad_alloc.
 #pragma once

@@ -37,7 +37,7 @@
 // Threads: one owner, the sim thread. Cost: updateTool O(poses + ContactProxy::kCapacity); cut as
 // SurfaceCutter under its budget plus one exact contact per pose and, now and then, a proxy refill.
 // Allocation: the queue and the proxy at construction; per frame none beyond the cutters' own.
-// Failure: the constructor throws (std::invalid_argument for bad parameters, cutting::MeshError for a
+// Failure: the constructor throws (std::invalid_argument for bad parameters, mesh::MeshError for a
 // tissue that is not a closed two-manifold, intersects itself or that TetGen refuses); updateTool and cut
 // never throw (bad poses are skipped and counted).
 #pragma once
@@ -49,21 +49,25 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "incise/cutting/surface_cutter_options.h"
-#include "incise/cutting/tet_cutter_options.h"
-#include "incise/cutting/tetrahedralize_options.h"
-#include "incise/cutting/work_budget.h"
+#include "incise/core/work_budget.h"
 #include "incise/devices/pose_sample.h"
+#include "incise/incision/surface_cutter_options.h"
 #include "incise/sim/contact_proxy.h"
 #include "incise/sim/pose_queue.h"
+#include "incise/tets/tet_cutter_options.h"
+#include "incise/tets/tetrahedralize_options.h"
 
 // OpenMesh stays out of sim's public headers: the tissue and its cutters are held through pointers, and
-// a caller that reads them includes incise/cutting/surface_mesh.h, surface_cutter.h or tet_cutter.h.
-namespace incise::cutting {
+// a caller that reads them includes incise/mesh/surface_mesh.h, surface_cutter.h or tet_cutter.h.
+namespace incise::mesh {
 class SurfaceMesh;
+}
+namespace incise::incision {
 class SurfaceCutter;
+}
+namespace incise::tets {
 class TetCutter;
-}  // namespace incise::cutting
+}
 
 namespace incise::sim {
 
@@ -82,13 +86,13 @@ struct TissueOptions {
 // The tissue's volume: tetrahedralised from the surface at load (TetGen) and cut by the same incisions.
 struct TetTissueOptions {
   bool enabled = false;
-  cutting::TetrahedralizeOptions mesh;
-  cutting::TetCutterOptions cutter;  // its per-call budget comes from cut_budget_us: half of it, the
-                                     // surface cutter getting the other half
+  tets::TetrahedralizeOptions mesh;
+  tets::TetCutterOptions cutter;  // its per-call budget comes from cut_budget_us: half of it, the
+                                  // surface cutter getting the other half
 };
 
 struct WorldOptions {
-  cutting::CutterOptions cutter;
+  incision::CutterOptions cutter;
   TetTissueOptions tets;
   ToolOptions tool;
   TissueOptions tissue;
@@ -133,12 +137,12 @@ struct WorldCounters {
 
 struct StepResult {
   HapticState haptic;
-  cutting::CutStep cut;
+  incision::CutStep cut;
 };
 
 class World {
  public:
-  World(cutting::SurfaceMesh tissue, const WorldOptions& options);
+  World(mesh::SurfaceMesh tissue, const WorldOptions& options);
   ~World();
   World(World&&) noexcept;
   World& operator=(World&&) noexcept;
@@ -163,8 +167,8 @@ class World {
   // work stops never changes the surface's bytes. The tets keep to their inversion budget only: their nodes
   // still depend on how their work falls into calls (a known bug, tests/sim/replay_test.cpp), and a deadline
   // would make that depend on the machine's speed too.
-  cutting::CutStep cut(double t_s, cutting::WorkBudget::Clock::time_point deadline =
-                                       cutting::WorkBudget::Clock::time_point::max()) noexcept;
+  incision::CutStep cut(
+      double t_s, core::WorkBudget::Clock::time_point deadline = core::WorkBudget::Clock::time_point::max()) noexcept;
   // Cutting work left for later frames: queued poses, an incision waiting to begin, or columns not cut.
   bool pending() const noexcept;
   // Simulated time between the newest pose the haptic part took and the newest one the cut phase has
@@ -183,17 +187,17 @@ class World {
   static constexpr double kProxyReachMinM = 0.0005, kProxyReachMaxM = 0.02;
   double proxyReachM() const noexcept;  // from the period updateTool was last given (1 kHz before the first)
 
-  const cutting::SurfaceMesh& tissue() const noexcept { return *tissue_; }
-  const cutting::SurfaceCutter& cutter() const noexcept { return *cutter_; }
+  const mesh::SurfaceMesh& tissue() const noexcept { return *tissue_; }
+  const incision::SurfaceCutter& cutter() const noexcept { return *cutter_; }
   const WorldOptions& options() const noexcept { return options_; }
   int incisions() const noexcept;
   // The tissue's tets and their cutter; nullptr unless options.tets.enabled.
-  const cutting::TetCutter* tets() const noexcept { return tets_.get(); }
-  // The cutters' change journals (the surface's cutting::MeshChanges here, the tets' in tets()->changes()),
+  const tets::TetCutter* tets() const noexcept { return tets_.get(); }
+  // The cutters' change journals (the surface's incision::MeshChanges here, the tets' in tets()->changes()),
   // for a reader of the geometry (GeometryStream): off by default; recordMeshChanges(true) reserves their
   // room (load time, allocates); clearMeshChanges() clears both.
   void recordMeshChanges(bool on);
-  const cutting::MeshChanges& meshChanges() const noexcept;
+  const incision::MeshChanges& meshChanges() const noexcept;
   void clearMeshChanges() noexcept;
 
  private:
@@ -212,12 +216,12 @@ class World {
   void cutPose(const devices::PoseSample& pose) noexcept;
   bool readyToBegin(bool at_once) noexcept;
   void refreshProxy() noexcept;
-  void followTets(cutting::TetBudget budget) noexcept;
+  void followTets(tets::TetBudget budget) noexcept;
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
-  std::unique_ptr<cutting::SurfaceMesh> tissue_;  // stable address: the cutter keeps a reference
-  std::unique_ptr<cutting::SurfaceCutter> cutter_;
-  std::unique_ptr<cutting::TetCutter> tets_;
+  std::unique_ptr<mesh::SurfaceMesh> tissue_;  // stable address: the cutter keeps a reference
+  std::unique_ptr<incision::SurfaceCutter> cutter_;
+  std::unique_ptr<tets::TetCutter> tets_;
   WorldOptions options_;
   double probe_m_ = 0.0;  // the blade's part that can meet the skin: its depth + 2 mm (at most its length)
   // The haptic part's state: the newest pose, the tool's velocity, the previous frame's tip.
@@ -232,7 +236,7 @@ class World {
   std::unique_ptr<PoseQueue<kQueuedPoses>> queued_;
   double last_cut_pose_s_ = 0.0;
   bool begin_waiting_ = false, surface_settled_ = false, wait_counted_ = false;
-  cutting::StrokeSample begin_sample_{};
+  incision::StrokeSample begin_sample_{};
   Eigen::Vector3d begin_direction_ = Eigen::Vector3d::UnitX();
   double period_s_ = 0.001;  // the frame period updateTool was last given (the proxy's reach)
   int proxy_refined_ = 0;    // the cutter's refined vertices at the last refill (PN midpoints move the skin)

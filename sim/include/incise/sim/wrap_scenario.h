@@ -31,8 +31,8 @@
 
 #include <Eigen/Core>
 
-#include "incise/cutting/global_dffd.h"
-#include "incise/cutting/surface_mesh.h"
+#include "incise/global_dffd/global_dffd.h"
+#include "incise/mesh/surface_mesh.h"
 #include "incise/sim/scenario_error.h"
 
 namespace incise::sim {
@@ -41,11 +41,11 @@ namespace incise::sim {
 enum class WrapFormat : std::uint8_t { Obj, Ply };
 
 struct WrapScenario {
-  std::string name;                          // [the file's stem]
-  cutting::SurfaceMesh model;                // at its start position
-  std::vector<cutting::Obstacle> obstacles;  // each named ["obstacle i"]
-  cutting::GlobalDffdOptions options;        // "lattice"
-  cutting::OpeningTreatment treatment = cutting::OpeningTreatment::Open;
+  std::string name;                              // [the file's stem]
+  mesh::SurfaceMesh model;                       // at its start position
+  std::vector<global_dffd::Obstacle> obstacles;  // each named ["obstacle i"]
+  global_dffd::GlobalDffdOptions options;        // "lattice"
+  global_dffd::OpeningTreatment treatment = global_dffd::OpeningTreatment::Open;
   Eigen::Vector3d translate_m{0.0, 0.1, 0.0};  // the model's move over the run
   int frames = 20;                             // frames + 1 meshes: offsets 0, 1/frames, ..., 1 of translate_m
   WrapFormat format = WrapFormat::Obj;
@@ -55,7 +55,7 @@ struct WrapScenario {
 WrapScenario loadWrapScenario(const std::filesystem::path& file);
 
 // The scenario's words: "open", "stitched", "capped"; "obj", "ply" (also the files' extension).
-const char* treatmentName(cutting::OpeningTreatment treatment);
+const char* treatmentName(global_dffd::OpeningTreatment treatment);
 const char* formatName(WrapFormat format);
 
 }  // namespace incise::sim

@@ -8,7 +8,7 @@
 // flat (their normal from the triangle itself), so a lip vertex shared by skin and wall keeps the skin's
 // smooth shading. A vertex with no skin face has a zero normal.
 // Shapes: positions() and normals() 3 floats per vertex (metres; unit vectors), indices() 3 per face,
-// faceKinds() 1 per face (cutting::FaceKind, or sim::kDeletedFace). Threads: one (the viewer's). Cost:
+// faceKinds() 1 per face (mesh::FaceKind, or sim::kDeletedFace). Threads: one (the viewer's). Cost:
 // update() O(V + F) after a reset, else O(changed elements x their neighbourhoods); allocates as the mesh
 // grows. Failure: nothing throws but std::bad_alloc.
 #pragma once

@@ -1,0 +1,197 @@
+// `incise score SCENARIO TRACE... [--out report.jsonl] [--plots DIR] [--picture]`: each trace replayed
+// through the scenario's simulation (as `replay --fast`) and scored (sim/include/incise/sim/score.h): one
+// JSON line per trace on stdout, then a summary line; --out writes the same lines to a file (through a .tmp,
+// renamed). --plots DIR: per trace, DIR/<trace stem>.png (gnuplot: lateral and depth error along the plan
+// with the tolerance bands, speed and force over time); --picture also DIR/<trace stem>-top.png, the cut
+// seen from above through the headless renderer, the plan and its lateral band drawn over it (in 2D, after
+// rendering: not part of the 3D scene).
+// Every trace is read and checked before any is scored: an empty trace, one recorded on another tissue (its
+// "# tissue:" comment against the scenario's tissue hash), a plan that does not project -> a message naming
+// the file, exit 2, nothing written.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "incise/devices/trace_csv.h"
+#include "incise/mesh/surface_mesh.h"
+#include "incise/sim/plan.h"
+#include "incise/sim/score.h"
+#include "json_output.h"
+#include "picture_output.h"
+#include "progress.h"
+#include "scenario_run.h"
+#include "score_plots.h"
+#include "training_commands.h"
+
+namespace incise::apps::training {
+
+namespace {
+
+struct ScoreArgs {
+  std::string scenario;
+  std::vector<std::string> traces;
+  std::string out;
+  std::string plots;
+  bool picture = false;
+};
+
+struct Session {
+  std::string file;
+  std::vector<devices::PoseSample> poses;
+};
+
+// Reads every trace and checks it against the scenario's tissue (exit 2 on the first bad one).
+std::vector<Session> readTraces(const ScoreArgs& a, const std::string& tissue_hash, const std::string& scenario) {
+  std::vector<Session> sessions;
+  for (const std::string& file : a.traces) {
+    Session s{file, {}};
+    try {
+      devices::TraceReader reader(file);
+      while (auto pose = reader.next()) s.poses.push_back(*pose);
+      const std::string recorded = traceTissueHash(reader.comments());
+      if (!recorded.empty() && recorded != tissue_hash)
+        failWith("score", file + ": recorded on another tissue (its comment says tissue " + recorded + ", " + scenario +
+                              "'s tissue is " + tissue_hash + ")");
+      if (recorded.empty())
+        std::fprintf(stderr, "incise score: warning: %s carries no tissue hash; scored on %s's tissue\n", file.c_str(),
+                     scenario.c_str());
+    } catch (const std::exception& e) {
+      failWith("score", e.what());
+    }
+    if (s.poses.empty()) failWith("score", file + ": the trace is empty (no pose to score)");
+    sessions.push_back(std::move(s));
+  }
+  return sessions;
+}
+
+// Means over the traces of the headline figures.
+nlohmann::ordered_json summaryJson(const std::vector<nlohmann::ordered_json>& lines) {
+  static const char* keys[] = {"time_s",      "path_length_in_contact_m", "economy", "strokes_count", "idle_time_s",
+                               "peak_force_N"};
+  static const char* plan_keys[] = {"lateral_mean_abs_m", "share_within_lateral_tolerance", "share_uncut",
+                                    "depth_mean_abs_error_m", "share_within_depth_tolerance"};
+  nlohmann::ordered_json mean;
+  const auto average = [&](const char* key, const char* block) {
+    double sum = 0.0;
+    int n = 0;
+    for (const auto& l : lines) {
+      const nlohmann::ordered_json& v = block ? l[block][key] : l[key];
+      if (v.is_number()) sum += v.get<double>(), ++n;
+    }
+    if (n > 0) mean[std::string(block ? std::string(block) + "." : "") + key] = sum / n;
+  };
+  for (const char* k : keys) average(k, nullptr);
+  if (!lines.empty() && lines.front()["plan"].is_object())
+    for (const char* k : plan_keys) average(k, "plan");
+  return {{"summary", {{"traces", lines.size()}, {"mean", mean}}}};
+}
+
+std::filesystem::path plotPath(const ScoreArgs& a, const std::string& trace, const char* suffix) {
+  return std::filesystem::path(a.plots) / (std::filesystem::path(trace).stem().string() + suffix + ".png");
+}
+
+void checkOutputs(const ScoreArgs& a) {
+  if (a.picture && a.plots.empty()) failWith("score", "--picture needs --plots DIR");
+  if (!a.plots.empty()) {
+    if (!gnuplotAvailable())
+      failWith("score", "--plots needs gnuplot on the PATH (Debian: apt-get install gnuplot-nox)");
+    std::error_code error;
+    std::filesystem::create_directories(a.plots, error);
+    if (error) failWith("score", "cannot create " + a.plots + ": " + error.message());
+  }
+  if (a.picture) checkPictureContext("score");
+}
+
+// The plan's centre line (green) and the edges of its lateral band (yellow), for the picture from above.
+std::vector<OverlayLine> planOverlay(const sim::Scenario& scenario, const mesh::SurfaceMesh& tissue) {
+  const sim::Plan plan =
+      sim::projectPlan(scenario.plan, tissue, scenario.world.cutter.incision.spacing_m, scenario.file);
+  OverlayLine centre, left, right;
+  left.rgb = right.rgb = {240, 210, 40};
+  left.width_px = right.width_px = 1;
+  for (const sim::PlanStation& s : plan.stations) {
+    centre.points_m.push_back(s.point_m);
+    left.points_m.push_back(s.point_m + plan.lateral_tolerance_m * s.across);
+    right.points_m.push_back(s.point_m - plan.lateral_tolerance_m * s.across);
+  }
+  return {left, right, centre};
+}
+
+// One trace: scored (the cut left in run.world for the picture), its plots written.
+nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const mesh::SurfaceMesh& tissue, Session& s) {
+  run.world = std::make_unique<sim::World>(tissue, run.scenario.world);
+  run.poses = std::move(s.poses);
+  const sim::Score score = sim::scoreReplay(run.scenario, tissue, *run.world, run.poses);
+  if (!a.plots.empty()) {
+    writeScorePlot(score, plotPath(a, s.file, ""));
+    if (a.picture) {
+      PictureArgs picture;
+      picture.camera = viewer::CameraOption{0.0, 89.0, std::nullopt};
+      picture.tool = false;
+      if (run.scenario.plan.given) picture.overlay = planOverlay(run.scenario, tissue);
+      writePicture("score", run, score.frames - 1, plotPath(a, s.file, "-top").string(), picture);
+    }
+  }
+  return nlohmann::ordered_json::parse(scoreLine(s.file, score));
+}
+
+int runScore(const ScoreArgs& a) {
+  checkOutputs(a);
+  LoadedScenario run;
+  mesh::SurfaceMesh tissue;
+  try {
+    run.scenario = sim::loadScenario(a.scenario);
+    tissue = sim::loadTissue(run.scenario);
+    if (run.scenario.plan.given)  // bad plans are refused before any trace is read
+      sim::projectPlan(run.scenario.plan, tissue, run.scenario.world.cutter.incision.spacing_m, run.scenario.file);
+  } catch (const std::exception& e) {
+    failWith("score", e.what());
+  }
+  std::vector<Session> sessions = readTraces(a, tissueHashText(tissue), run.scenario.name);
+  std::vector<nlohmann::ordered_json> lines;
+  Progress progress("score " + run.scenario.name, static_cast<double>(sessions.size()));
+  try {
+    for (std::size_t i = 0; i < sessions.size(); ++i) {
+      lines.push_back(scoreOne(a, run, tissue, sessions[i]));
+      progress.update(static_cast<double>(i + 1));
+    }
+  } catch (const std::exception& e) {
+    failWith("score", e.what());
+  }
+  progress.finish();
+  std::string all;
+  for (const auto& line : lines) all += line.dump() + "\n";
+  all += summaryJson(lines).dump() + "\n";
+  std::fputs(all.c_str(), stdout);
+  if (!a.out.empty()) {
+    try {
+      writeThroughTemporary(a.out, [&all](const std::filesystem::path& tmp) {
+        std::ofstream f(tmp);
+        f << all;
+        if (!f.flush()) throw std::runtime_error("cannot write " + tmp.string());
+      });
+    } catch (const std::exception& e) {
+      failWith("score", a.out + ": " + e.what());
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addScoreCommand(CLI::App& app) {
+  auto args = std::make_shared<ScoreArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "score", "Score recorded sessions: each trace replayed through the scenario, its cut measured against the plan");
+  cmd->add_option("scenario", args->scenario, "scenario file (JSON), usually one with a plan")->required();
+  cmd->add_option("traces", args->traces, "CSV traces to score")->required();
+  cmd->add_option("--out", args->out, "also write the JSON lines (one per trace, then the summary) to this file");
+  cmd->add_option("--plots", args->plots, "write DIR/<trace>.png (gnuplot) per trace");
+  cmd->add_flag("--picture", args->picture, "with --plots: also DIR/<trace>-top.png, the cut seen from above");
+  cmd->callback([args] {
+    const int code = runScore(*args);
+    if (code != 0) std::exit(code);
+  });
+}
+
+}  // namespace incise::apps::training

@@ -1,0 +1,81 @@
+// Private to cutting: what the global DFFD's three sources share (global_dffd.cpp: the lattice and the
+// projection; global_dffd_split.cpp: the model split; global_dffd_openings.cpp: the openings left open,
+// stitched or capped; global_dffd_splitter.cpp: the split of a moving model kept from frame to frame). Soup
+// is the split model while it is being made: vertex positions with their provenance (source vertex or edge,
+// side, plane) and triangles, all by index.
+// Threads: a Soup belongs to one thread (the split keeps one per thread). Cost: see each function.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <span>
+
+#include <Eigen/Geometry>
+
+#include "incise/global_dffd/global_dffd.h"
+
+namespace incise::global_dffd::detail {
+
+// One construction of a split vertex's position, in the order the split made it: a vertex put on a plane,
+// the crossing point of an edge, or a vertex duplicated on a plane. Replaying them on new positions of the
+// same model, when every vertex is on the same side of every plane, gives the split's new positions.
+struct SplitStep {
+  enum class Kind : std::uint8_t { Snap, Point, Copy };
+  Kind kind = Kind::Snap;
+  int a = -1;        // Snap: the vertex put on the plane; Point: the edge's first end; Copy: the vertex copied
+  int b = -1;        // Point: the edge's second end
+  double u_m = 0.0;  // Snap, Point: the plane x = u
+};
+
+// Where the edge a-b crosses the plane x = u (x exactly u): splitAt's and the replay's one formula.
+inline Eigen::Vector3d splitPoint(const Eigen::Vector3d& pa, const Eigen::Vector3d& pb, double u) {
+  const double t = (u - pa.x()) / (pb.x() - pa.x());
+  Eigen::Vector3d p = pa + t * (pb - pa);
+  p.x() = u;
+  return p;
+}
+
+struct Soup {
+  std::vector<Eigen::Vector3d> x;
+  std::vector<int> source;
+  std::vector<std::array<int, 2>> edge;
+  std::vector<std::int8_t> side;
+  std::vector<int> plane;
+  std::vector<std::array<int, 3>> faces;
+  std::vector<int> remap;                   // compaction
+  std::vector<int> touching;                // splitAt: faces with a vertex on its plane
+  std::vector<SplitStep>* steps = nullptr;  // when set, every position constructed is recorded there
+
+  int add(const Eigen::Vector3d& p, int src, std::array<int, 2> e, int on_plane) {
+    x.push_back(p);
+    source.push_back(src);
+    edge.push_back(e);
+    side.push_back(0);
+    plane.push_back(on_plane);
+    return static_cast<int>(x.size()) - 1;
+  }
+};
+
+// Closes each opening left by separate(): a loop of boundary edges whose vertices all lie on `plane` on
+// one side. Its two halves, from its lowest-v vertex to its highest, are given the same v-values (each
+// half's edges split where the other half has a vertex) and welded vertex to vertex: once F is stitched
+// both halves map onto the same seam, so the weld closes the surface without a flat face. An opening that
+// cannot be welded (beyond the box, a half not strictly monotone in v, a face already joining the halves,
+// or a weld that would not leave a two-manifold) gets a strip of thin triangles between its halves instead,
+// if that leaves a two-manifold; else it stays open. Returns the openings left open.
+// Cost O((V + F) log F) plus O(F) per welded vertex.
+int zipOpenings(Soup& s, int plane, const Eigen::AlignedBox3d& box);
+
+// The soup of a model given by positions and triangles (a triangle's vertex out of range: DffdError). O(V + F).
+void soupOf(std::span<const Eigen::Vector3d> positions, std::span<const std::array<int, 3>> faces, Soup& s);
+
+// The split (splitAtDiscontinuities) of soup `s` into `split`: with Openings::Leave, s's buffers and split's
+// are swapped (both keep their capacity). Cost: see splitAtDiscontinuities.
+void splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdSplit& split);
+
+// How close to a plane splitAt puts a vertex on it (a split there would make a sliver), for `box`.
+inline double snapDistance(const Eigen::AlignedBox3d& box) { return 1e-9 * box.sizes().maxCoeff(); }
+
+}  // namespace incise::global_dffd::detail

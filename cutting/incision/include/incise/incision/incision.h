@@ -1,0 +1,202 @@
+// One local DFFD incision (Schein & Elber, "Discontinuous Free Form Deformations", §4): the lattice
+// that a scalpel stroke grows, without any mesh. SurfaceCutter (surface_cutter.h) applies it to a mesh.
+//
+// The stroke's samples (hit point, surface normal, time) are resampled at a fixed arc length `spacing_m`
+// into stations G_s with normal N_s, tangent T_s (central differences) and side S_s = T_s x N_s. Station s
+// is lattice column j = s + P (P = order - 1 columns of padding before the start, extrapolated along -T_0;
+// columns after the last station are extrapolated along +T). Control points follow the paper's Eq. (2):
+//   P_ijk = G_j + (floor(l/2) - i) alpha S_j + (floor(n/2) - k) beta N_j,
+// with clamped uniform knots in u (across the cut, l controls) and w (along the normal, n controls) on
+// [0, 1], and uniform unit-spaced knots in v (one span per column), so that appending a column never
+// changes the basis of the columns before it. Then u = 1/2 is raised to multiplicity `order` (Boehm, §3.1):
+// the two coincident planes i_minus, i_plus = i_minus + 1 are the potential C^-1 discontinuity
+// (Definition 2). The lattice with these control points is `rest()`, F0: the map that parameterises the
+// tissue (F0(u, 1/2, w) follows G; w = 1/2 is the surface, w = bottomW() the blade's depth).
+//
+// The cut is a displacement lattice `displacement()`, D, with the same knots and control points
+//   dP_ijk = +/- kappa(i) * opening_j * rho(k) * S_j   (+ on the u < 1/2 side, which lies towards +S)
+// kappa: the paper's kernel over the u-planes, a quadratic B-spline profile, 1 on the two discontinuity
+// planes and 0 on the outer planes (which stay put, so D = 0 on the lattice's boundary); rho: 1 at and
+// above the surface, falling linearly to 0 at the blade's depth (the blade's V shape); opening_j: half the
+// wound's width times the time response r((t - t_j) / retraction_time_s), r(x) = 1 - (1 - x)^3 on [0, 1]
+// (the opening grows from 0 to its full width as the tissue retracts, and settles exactly), times a ramp
+// over the first `order` stations. A deformed point is x + D(u, v, w): F = F0 + D with F0(uvw) = x
+// exactly, so points where D is 0 are never moved by inversion error.
+//
+// Finality: column j is final once station j - P + 1 exists (its tangent is known) or the stroke is
+// finished. Only final columns open and only the parameter range they determine, v < finalEndV(), is cut;
+// so the cut trails the newest sample by about (order/2 + 1) * spacing_m, and the result depends only on
+// the samples, never on how they were grouped into calls (growing sample by sample = one call with all).
+//
+// Units: metres, seconds. Shapes: rest() and displacement() have (l + order - m0) x max_columns x n controls
+// (m0 = multiplicity of 1/2 in the clamped u knots). Threads: one owner (the sim thread); const members
+// from that thread. Cost: extend O(1) per station (a fixed number of columns change); updateOpening
+// O(columns still opening); construction O(max_columns * l * n) (allocates: do it at load).
+// Failure: the constructor throws std::invalid_argument naming the bad option; extend never throws and
+// returns a status (bad samples are skipped or refused; the incision stays valid).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "incise/bspline/bspline_volume.h"
+
+namespace incise::incision {
+
+struct IncisionOptions {
+  double depth_m = 0.004;           // blade depth below the surface (d)
+  double opening_m = 0.002;         // full distance between the lips once the wound has retracted
+  double alpha_m = 0.0015;          // paper's alpha: spacing of control planes across the cut (along S)
+  double beta_m = 0.002;            // paper's beta: spacing of control rows along the normal
+  double spacing_m = 0.0005;        // stroke resampling step: one lattice column per spacing
+  double retraction_time_s = 0.05;  // time for the opening to reach its full width
+  double max_step_m = 0.005;        // a sample farther than this from the previous one is skipped
+  int order = 4;                    // B-spline order o in u, v and w
+  int across_controls = 5;          // l: control planes across the cut before insertion (odd, >= order)
+  int normal_controls = 7;          // n: control rows along the normal (odd, >= order)
+  int max_columns = 512;            // lattice capacity: the longest stroke is about max_columns * spacing
+  double epsilon = 1e-9;            // parameter offset u = 1/2 -/+ epsilon for the lips (paper §3.2)
+};
+
+// One sample of the stroke: where the blade touches the surface, the outward surface normal there, and when.
+struct StrokeSample {
+  Eigen::Vector3d point_m;
+  Eigen::Vector3d normal;
+  double time_s = 0.0;
+};
+
+enum class SampleStatus : std::uint8_t {
+  Accepted,         // used (it may or may not have completed a station)
+  SkippedStill,     // closer than 1e-9 m to the previous sample: nothing to add
+  SkippedBackward,  // goes back along the stroke (more than 120 degrees from its direction)
+  SkippedTime,      // time not after the previous sample's
+  SkippedJump,      // farther than max_step_m from the previous sample: the blade left the surface here
+  RefusedNaN,       // a non-finite coordinate, normal or time
+  RefusedNormal,    // a zero normal, or one parallel to the step (no side direction)
+  Ended,            // the lattice is full, or the incision is finished: the sample is not used
+};
+const char* toString(SampleStatus status) noexcept;
+
+class Incision {
+ public:
+  // Starts an incision at `first` with the blade travelling along `blade_direction` (used as the tangent
+  // until a second station exists). Throws std::invalid_argument for bad options (named, with the value),
+  // a non-finite or zero first sample, or options under which the opened kernel would fold the lattice
+  // (paper Theorem 1: a plane would pass its neighbour; widen alpha_m or lower opening_m).
+  Incision(const IncisionOptions& options, const StrokeSample& first, const Eigen::Vector3d& blade_direction);
+
+  // Starts this object over as a new incision at `first` (the state the constructor gives with the same
+  // options), reusing its storage: no allocation, so a cutter keeps one spare incision for the sim thread.
+  // Throws std::invalid_argument for a bad first sample or direction, as the constructor does.
+  void restart(const StrokeSample& first, const Eigen::Vector3d& blade_direction);
+
+  // The option checks of the constructor alone (load time): throws std::invalid_argument as it does.
+  static void validateOptions(const IncisionOptions& options);
+
+  // Adds a sample; returns what was done with it. Never throws.
+  SampleStatus extend(const StrokeSample& sample) noexcept;
+  // No more samples: the columns after the last station become final and the cut may reach the last
+  // station. Idempotent.
+  void finish() noexcept;
+  bool finished() const noexcept { return finished_; }
+
+  // Sets the displacement lattice for time t_s (>= every sample's time for a meaningful response) and
+  // appends to `changed_columns` the columns whose displacement changed since the previous call.
+  // No allocation when `changed_columns` has capacity.
+  void updateOpening(double t_s, std::vector<int>& changed_columns);
+
+  const bspline::BSplineVolume& rest() const noexcept { return rest_; }
+  const bspline::BSplineVolume& displacement() const noexcept { return displacement_; }
+  const IncisionOptions& options() const noexcept { return options_; }
+  // opening_j of column j as last written into displacement() (0 before it opens; 0 for j out of range):
+  // a follower that did not call updateOpening compares it with its own copy to find what moved. O(1).
+  double columnOpening(int column) const noexcept {
+    return column >= 0 && column < static_cast<int>(column_opening_.size())
+               ? column_opening_[static_cast<size_t>(column)]
+               : 0.0;
+  }
+
+  int stationCount() const noexcept { return static_cast<int>(stations_.size()); }
+  // Columns [0, finalColumns()) are final.
+  int finalColumns() const noexcept;
+  // The parameter range whose F0 is final: v < finalEndV().
+  double finalEndV() const noexcept;
+  // v of the stroke's first station, and of its last one (the cut's end once finished).
+  double startV() const noexcept;
+  double lastStationV() const noexcept;
+  // w of the surface (1/2) and of the blade's depth below it.
+  double surfaceW() const noexcept { return 0.5; }
+  double bottomW() const noexcept { return bottom_w_; }
+  // Axis-aligned box holding F0 of the parameter slab v in [j, j + 1) (the convex hull of the controls
+  // of columns j - order + 1 .. j). Cost O(order * l * n).
+  Eigen::AlignedBox3d columnBox(int column) const noexcept;
+  // A start for inverting F0 at x near column `column` (nearest column frame, Eq. 2 read backwards).
+  Eigen::Vector3d inversionGuess(const Eigen::Vector3d& x, int column) const noexcept;
+  // Displacement of a point with parameters uvw on a side: -1 (u < 1/2, lips at 1/2 - epsilon), +1 (u >= 1/2),
+  // 0 (right-hand, as evaluate), 2 (the mean of both sides: the bottom of the cut, where the walls meet).
+  Eigen::Vector3d displacementAt(const Eigen::Vector3d& uvw, int side) const noexcept;
+
+  // The same, split in two so that a point's spans and basis values are computed once (when it is bound)
+  // and every later re-deformation is one o^3 weighted sum per evaluation (ARCHITECTURE.md, "Binding"):
+  // stencil() writes `count` (1, or 2 for side 2) evaluations: first[c], the corner control's linear index,
+  // and basis[c * stencilSize() ...], the u, v and w basis values; displacementFromStencil() sums them.
+  // displacementAt(uvw, side) == displacementFromStencil(stencil(uvw, side)) bit for bit. noexcept, no
+  // allocation; the stencil stays valid for the incision's life (its knots never change).
+  int stencilSize() const noexcept { return 3 * options_.order; }
+  int stencil(const Eigen::Vector3d& uvw, int side, int* first, double* basis) const noexcept;
+  Eigen::Vector3d displacementFromStencil(int count, const int* first, const double* basis) const noexcept {
+    return displacementFromStencil(displacement_, count, first, basis);
+  }
+  // The same sum over another lattice of displacement()'s shape (a follower's delayed copy of it).
+  Eigen::Vector3d displacementFromStencil(const bspline::BSplineVolume& lattice, int count, const int* first,
+                                          const double* basis) const noexcept;
+
+ private:
+  struct Station {
+    Eigen::Vector3d point, normal;
+    double time_s;
+  };
+  struct Frame {  // zero until the column is first written, the same in a new and a restarted incision
+    Eigen::Vector3d g = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
+                    s = Eigen::Vector3d::Zero();
+  };
+  // What the options fix: the u knots with 1/2 at full multiplicity, Eq. (2)'s offsets after the
+  // insertion, the kernel per u-plane and the last plane of the u < 1/2 side.
+  struct Layout {
+    std::vector<double> u_knots, across_offsets, kernel;
+    int i_minus = 0;
+  };
+  static Layout layout(const IncisionOptions& options);
+
+  void checkStart(const StrokeSample& first, const Eigen::Vector3d& blade_direction) const;  // throws
+  void startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction);           // the first station
+  void addStation(const Station& station);
+  Frame columnFrame(int column) const noexcept;
+  void setRestColumn(int column);
+  void refreshRestColumns(int first_column);
+  int extrapolatedEnd() const noexcept;
+  double stationOpening(int station, double t_s) const noexcept;
+  void setDisplacementColumn(int column, double opening_m);
+
+  IncisionOptions options_;
+  Eigen::Vector3d blade_direction_;
+  std::vector<double> across_offsets_;  // c'_i: Eq. (2)'s floor(l/2) - i after the knot insertion
+  std::vector<double> kernel_;          // kappa(i) per u-plane, signed: + on the u < 1/2 side
+  std::vector<double> depth_profile_;   // rho(k)
+  int i_minus_ = 0;                     // last control plane of the u < 1/2 side
+  double bottom_w_ = 1.0;
+  bspline::BSplineVolume rest_;
+  bspline::BSplineVolume displacement_;
+  std::vector<Station> stations_;
+  StrokeSample last_sample_{};
+  double to_next_station_m_ = 0.0;      // arc length still to go from last_sample_ to the next station
+  std::vector<double> column_opening_;  // opening_j currently in displacement_
+  std::vector<Frame> frames_;           // per column, as last written into rest_
+  int first_unsettled_ = 0;             // stations before it have settled to their full opening
+  bool finished_ = false;
+};
+
+}  // namespace incise::incision

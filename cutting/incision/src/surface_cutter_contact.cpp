@@ -1,0 +1,76 @@
+// SurfaceCutter's contact queries (surface_cutter.h): the first crossing of a segment with the skin at rest
+// for the current incision (intersect), and a bounded copy of that skin around a box (skinNear, for the
+// haptic part's contact proxy). Both query the vertex grids with the edge margins the refinement keeps.
+#include <algorithm>
+
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/face_walk.h"
+#include "surface_cutter_internal.h"
+
+namespace incise::incision {
+
+using detail::FH;
+using detail::VH;
+
+void SurfaceCutter::queryRest(const Eigen::AlignedBox3d& box) const {
+  // A face near the box has every corner within its longest edge of it. Without refinement: every vertex
+  // within the mesh's longest edge. With it (coarse flags kept): every vertex within refine_edge_m (the faces
+  // of uncoarse corners), and the coarse vertices within the longest edge (every other face has one).
+  const bool flagged = options_.refine != CutterOptions::Refine::Off;
+  const auto grown = [&](double margin_m) {
+    Eigen::AlignedBox3d out = box;
+    out.min().array() -= margin_m;
+    out.max().array() += margin_m;
+    return out;
+  };
+  query_.clear();
+  grid_.query(grown(flagged ? refine_edge_m_ : longest_edge_m_), query_);
+  if (flagged && coarse_vertices_ > 0) coarse_grid_.query(grown(longest_edge_m_), query_);
+  const mesh::TriMesh& m = mesh_.mesh();
+  if (face_stamp_.size() < m.n_faces()) face_stamp_.resize(m.n_faces() + m.n_faces() / 4, 0);
+  if (++face_query_ == 0) {
+    std::fill(face_stamp_.begin(), face_stamp_.end(), 0u);
+    face_query_ = 1;
+  }
+}
+
+bool SurfaceCutter::skipForContact(FH f) const {
+  std::uint32_t& stamp = face_stamp_[static_cast<size_t>(f.idx())];
+  if (stamp == face_query_) return true;  // a face is met from each of its vertices: test it once
+  stamp = face_query_;
+  return mesh_.kind(f) == mesh::FaceKind::Wall;  // every wound's wall: contact is with the skin
+}
+
+std::optional<mesh::SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+  // Against the surface at rest for the current incision: its own walls left out, every other vertex
+  // where it was when the incision began. That surface does not depend on how far the current cut's
+  // work has got, so contact (and so the cut) is the same whichever frame handles a pose.
+  if (!a.allFinite() || !b.allFinite()) return std::nullopt;
+  queryRest(Eigen::AlignedBox3d(a.cwiseMin(b), a.cwiseMax(b)));
+  return mesh::detail::firstCrossing(
+      mesh_.mesh(), query_, a, b, [&](VH v) { return restPosition(v); }, [&](FH f) { return skipForContact(f); });
+}
+
+int SurfaceCutter::skinNear(const Eigen::AlignedBox3d& box, std::span<mesh::SkinTriangle> out) const {
+  if (!box.min().allFinite() || !box.max().allFinite() || box.isEmpty()) return 0;
+  queryRest(box);
+  const mesh::TriMesh& m = mesh_.mesh();
+  int found = 0;
+  for (const int id : query_) {
+    const VH v(id);
+    if (m.status(v).deleted()) continue;
+    for (auto f = m.cvf_iter(v); f.is_valid(); ++f) {
+      if (skipForContact(*f)) continue;
+      if (static_cast<size_t>(found) < out.size()) {
+        mesh::SkinTriangle& t = out[static_cast<size_t>(found)];
+        auto corner = m.cfv_iter(*f);
+        for (Eigen::Vector3d& c : t.corners_m) c = restPosition(*corner++);
+        t.normal = (t.corners_m[1] - t.corners_m[0]).cross(t.corners_m[2] - t.corners_m[0]).normalized();
+      }
+      ++found;
+    }
+  }
+  return found;
+}
+
+}  // namespace incise::incision

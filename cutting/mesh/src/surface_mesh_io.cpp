@@ -1,0 +1,245 @@
+// Loading and saving surface meshes (surface_mesh.h): the OBJ reader, the choice of reader by extension
+// (OFF, STL, PLY in surface_mesh_off/stl/ply.cpp), the loader's checks and the OpenMesh mesh built from the
+// triangle list; OBJ and PLY output.
+#include "incise/mesh/surface_mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "incise/core/atomic_file.h"
+#include "incise/core/format.h"
+#include "surface_mesh_internal.h"
+
+namespace incise::mesh {
+
+namespace {
+
+using detail::countOf;
+using detail::fail;
+using detail::parseCoordinate;
+using detail::RawMesh;
+using detail::splitTokens;
+using VertexHandle = TriMesh::VertexHandle;
+using FaceHandle = TriMesh::FaceHandle;
+
+// ---------------------------------------------------------------------------------------------------------
+// OBJ parsing
+
+// The vertex part of `a`, `a/t`, `a//n` or `a/t/n`, resolved to a 0-based index. Positive indices may
+// point past the vertices read so far (checked at the end); negative ones count back from the last.
+int parseFaceIndex(std::string_view token, int vertices_so_far, const std::string& where) {
+  const std::string_view text = token.substr(0, token.find('/'));
+  long long value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty())
+    fail(where + "face index '" + std::string(token) + "' is not an integer");
+  if (value == 0) fail(where + "face index 0 is invalid (OBJ indices start at 1)");
+  if (value < 0) {
+    const long long resolved = vertices_so_far + value;
+    if (resolved < 0)
+      fail(where + "face index " + std::to_string(value) + " out of range (" + std::to_string(vertices_so_far) +
+           " vertices so far)");
+    return static_cast<int>(resolved);
+  }
+  if (value > std::numeric_limits<int>::max()) fail(where + "face index " + std::to_string(value) + " out of range");
+  return static_cast<int>(value - 1);
+}
+
+void parseVertex(const std::vector<std::string_view>& tokens, double scale, int line, RawMesh& raw) {
+  const std::string where = raw.at(line);
+  if (tokens.size() < 4) fail(where + "expected 3 coordinates, got " + std::to_string(tokens.size() - 1));
+  Eigen::Vector3d p;
+  for (int a = 0; a < 3; ++a) p[a] = parseCoordinate(tokens[static_cast<size_t>(a + 1)], where);
+  raw.addPoint(p, scale, line);
+}
+
+void parseFace(const std::vector<std::string_view>& tokens, int line, RawMesh& raw, std::vector<int>& polygon) {
+  const std::string where = raw.at(line);
+  if (tokens.size() < 4) fail(where + "a face needs at least 3 vertices, got " + std::to_string(tokens.size() - 1));
+  const int so_far = static_cast<int>(raw.points.size());
+  polygon.clear();
+  for (size_t k = 1; k < tokens.size(); ++k) polygon.push_back(parseFaceIndex(tokens[k], so_far, where));
+  raw.addPolygon(polygon, line);
+}
+
+bool ignoredStatement(std::string_view keyword) {
+  static constexpr std::array<std::string_view, 8> kIgnored = {"vn", "vt", "vp", "g", "o", "s", "usemtl", "mtllib"};
+  return std::find(kIgnored.begin(), kIgnored.end(), keyword) != kIgnored.end();
+}
+
+void parseObjLine(std::string_view line, double scale, int number, RawMesh& raw, std::vector<std::string_view>& tokens,
+                  std::vector<int>& polygon) {
+  line = line.substr(0, line.find('#'));
+  splitTokens(line, tokens);
+  if (tokens.empty() || ignoredStatement(tokens[0])) return;
+  if (tokens[0] == "v") return parseVertex(tokens, scale, number, raw);
+  if (tokens[0] == "f") return parseFace(tokens, number, raw, polygon);
+  fail(raw.at(number) + "unsupported OBJ statement '" + std::string(tokens[0]) + "'");
+}
+
+void checkIndexRange(const RawMesh& raw) {
+  const int n = static_cast<int>(raw.points.size());
+  for (size_t t = 0; t < raw.triangles.size(); ++t)
+    for (int v : raw.triangles[t])
+      if (v >= n)
+        fail(raw.faceAt(static_cast<int>(t)) + "face index " + std::to_string(v + 1) + " out of range (" +
+             std::to_string(n) + " vertices)");
+}
+
+RawMesh readObj(const std::filesystem::path& path, double scale) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path.string() + ": cannot open (" + std::strerror(errno) + ")");
+  RawMesh raw;
+  raw.file = path.string();
+  std::string line;
+  std::vector<std::string_view> tokens;
+  std::vector<int> polygon;
+  for (int number = 1; std::getline(in, line); ++number) parseObjLine(line, scale, number, raw, tokens, polygon);
+  if (in.bad()) fail(raw.file + ": read error");
+  checkIndexRange(raw);
+  return raw;
+}
+
+SurfaceMesh buildMesh(const RawMesh& raw) {
+  SurfaceMesh surface;
+  TriMesh& mesh = surface.mesh();
+  mesh.reserve(raw.points.size(), 3 * raw.triangles.size() / 2, raw.triangles.size());
+  for (const Eigen::Vector3d& p : raw.points) mesh.add_vertex(toOpenMesh(p));
+  for (size_t t = 0; t < raw.triangles.size(); ++t) {
+    const auto [a, b, c] = raw.triangles[t];
+    const FaceHandle f = mesh.add_face(VertexHandle(a), VertexHandle(b), VertexHandle(c));
+    if (!f.is_valid()) fail(raw.faceAt(static_cast<int>(t)) + "OpenMesh rejected face " + std::to_string(t));
+  }
+  mesh.update_normals();
+  return surface;
+}
+
+std::string lowerExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+RawMesh readRaw(const std::filesystem::path& path, const std::string& ext, double scale) {
+  if (ext == ".obj") return readObj(path, scale);
+  if (ext == ".off") return detail::readOff(path, scale);
+  if (ext == ".stl") return detail::readStl(path, scale);
+  if (ext == ".ply") return detail::readPly(path, scale);
+  fail(path.string() + ": unsupported mesh format '" + ext + "' (obj, ply, off, stl)");
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Saving
+
+// New 0-based indices of non-deleted vertices (-1 for deleted ones), in handle order. Throws for a
+// non-finite position before anything is written.
+std::vector<int> compactVertices(const TriMesh& mesh, const std::filesystem::path& path) {
+  std::vector<int> index(mesh.n_vertices(), -1);
+  int next = 0;
+  for (const VertexHandle v : mesh.vertices()) {
+    if (!toEigen(mesh.point(v)).allFinite())
+      fail("cannot save " + path.string() + ": vertex " + std::to_string(v.idx()) + " has a non-finite position");
+    index[static_cast<size_t>(v.idx())] = next++;
+  }
+  return index;
+}
+
+void writeFaceVertices(core::AtomicFile& out, const TriMesh& mesh, FaceHandle f, const std::vector<int>& index,
+                       int base) {
+  for (const VertexHandle v : mesh.fv_range(f)) {
+    out << ' ' << index[static_cast<size_t>(v.idx())] + base;
+  }
+}
+
+// The OBJ groups, in file order: tissue (original and split faces), then wall.
+enum class ObjGroup { Tissue, Wall };
+
+void writeObjGroup(core::AtomicFile& out, const SurfaceMesh& surface, const std::vector<int>& index, ObjGroup group) {
+  const TriMesh& mesh = surface.mesh();
+  const bool wall = group == ObjGroup::Wall;
+  bool header = false;
+  for (const FaceHandle f : mesh.faces()) {
+    if ((surface.kind(f) == FaceKind::Wall) != wall) continue;
+    if (!header) out << (wall ? "g wall\n" : "g tissue\n");
+    header = true;
+    out << 'f';
+    writeFaceVertices(out, mesh, f, index, 1);
+    out << '\n';
+  }
+}
+
+void writePoint(core::AtomicFile& out, const OpenMesh::Vec3d& p) {
+  for (int a = 0; a < 3; ++a) {
+    if (a > 0) out << ' ';
+    out.number17(p[a]);
+  }
+}
+
+void writePlyHeader(core::AtomicFile& out, const TriMesh& mesh) {
+  out << "ply\nformat ascii 1.0\ncomment incise surface mesh; vertex kind 0 original, 1 seam, 2 wall; "
+         "face kind 0 original, 1 split, 2 wall\nelement vertex "
+      << countOf(mesh.vertices())
+      << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar kind\nelement face "
+      << countOf(mesh.faces()) << "\nproperty list uchar int vertex_indices\nproperty uchar kind\nend_header\n";
+}
+
+}  // namespace
+
+SurfaceMesh loadSurfaceMesh(const std::filesystem::path& path, double scale) {
+  if (!std::isfinite(scale) || scale <= 0.0)
+    throw std::invalid_argument("loadSurfaceMesh: scale must be finite and > 0, got " + core::formatNumber(scale));
+  const RawMesh raw = readRaw(path, lowerExtension(path), scale);
+  detail::checkTriangles(raw);
+  return buildMesh(raw);
+}
+
+void saveObj(const SurfaceMesh& surface, const std::filesystem::path& path) {
+  const TriMesh& mesh = surface.mesh();
+  const std::vector<int> index = compactVertices(mesh, path);
+  core::rethrowFileErrorAs<MeshError>([&] {
+    core::AtomicFile out(path);
+    out << "# incise surface mesh: groups tissue (original and split faces) and wall\n";
+    for (const VertexHandle v : mesh.vertices()) {
+      out << "v ";
+      writePoint(out, mesh.point(v));
+      out << '\n';
+    }
+    writeObjGroup(out, surface, index, ObjGroup::Tissue);
+    writeObjGroup(out, surface, index, ObjGroup::Wall);
+    out.commit();
+  });
+}
+
+void savePly(const SurfaceMesh& surface, const std::filesystem::path& path) {
+  const TriMesh& mesh = surface.mesh();
+  const std::vector<int> index = compactVertices(mesh, path);
+  core::rethrowFileErrorAs<MeshError>([&] {
+    core::AtomicFile out(path);
+    writePlyHeader(out, mesh);
+    for (const VertexHandle v : mesh.vertices()) {
+      writePoint(out, mesh.point(v));
+      out << ' ' << static_cast<int>(surface.kind(v)) << '\n';
+    }
+    for (const FaceHandle f : mesh.faces()) {
+      out << static_cast<long long>(mesh.valence(f));
+      writeFaceVertices(out, mesh, f, index, 0);
+      out << ' ' << static_cast<int>(surface.kind(f)) << '\n';
+    }
+    out.commit();
+  });
+}
+
+}  // namespace incise::mesh

@@ -1,0 +1,187 @@
+#include "incise/incision/incision.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "incise/bspline/knot_vector.h"
+
+using namespace incise;
+using namespace incise::incision;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A straight stroke along +x on the plane y = 0 (normal +y), 1 kHz at 5 cm/s, `count` samples after the first.
+std::vector<StrokeSample> planeStroke(int count, double t0_s = 0.0) {
+  std::vector<StrokeSample> samples;
+  for (int k = 0; k <= count; ++k)
+    samples.push_back({Eigen::Vector3d(0.00005 * k, 0.0, 0.0), Eigen::Vector3d::UnitY(), t0_s + 0.001 * k});
+  return samples;
+}
+
+Incision planeIncision(int count, const IncisionOptions& options = {}) {
+  const auto samples = planeStroke(count);
+  Incision incision(options, samples[0], Eigen::Vector3d::UnitX());
+  for (size_t k = 1; k < samples.size(); ++k) REQUIRE(incision.extend(samples[k]) == SampleStatus::Accepted);
+  return incision;
+}
+
+}  // namespace
+
+TEST_CASE("incision: the stroke is resampled into stations every spacing", "[cutting]") {
+  const Incision incision = planeIncision(400);  // 20 mm at 0.5 mm spacing: stations 0 .. 40
+  REQUIRE(incision.stationCount() == 41);
+  REQUIRE(incision.finalColumns() == incision.options().order - 1 + 40);
+}
+
+TEST_CASE("incision: the lattice follows Eq. (2) and F0(1/2, v, 1/2) follows the stroke", "[cutting]") {
+  const IncisionOptions options;
+  const Incision incision = planeIncision(400, options);
+  const bspline::BSplineVolume& rest = incision.rest();
+  // o knots at u = 1/2: a potential C^-1 discontinuity.
+  REQUIRE(bspline::knotMultiplicity(rest.knots(0), 0.5) == options.order);
+  // On a plane along +x with normal +y: T = x, N = y, S = T x N = z. The middle plane is the stroke, the
+  // planes step by alpha along -S, rows by beta along -N (Eq. 2).
+  const int column = options.order - 1 + 20;  // station 20, at x = 10 mm
+  const Eigen::Vector3d g(0.010, 0.0, 0.0);
+  const int n = options.normal_controls;
+  REQUIRE((rest.control(0, column, n / 2) - (g + 2.0 * options.alpha_m * Eigen::Vector3d::UnitZ())).norm() < 1e-15);
+  REQUIRE((rest.control(0, column, 0) - rest.control(0, column, n / 2) -
+           (n / 2) * options.beta_m * Eigen::Vector3d::UnitY())
+              .norm() < 1e-15);
+  // Along the middle of the lattice, F0 reproduces the straight stroke (uniform B-splines have linear precision).
+  for (double v = incision.startV() + 1.0; v < incision.finalEndV() - 1.0; v += 0.37) {
+    const Eigen::Vector3d p = rest.evaluate(0.5, v, 0.5);
+    REQUIRE(std::abs(p.y()) < 1e-12);
+    REQUIRE(std::abs(p.z()) < 1e-12);
+    REQUIRE(p.x() == Approx((v - incision.startV()) * options.spacing_m).margin(1e-12));
+  }
+  // The blade's depth in w: F0(1/2, v, bottomW) lies depth_m below the surface.
+  REQUIRE(rest.evaluate(0.5, incision.startV() + 5.0, incision.bottomW()).y() ==
+          Approx(-options.depth_m).margin(1e-12));
+  // The undeformed lattice's planes are in order along u (-S = -z here), the two cut planes coincide.
+  for (int j = 0; j < incision.finalColumns(); ++j)
+    for (int i = 0; i + 1 < rest.controlCounts()[0]; ++i)
+      REQUIRE(rest.control(i + 1, j, 2).z() <= rest.control(i, j, 2).z());
+}
+
+TEST_CASE("incision: the opening grows with the time response and settles at the full width", "[cutting]") {
+  const IncisionOptions options;
+  Incision incision = planeIncision(400, options);
+  std::vector<int> changed;
+  const Eigen::Vector3d uvw(0.5, incision.startV() + 12.0, 0.5);  // on the surface, station 12 (t = 12 ms)
+  const double t_station_s = 0.012;
+  double previous_m = -1.0;
+  for (const double dt_s : {0.0, 0.01, 0.02, 0.03, 0.05, 0.2}) {
+    incision.updateOpening(t_station_s + dt_s + 0.004, changed);  // +4 ms: every column of the support started
+    const double gap_m = (incision.displacementAt(uvw, -1) - incision.displacementAt(uvw, 1)).norm();
+    REQUIRE(gap_m >= previous_m);
+    previous_m = gap_m;
+  }
+  // Settled: about the full opening at the surface (the depth profile rounds it a little), symmetric.
+  REQUIRE(previous_m == Approx(options.opening_m).epsilon(0.15));
+  INFO("minus " << incision.displacementAt(uvw, -1).transpose() << " plus "
+                << incision.displacementAt(uvw, 1).transpose());
+  REQUIRE((incision.displacementAt(uvw, -1) + incision.displacementAt(uvw, 1)).norm() <=
+          1e-10);                                            // up to the lips' epsilon
+  REQUIRE(incision.displacementAt(uvw, 2).norm() <= 1e-10);  // the bottom of the cut stays where it was
+  // Settled columns do not change again.
+  changed.clear();
+  incision.updateOpening(0.5, changed);
+  incision.updateOpening(0.6, changed);
+  changed.clear();
+  incision.updateOpening(0.7, changed);
+  REQUIRE(changed.empty());
+}
+
+TEST_CASE("incision: the displacement vanishes on the lattice's boundary", "[cutting]") {
+  Incision incision = planeIncision(400);
+  std::vector<int> changed;
+  incision.updateOpening(1.0, changed);
+  REQUIRE_FALSE(changed.empty());
+  for (double v = incision.startV(); v < incision.finalEndV() - 1.0; v += 0.5) {
+    REQUIRE(incision.displacement().evaluate(0.0, v, 0.5).norm() == 0.0);
+    REQUIRE(incision.displacement().evaluate(1.0, v, 0.5).norm() == 0.0);
+    REQUIRE(incision.displacement().evaluate(0.3, v, 1.0).norm() == 0.0);  // below the blade
+  }
+  // The fully opened lattice keeps the u-order of its control points (Theorem 1).
+  bspline::BSplineVolume opened = incision.rest();
+  for (int k = 0; k < incision.options().normal_controls; ++k)
+    for (int j = 0; j < incision.finalColumns(); ++j)
+      for (int i = 0; i < opened.controlCounts()[0]; ++i)
+        opened.setControl(i, j, k, opened.control(i, j, k) + incision.displacement().control(i, j, k));
+  // On the plane stroke u runs along -z: compare the z order by mirroring.
+  for (int k = 0; k < incision.options().normal_controls; ++k)
+    for (int j = 0; j < incision.finalColumns(); ++j)
+      for (int i = 0; i + 1 < opened.controlCounts()[0]; ++i)
+        if (i != 3) REQUIRE(opened.control(i + 1, j, k).z() < opened.control(i, j, k).z());
+}
+
+TEST_CASE("incision: grouping samples into calls does not change the lattice", "[cutting]") {
+  const auto samples = planeStroke(300);
+  Incision one_by_one(IncisionOptions{}, samples[0], Eigen::Vector3d::UnitX());
+  for (size_t k = 1; k < samples.size(); ++k) one_by_one.extend(samples[k]);
+  Incision in_jumps(IncisionOptions{}, samples[0], Eigen::Vector3d::UnitX());
+  for (size_t k = 7; k < samples.size(); k += 7) in_jumps.extend(samples[k]);
+  in_jumps.extend(samples.back());
+  REQUIRE(one_by_one.stationCount() == in_jumps.stationCount());
+  for (int j = 0; j < one_by_one.finalColumns(); ++j)
+    for (int k = 0; k < 7; ++k)
+      REQUIRE((one_by_one.rest().control(2, j, k) - in_jumps.rest().control(2, j, k)).norm() < 1e-15);
+}
+
+TEST_CASE("incision: bad samples and options come back as statuses or load-time errors", "[cutting]") {
+  auto samples = planeStroke(50);
+  Incision incision(IncisionOptions{}, samples[0], Eigen::Vector3d::UnitX());
+  REQUIRE(incision.extend(samples[1]) == SampleStatus::Accepted);
+  StrokeSample s = samples[2];
+  s.point_m.z() = NAN;
+  REQUIRE(incision.extend(s) == SampleStatus::RefusedNaN);
+  s = samples[2];
+  s.normal.setZero();
+  REQUIRE(incision.extend(s) == SampleStatus::RefusedNormal);
+  s = samples[1];
+  REQUIRE(incision.extend(s) == SampleStatus::SkippedTime);
+  s.time_s = samples[2].time_s;
+  REQUIRE(incision.extend(s) == SampleStatus::SkippedStill);
+  s = samples[2];
+  s.point_m.x() = -0.001;
+  REQUIRE(incision.extend(s) == SampleStatus::SkippedBackward);
+  s = samples[2];
+  s.point_m.x() = 0.05;
+  REQUIRE(incision.extend(s) == SampleStatus::SkippedJump);
+  s = samples[2];
+  s.normal = Eigen::Vector3d::UnitX();  // along the step: no side direction
+  REQUIRE(incision.extend(s) == SampleStatus::RefusedNormal);
+  REQUIRE(incision.extend(samples[2]) == SampleStatus::Accepted);
+  incision.finish();
+  REQUIRE(incision.extend(samples[3]) == SampleStatus::Ended);
+
+  IncisionOptions bad;
+  bad.depth_m = 0.0;
+  REQUIRE_THROWS_WITH(Incision::validateOptions(bad), Contains("depth_m = 0"));
+  bad = IncisionOptions{};
+  bad.depth_m = 0.02;
+  REQUIRE_THROWS_WITH(Incision::validateOptions(bad), Contains("depth_m = 0.02") && Contains("below the surface"));
+  bad = IncisionOptions{};
+  bad.across_controls = 6;
+  REQUIRE_THROWS_WITH(Incision::validateOptions(bad), Contains("across_controls = 6"));
+  bad = IncisionOptions{};
+  bad.opening_m = 0.01;
+  REQUIRE_THROWS_WITH(Incision::validateOptions(bad), Contains("Theorem 1"));
+  REQUIRE_THROWS_WITH(Incision(IncisionOptions{}, samples[0], Eigen::Vector3d::UnitY()), Contains("blade_direction"));
+}
+
+TEST_CASE("incision: a full lattice ends the incision", "[cutting]") {
+  IncisionOptions options;
+  options.max_columns = 40;
+  const auto samples = planeStroke(1000);
+  Incision incision(options, samples[0], Eigen::Vector3d::UnitX());
+  SampleStatus last = SampleStatus::Accepted;
+  for (size_t k = 1; k < samples.size() && last == SampleStatus::Accepted; ++k) last = incision.extend(samples[k]);
+  REQUIRE(last == SampleStatus::Ended);
+  REQUIRE(incision.finished());
+  REQUIRE(incision.finalColumns() <= options.max_columns);
+}

@@ -1,0 +1,360 @@
+// The surface cutter on tissues and strokes nobody tuned it for (issue 14): the regression tests of the
+// findings (a stroke along a pad's grid line, a CAD-like box of large flat faces and long thin triangles, a
+// coarse closed model, cut unrefined) and a seeded property test over icospheres, skin pads at several grid
+// resolutions (a 4 mm one and a coarse icosphere cut through local refinement, issue 15),
+// a torus and the bunny, with random starts, directions, lengths, bends and depths. After every cut: a
+// closed two-manifold with its Euler characteristic, no zero-area or sliver face, no NaN, walls facing out
+// of the tissue (the volume drops by the wound, stays positive), the groove as deep as the blade within 5%,
+// vertices beyond the lattice's reach bit for bit unchanged, and a groove about as long as the stroke, or
+// a shortfall that says why.
+#include "incise/incision/surface_cutter.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "incise/incision/stroke_path.h"
+#include "incise/mesh/shapes.h"
+#include "stroke_fixture.h"
+
+using namespace incise;
+using namespace incise::incision;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// Where a vertex is at rest: its incision's rest position if the cutter bound it, else where it is.
+using RestOf = std::function<Eigen::Vector3d(mesh::TriMesh::VertexHandle)>;
+
+// A face's area over its longest edge squared at rest (the cut's topology, before the opening squeezes the
+// lips): 0.433 for an equilateral triangle, 0 for a degenerate one.
+double faceQuality(const mesh::TriMesh& m, mesh::TriMesh::FaceHandle f, const RestOf& rest) {
+  auto v = m.cfv_iter(f);
+  const Eigen::Vector3d a = rest(*v), b = rest(*++v), c = rest(*++v);
+  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return longest2 > 0.0 ? 0.5 * (b - a).cross(c - a).norm() / longest2 : 0.0;
+}
+
+// The worst quality among the faces of the kinds asked for (walls or the skin).
+double minFaceQuality(const mesh::SurfaceMesh& mesh, const SurfaceCutter* cutter = nullptr, bool walls = false,
+                      mesh::FaceKind* worst_kind = nullptr) {
+  const RestOf rest = [&](mesh::TriMesh::VertexHandle v) {
+    const auto b = cutter ? cutter->binding(v) : std::nullopt;
+    return b ? b->rest_m : mesh::toEigen(mesh.mesh().point(v));
+  };
+  double q = 1.0;
+  for (const auto f : mesh.mesh().faces()) {
+    if (mesh.mesh().status(f).deleted() || (mesh.kind(f) == mesh::FaceKind::Wall) != walls) continue;
+    if (faceQuality(mesh.mesh(), f, rest) >= q) continue;
+    q = faceQuality(mesh.mesh(), f, rest);
+    if (worst_kind) *worst_kind = mesh.kind(f);
+  }
+  return q;
+}
+
+double signedVolume(const mesh::TriMesh& m) {
+  double six_v = 0.0;
+  for (const auto f : m.faces()) {
+    if (m.status(f).deleted()) continue;
+    auto v = m.cfv_iter(f);
+    const Eigen::Vector3d a = mesh::toEigen(m.point(*v)), b = mesh::toEigen(m.point(*++v)),
+                          c = mesh::toEigen(m.point(*++v));
+    six_v += a.dot(b.cross(c));
+  }
+  return six_v / 6.0;
+}
+
+// A torus around the y axis (major radius R, tube radius r), segments around each circle; outward, closed,
+// genus 1 (Euler characteristic 0).
+mesh::SurfaceMesh makeTorus(double major_m, double minor_m, int around, int tube) {
+  mesh::SurfaceMesh mesh;
+  std::vector<mesh::TriMesh::VertexHandle> v;
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < tube; ++j) {
+      const double a = 2.0 * M_PI * i / around, b = 2.0 * M_PI * j / tube;
+      const double rho = major_m + minor_m * std::cos(b);
+      v.push_back(mesh.addVertex({rho * std::cos(a), minor_m * std::sin(b), rho * std::sin(a)}));
+    }
+  const auto at = [&](int i, int j) { return v[static_cast<size_t>((i % around) * tube + (j % tube))]; };
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < tube; ++j) {
+      mesh.addFace(at(i, j), at(i, j + 1), at(i + 1, j + 1));
+      mesh.addFace(at(i, j), at(i + 1, j + 1), at(i + 1, j));
+    }
+  mesh.mesh().request_face_normals();
+  mesh.mesh().update_face_normals();
+  return mesh;
+}
+
+struct Case {
+  std::string what;
+  const mesh::SurfaceMesh* tissue;
+  StrokePathOptions path;
+  CutterOptions options;
+};
+
+// Cuts the case's stroke on a copy of its tissue and checks everything the header lists. Returns whether
+// it opened a groove as long as its stroke (no shortfall).
+bool cutAndCheck(const Case& c) {
+  INFO(c.what);
+  const mesh::SurfaceMesh& original = *c.tissue;
+  mesh::SurfaceMesh mesh = original;
+  const mesh::ManifoldReport before = mesh::checkManifold(original.mesh());
+  const double quality_before = minFaceQuality(original), volume_before = signedVolume(original.mesh());
+  const Stroke stroke = strokeAlongPath(mesh, c.path);
+  SurfaceCutter cutter(mesh, c.options);
+  cutter.begin(stroke.first, stroke.blade_direction);
+  for (const StrokeSample& s : stroke.samples) cutter.extend(s);
+  cutter.finish();
+  cutter.advance(stroke.samples.empty() ? 1.0 : stroke.samples.back().time_s + 1.0);  // fully opened
+
+  const mesh::ManifoldReport after = mesh::checkManifold(mesh.mesh());
+  INFO(after.first_problem);
+  REQUIRE(cutter.stats().failure.empty());
+  REQUIRE(after.closed_two_manifold);
+  REQUIRE(after.euler_characteristic == before.euler_characteristic);
+  REQUIRE(after.degenerate_faces == 0);
+  // No sliver, at rest: no skin face worse than 1/20 of the input's worst (the snap keeps a tenth of every
+  // split edge); wall faces no thinner than the fans at a groove's ends, which span a seam gap (>= a tenth
+  // of an edge) against the blade's depth: quality >= 1e-3.
+  mesh::FaceKind worst = mesh::FaceKind::Original;
+  const double quality = minFaceQuality(mesh, &cutter, false, &worst);
+  INFO("worst skin face: " << toString(worst) << ", quality " << quality << " (input " << quality_before << ")");
+  REQUIRE(quality >= std::min(0.05 * quality_before, 0.01));
+  const double wall_quality = minFaceQuality(mesh, &cutter, true);
+  INFO("worst wall face: quality " << wall_quality);
+  REQUIRE(wall_quality >= 1e-3);
+  for (const auto v : mesh.mesh().vertices()) REQUIRE(mesh::toEigen(mesh.mesh().point(v)).allFinite());
+  const double volume_after = signedVolume(mesh.mesh());
+  REQUIRE(volume_after > 0.5 * volume_before);
+  const IncisionFigures& f = cutter.stats().figures.back();
+  INFO("groove " << f.groove_length_m << " m along " << f.stroke_length_m << " m: " << describeShortfall(f));
+  REQUIRE(f.done);
+  if (f.shortfall != Shortfall::None) {
+    REQUIRE_FALSE(describeShortfall(f).empty());
+    return false;  // said why; the mesh checks above still hold
+  }
+  if (f.groove_length_m == 0.0) return false;  // nothing to open (no stroke in contact)
+  REQUIRE(volume_after < volume_before);       // the walls face out of the tissue: the wound removes volume
+
+  // Vertices beyond the lattice's reach are bit for bit where they were; the groove's bottom is the
+  // blade's depth below the original surface.
+  const IncisionOptions& o = c.options.incision;
+  const double reach_m =
+      std::max((o.across_controls / 2) * o.alpha_m, (o.normal_controls / 2) * o.beta_m) + o.order * o.spacing_m + 0.001;
+  for (const auto v : original.mesh().vertices()) {
+    const Eigen::Vector3d p = mesh::toEigen(original.mesh().point(v));
+    double nearest_m = (stroke.first.point_m - p).norm();
+    for (const auto& s : stroke.samples) nearest_m = std::min(nearest_m, (s.point_m - p).norm());
+    if (nearest_m > reach_m) REQUIRE(mesh.mesh().point(v) == original.mesh().point(v));
+  }
+  // Depth below the blade's track (not the closest surface: near a pad's edge that is its side).
+  for (const auto v : mesh.mesh().vertices()) {
+    const auto b = cutter.binding(v);
+    if (!b || b->side != 2) continue;
+    const Eigen::Vector3d p = mesh::toEigen(mesh.mesh().point(v));
+    double depth_m = (stroke.first.point_m - p).norm();
+    for (const auto& s : stroke.samples) depth_m = std::min(depth_m, (s.point_m - p).norm());
+    REQUIRE(depth_m == Approx(o.depth_m).epsilon(0.05));
+  }
+  return true;
+}
+
+struct Tissues {
+  mesh::SurfaceMesh sphere4 = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.03, 5);
+  mesh::SurfaceMesh pad1 = mesh::makeSkinPad(Eigen::Vector3d(0.1, 0.02, 0.1), 0.001);
+  mesh::SurfaceMesh pad2 = mesh::makeSkinPad(Eigen::Vector3d(0.06, 0.02, 0.06), 0.0007);
+  mesh::SurfaceMesh torus = makeTorus(0.03, 0.012, 180, 72);
+  mesh::SurfaceMesh bunny2 = testing::bunny(2);
+  // Coarse next to the lattice (6 mm across): cut through local refinement (issue 15).
+  mesh::SurfaceMesh coarse_sphere = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);  // 4-7 mm edges
+  mesh::SurfaceMesh coarse_pad = mesh::makeSkinPad(Eigen::Vector3d(0.1, 0.02, 0.1), 0.004);
+};
+
+const Tissues& tissues() {
+  static const Tissues t;
+  return t;
+}
+
+// A random case: a tissue, a start over its top, a direction, length, bend and depth; the same seed gives
+// the same case.
+Case randomCase(std::mt19937& rng, int index) {
+  const Tissues& t = tissues();
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto between = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+  Case c;
+  const int kind = index % 7;
+  const double angle = between(0.0, 2.0 * M_PI);
+  c.path.direction = Eigen::Vector3d(std::cos(angle), 0.0, std::sin(angle));
+  c.path.length_m = between(0.004, 0.03);
+  c.path.bend_m = between(-0.2, 0.2) * c.path.length_m;
+  c.options.incision.depth_m = between(0.002, 0.0045);  // the default lattice reaches 4.8 mm down
+  Eigen::Vector2d centre(0.0, 0.0);
+  double radius_m = 0.01;
+  switch (kind) {
+    case 0:
+      c.tissue = &t.sphere4, c.what = "icosphere (5 subdivisions, r 3 cm)";
+      break;
+    case 1:
+      c.tissue = &t.pad1, c.what = "skin pad, 1 mm grid", radius_m = 0.025;
+      if (index % 2)
+        c.path.direction = index % 4 == 1 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d(1, 0, 1).normalized();
+      break;
+    case 2:
+      c.tissue = &t.pad2, c.what = "skin pad, 0.7 mm grid", radius_m = 0.015;
+      break;
+    case 3:
+      c.tissue = &t.torus, c.what = "torus (R 3 cm, r 1.2 cm)", centre = {0.03, 0.0}, radius_m = 0.004;
+      break;
+    case 4:
+      c.tissue = &t.bunny2, c.what = "bunny (2 subdivisions)", centre = {-0.005, 0.015}, radius_m = 0.006;
+      break;
+    case 5:
+      c.tissue = &t.coarse_sphere, c.what = "coarse icosphere (3 subdivisions, r 5 cm), refined", radius_m = 0.01;
+      break;
+    default:
+      c.tissue = &t.coarse_pad, c.what = "skin pad, 4 mm grid, refined", radius_m = 0.025;
+      if (index % 2) c.path.direction = Eigen::Vector3d::UnitX();
+      break;
+  }
+  Eigen::Vector2d start = centre + radius_m * Eigen::Vector2d(between(-1, 1), between(-1, 1));
+  if (kind == 1 && index % 3 == 0) start = {std::round(1e3 * between(-0.02, 0.0)) * 1e-3, 0.0};  // a grid line
+  if (kind == 6 && index % 2) start = {std::round(250 * between(-0.02, 0.0)) * 4e-3, 0.0};       // a grid line
+  c.path.start_m = Eigen::Vector3d(start.x(), 0.05, start.y());
+  if (kind == 3) c.path.length_m = std::min(c.path.length_m, 0.012), c.path.bend_m = 0.0;
+  std::ostringstream what;
+  what << c.what << ", case " << index << ": start (" << start.x() << ", " << start.y() << "), direction ("
+       << c.path.direction.x() << ", " << c.path.direction.z() << "), length " << c.path.length_m << ", bend "
+       << c.path.bend_m << ", depth " << c.options.incision.depth_m;
+  c.what = what.str();
+  return c;
+}
+
+void runProperty(unsigned seed, int cases) {
+  std::mt19937 rng(seed);
+  int grooves = 0;
+  for (int i = 0; i < cases; ++i) {
+    const Case c = randomCase(rng, i);
+    INFO("seed " << seed);
+    if (cutAndCheck(c)) ++grooves;
+  }
+  // The strokes are on tissue finer than the lattice and long enough: nearly every one must cut.
+  INFO(grooves << " of " << cases << " cases opened a groove as long as the stroke");
+  REQUIRE(grooves >= cases * 9 / 10);
+}
+
+Case padCase(Eigen::Vector3d start_m, Eigen::Vector3d direction, const mesh::SurfaceMesh& pad) {
+  Case c;
+  c.what = "skin pad";
+  c.tissue = &pad;
+  c.path.start_m = start_m;
+  c.path.direction = direction.normalized();
+  c.path.length_m = 0.04;
+  return c;
+}
+
+// A straight stroke along +x from above start_m (rays down -y).
+StrokePathOptions alongX(const Eigen::Vector3d& start_m, double length_m) {
+  StrokePathOptions path;
+  path.start_m = start_m;
+  path.length_m = length_m;
+  return path;
+}
+
+IncisionFigures cutFigures(mesh::SurfaceMesh& mesh, const StrokePathOptions& path, mesh::ManifoldReport& after,
+                           const CutterOptions& options = CutterOptions{}) {
+  const Stroke stroke = strokeAlongPath(mesh, path);
+  SurfaceCutter cutter(mesh, options);
+  cutter.begin(stroke.first, stroke.blade_direction);
+  for (const StrokeSample& s : stroke.samples) cutter.extend(s);
+  cutter.finish();
+  cutter.advance(stroke.samples.back().time_s + 1.0);
+  after = mesh::checkManifold(mesh.mesh());
+  REQUIRE(cutter.stats().failure.empty());
+  return cutter.stats().figures.back();
+}
+
+// Local refinement off (issue 15 refines coarse meshes along the stroke): the mesh is cut as it is.
+CutterOptions unrefined() {
+  CutterOptions options;
+  options.refine = CutterOptions::Refine::Off;
+  return options;
+}
+
+}  // namespace
+
+TEST_CASE("surface_cutter: a stroke exactly along a pad's grid line cuts clean (issue 14)", "[cutting]") {
+  // Was: 616 zero-area faces, not a closed two-manifold, an empty failure.
+  const mesh::SurfaceMesh& pad = tissues().pad1;
+  cutAndCheck(padCase({-0.02, 0.05, 0.0}, Eigen::Vector3d::UnitX(), pad));      // along a grid line
+  cutAndCheck(padCase({-0.02, 0.05, 0.00025}, Eigen::Vector3d::UnitX(), pad));  // 0.25 mm beside it
+  cutAndCheck(padCase({-0.02, 0.05, 1e-12}, Eigen::Vector3d::UnitX(), pad));    // within rounding
+  cutAndCheck(padCase({-0.02, 0.05, -0.02}, Eigen::Vector3d(1, 0, 1), pad));    // along the diagonals
+  cutAndCheck(padCase({0.0, 0.05, -0.02}, Eigen::Vector3d::UnitZ(), pad));      // the other grid line
+  cutAndCheck(padCase({-0.02, 0.05, 0.0488}, Eigen::Vector3d::UnitX(), pad));   // along the pad's edge
+  mesh::SurfaceMesh mesh = pad;
+  mesh::ManifoldReport after;
+  const IncisionFigures f = cutFigures(mesh, padCase({-0.02, 0.05, 0.0}, Eigen::Vector3d::UnitX(), pad).path, after);
+  CHECK(f.shortfall == Shortfall::None);
+  CHECK(f.groove_length_m > f.stroke_length_m - 0.002);
+}
+
+TEST_CASE(
+    "surface_cutter: a CAD-like box of large flat faces and long thin triangles, unrefined, says why it cannot cut",
+    "[cutting]") {
+  // Was: no opening, six zero-area faces, an empty failure. A 10 cm box of 12 triangles, and one whose
+  // faces are 40 long thin strips: the lattice (6 mm across) holds no vertex.
+  for (const Eigen::Vector3i& divisions : {Eigen::Vector3i(1, 1, 1), Eigen::Vector3i(1, 1, 40)}) {
+    mesh::SurfaceMesh box = mesh::makeBox(
+        Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.02, -0.05), Eigen::Vector3d(0.05, 0, 0.05)), divisions);
+    const mesh::SurfaceMesh original = box;
+    mesh::ManifoldReport after;
+    const IncisionFigures f = cutFigures(box, alongX({-0.02, 0.05, 0.003}, 0.04), after, unrefined());
+    REQUIRE(after.closed_two_manifold);
+    REQUIRE(after.degenerate_faces == 0);
+    REQUIRE(f.shortfall == Shortfall::CoarseMesh);
+    REQUIRE(f.empty_columns == f.columns);
+    REQUIRE_THAT(describeShortfall(f), Contains("coarse") && Contains("80 of 80 lattice columns"));
+    REQUIRE(minFaceQuality(box) >= 0.5 * minFaceQuality(original));
+  }
+}
+
+TEST_CASE(
+    "surface_cutter: a coarse closed model (4-7 mm edges on 10 cm), unrefined, reports a shortfall, never success",
+    "[cutting]") {
+  // Was (a scanned fist, 3.5 cm stroke): one edge split, no wall, exit 0.
+  mesh::SurfaceMesh sphere = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);
+  mesh::ManifoldReport after;
+  const IncisionFigures f = cutFigures(sphere, alongX({-0.0175, 0.1, 0.0011}, 0.035), after, unrefined());
+  REQUIRE(after.closed_two_manifold);
+  REQUIRE(f.groove_length_m < 0.5 * f.stroke_length_m);
+  REQUIRE(f.shortfall == Shortfall::CoarseMesh);
+  REQUIRE_THAT(describeShortfall(f), Contains("mean edge is") && Contains("along the stroke"));
+}
+
+TEST_CASE("surface_cutter: a stroke that starts off the surface reports no contact", "[cutting]") {
+  mesh::SurfaceMesh pad = tissues().pad2;
+  SurfaceCutter cutter(pad, CutterOptions{});
+  StrokeSample off{Eigen::Vector3d(0.0, 0.01, 0.0), Eigen::Vector3d::UnitY(), 0.0};
+  cutter.begin(off, Eigen::Vector3d::UnitX());
+  cutter.finish();
+  const IncisionFigures& f = cutter.stats().figures.back();
+  REQUIRE(f.done);
+  REQUIRE(f.shortfall == Shortfall::NoContact);
+  REQUIRE_THAT(describeShortfall(f), Contains("no contact"));
+}
+
+TEST_CASE("surface_cutter: property: random strokes on icospheres, pads, a torus and the bunny cut clean",
+          "[cutting]") {
+  runProperty(14, 10);
+}
+
+TEST_CASE("surface_cutter: property (large): 200 random strokes cut clean", "[cutting][slow]") {
+  runProperty(1414, 200);
+}
