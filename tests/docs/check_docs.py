@@ -20,6 +20,7 @@ Every failure is printed as "file:line: what"; the exit code is 1 if there is an
 """
 
 import argparse
+import bisect
 import glob
 import os
 import re
@@ -77,12 +78,18 @@ def split_code(lines):
 
 def heading_text(raw):
     """The text GitHub renders for a heading's markdown: code spans, links and emphasis reduced to text."""
-    text = re.sub(r"(`+)(.+?)\1", lambda m: m.group(2).strip(), raw)
-    text = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", text)
-    text = re.sub(r"<[^>]+>", "", text)
-    text = text.replace("*", "")
-    text = re.sub(r"(^|\s)_+|_+(\s|$)", r"\1\2", text)
-    return text.strip()
+    def plain(part):
+        part = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", part)
+        part = re.sub(r"<[^>]+>", "", part)
+        part = part.replace("*", "")
+        return re.sub(r"(^|\s)_+|_+(\s|$)", r"\1\2", part)
+
+    out, pos = [], 0
+    for span in re.finditer(r"(`+)(.+?)\1", raw):  # code spans keep their text as it is
+        out += [plain(raw[pos : span.start()]), span.group(2).strip()]
+        pos = span.end()
+    out.append(plain(raw[pos:]))
+    return "".join(out).strip()
 
 
 def slug(text):
@@ -124,41 +131,51 @@ def anchors(lines):
     return found
 
 
+def links(path):
+    """(line number, target) of every link in a page outside code: inline links and images, whose text may run
+    over several lines (reported at the line of the target), and reference definitions."""
+    found = []
+    pieces, starts = [], []
+    offset = 0
+    for number, outside, spans, in_code in split_code(read_lines(path)):
+        starts.append(offset)
+        pieces.append(outside)
+        offset += len(outside) + 1
+        definition = REFERENCE_DEF.match(outside)
+        if definition:
+            found.append((number, definition.group(2)))
+    for m in INLINE_LINK.finditer("\n".join(pieces)):
+        found.append((bisect.bisect_right(starts, m.start(2)), m.group(2)))
+    return sorted(found)
+
+
+def check_target(root, page, number, target, anchor_cache, failures):
+    path = os.path.join(root, page)
+    file_part, _, anchor = target.partition("#")
+    resolved = os.path.normpath(os.path.join(os.path.dirname(path), file_part)) if file_part else path
+    if not os.path.exists(resolved):
+        failures.add(page, number, f"link to {target}: {os.path.relpath(resolved, root)} does not exist")
+    elif anchor and (os.path.isdir(resolved) or not resolved.endswith(".md")):
+        failures.add(page, number, f"link to {target}: an anchor into a file that is not markdown")
+    elif anchor:
+        if resolved not in anchor_cache:
+            anchor_cache[resolved] = anchors(read_lines(resolved))
+        if anchor not in anchor_cache[resolved]:
+            failures.add(page, number, f"link to {target}: no heading '#{anchor}' in {os.path.relpath(resolved, root)}")
+
+
 def check_links(root, failures):
     pages = [p for p in PAGES if os.path.exists(os.path.join(root, p))]
     pages += sorted(os.path.relpath(p, root) for p in glob.glob(os.path.join(root, "docs", "*.md")))
     anchor_cache = {}
     checked = 0
     for page in pages:
-        path = os.path.join(root, page)
-        lines = read_lines(path)
-        for number, outside, spans, in_code in split_code(lines):
-            if in_code:
+        for number, target in links(os.path.join(root, page)):
+            target = target[1:-1] if target.startswith("<") else target
+            if SCHEME.match(target) or target.startswith("//"):
                 continue
-            targets = [m.group(2) for m in INLINE_LINK.finditer(outside)]
-            definition = REFERENCE_DEF.match(outside)
-            if definition:
-                targets.append(definition.group(2))
-            for target in targets:
-                target = target[1:-1] if target.startswith("<") else target
-                if SCHEME.match(target) or target.startswith("//"):
-                    continue
-                checked += 1
-                file_part, _, anchor = target.partition("#")
-                resolved = os.path.normpath(os.path.join(os.path.dirname(path), file_part)) if file_part else path
-                if not os.path.exists(resolved):
-                    failures.add(page, number, f"link to {target}: {os.path.relpath(resolved, root)} does not exist")
-                    continue
-                if not anchor:
-                    continue
-                if os.path.isdir(resolved) or not resolved.endswith(".md"):
-                    failures.add(page, number, f"link to {target}: an anchor into a file that is not markdown")
-                    continue
-                if resolved not in anchor_cache:
-                    anchor_cache[resolved] = anchors(read_lines(resolved))
-                if anchor not in anchor_cache[resolved]:
-                    failures.add(page, number,
-                                 f"link to {target}: no heading '#{anchor}' in {os.path.relpath(resolved, root)}")
+            checked += 1
+            check_target(root, page, number, target, anchor_cache, failures)
     return len(pages), checked
 
 
