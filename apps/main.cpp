@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   incise::apps::run::addReplayCommand(app);
   incise::apps::run::addRecordCommand(app);
   incise::apps::run::addBenchCommand(app);
+  incise::apps::run::addKeysCommand(app);
   incise::apps::geometry::addCutCommand(app);
   incise::apps::geometry::addWrapCommand(app);
   incise::apps::hid::addHidCommand(app);

@@ -9,5 +9,6 @@ namespace incise::apps::run {
 void addReplayCommand(CLI::App& app);
 void addRecordCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addKeysCommand(CLI::App& app);
 
 }  // namespace incise::apps::run

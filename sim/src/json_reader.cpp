@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "incise/core/format.h"
@@ -48,9 +49,34 @@ json parseJsonFile(const std::filesystem::path& file) {
   }
 }
 
+std::string keyPattern(std::string_view key_path) {
+  std::string out;
+  bool in_index = false;
+  for (const char c : key_path) {
+    if (c == '[') in_index = true, out += "[]";
+    if (c == ']')
+      in_index = false;
+    else if (!in_index && c != '[')
+      out += c;
+  }
+  return out;
+}
+
 JsonReader::JsonReader(std::filesystem::path file, const json& object, std::string key_path)
-    : file_(std::move(file)), object_(object), path_(std::move(key_path)) {
+    : JsonReader(std::move(file), object, std::move(key_path), std::make_shared<KeyLog>()) {}
+
+JsonReader::JsonReader(std::filesystem::path file, const json& object, std::string key_path,
+                       std::shared_ptr<KeyLog> log)
+    : file_(std::move(file)), object_(object), path_(std::move(key_path)), log_(std::move(log)) {
   if (!object_.is_object()) fail(path_.empty() ? "the document must be a JSON object" : "must be an object");
+  KeyLog::Object& logged = log_->objects[path_];
+  if (logged.present.empty())
+    for (const auto& item : object_.items()) logged.present.push_back(item.key());
+}
+
+bool JsonReader::has(const char* key) const {
+  log_->objects[path_].asked.insert(key);
+  return object_.contains(key);
 }
 
 void JsonReader::fail(const std::string& message, const std::string& key) const {
@@ -59,8 +85,8 @@ void JsonReader::fail(const std::string& message, const std::string& key) const 
 }
 
 JsonReader JsonReader::child(const char* key) const {
-  if (!has(key)) return JsonReader(file_, json::object(), join(key));
-  return JsonReader(file_, object_.at(key), join(key));
+  if (!has(key)) return JsonReader(file_, json::object(), join(key), log_);
+  return JsonReader(file_, object_.at(key), join(key), log_);
 }
 
 JsonReader JsonReader::requiredChild(const char* key) const {
@@ -73,7 +99,7 @@ std::vector<JsonReader> JsonReader::objects(const char* key) const {
   std::vector<JsonReader> list;
   const json& array = object_.at(key);
   for (std::size_t k = 0; k < array.size(); ++k)
-    list.emplace_back(file_, array[k], join(key) + "[" + std::to_string(k) + "]");
+    list.push_back(JsonReader(file_, array[k], join(key) + "[" + std::to_string(k) + "]", log_));
   return list;
 }
 
@@ -152,6 +178,63 @@ std::filesystem::path JsonReader::file(const char* key) const {
   if (error) fail("file " + p.string() + " cannot be looked up: " + error.message(), key);
   if (!found) fail("file " + p.string() + " does not exist", key);
   return p;
+}
+
+namespace {
+
+// Edit distance with adjacent transpositions (optimal string alignment): "budegt" is 1 from "budget".
+std::size_t editDistance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+std::string joined(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+
+// The key of `known` under `parent` (a pattern) nearest to `key`, when it is near enough to be a slip.
+std::string nearestKey(std::span<const std::string_view> known, const std::string& parent, const std::string& key) {
+  const std::string prefix = parent.empty() ? "" : parent + ".";
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, key.size() / 3) + 1;
+  for (const std::string_view k : known) {
+    if (k.substr(0, prefix.size()) != prefix) continue;
+    const std::string_view name = k.substr(prefix.size());
+    if (name.find('.') != std::string_view::npos || name.find('[') != std::string_view::npos) continue;
+    const std::size_t distance = editDistance(key, name);
+    if (distance < best_distance) best_distance = distance, best = std::string(name);
+  }
+  return best;
+}
+
+}  // namespace
+
+void JsonReader::refuseUnknownKeys(std::span<const std::string_view> known, bool unlisted_only) const {
+  const auto listed = [&known](const std::string& pattern) {
+    return std::find(known.begin(), known.end(), pattern) != known.end();
+  };
+  for (const auto& [path, object] : log_->objects)
+    for (const std::string& key : object.asked)
+      if (!listed(keyPattern(joined(path, key))))
+        throw std::logic_error("scenario reader: " + joined(path, key) + " is read but not in the list of keys");
+  for (const auto& [path, object] : log_->objects)
+    for (const std::string& key : object.present) {
+      if (object.asked.count(key)) continue;
+      const std::string where = joined(path, key), pattern = keyPattern(where);
+      if (listed(pattern) && unlisted_only) continue;
+      if (listed(pattern))
+        throw ScenarioError(file_.string() + ": " + where + ": has no effect here (it belongs to another kind of " +
+                            (path.empty() ? std::string("scenario") : path) + "; see docs/scenarios.md)");
+      const std::string nearest = nearestKey(known, keyPattern(path), key);
+      throw ScenarioError(file_.string() + ": " + where + ": unknown key" +
+                          (nearest.empty() ? "" : "; did you mean " + joined(path, nearest) + "?"));
+    }
 }
 
 }  // namespace incise::sim::detail

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "incise/sim/scenario_keys.h"
 #include "json_reader.h"
 #include "scenario_hid.h"
 
@@ -75,7 +76,7 @@ std::vector<StrokeSpec> readStrokes(const Reader& source) {
 PlanSpec readPlan(const Reader& r) {
   PlanSpec plan;
   plan.given = true;
-  const json& points = r.raw().contains("points_m") ? r.raw()["points_m"] : json();
+  const json& points = r.has("points_m") ? r.raw()["points_m"] : json();
   if (!points.is_array() || points.size() < 2) r.fail("must be an array of at least 2 points [x, y, z]", "points_m");
   for (std::size_t i = 0; i < points.size(); ++i) {
     const json& p = points[i];
@@ -117,11 +118,7 @@ void readTissueSource(const Reader& tissue, Scenario& s) {
   s.subdivide = tissue.integer("subdivide", 0, 0, 5);
 }
 
-}  // namespace
-
-Scenario loadScenario(const std::filesystem::path& file) {
-  const json document = detail::parseJsonFile(file);
-  const Reader root(file, document, "");
+Scenario readScenario(const Reader& root, const std::filesystem::path& file) {
   Scenario s;
   s.file = file;
   s.name = root.text("name", file.stem().string().c_str());
@@ -173,6 +170,14 @@ Scenario loadScenario(const std::filesystem::path& file) {
     source.fail("must be \"trace\", \"strokes\" or \"hid-recording\", got \"" + kind + "\"", "kind");
   }
   return s;
+}
+
+}  // namespace
+
+Scenario loadScenario(const std::filesystem::path& file) {
+  const json document = detail::parseJsonFile(file);
+  return detail::readCheckingKeys(Reader(file, document, ""), replayScenarioKeys(),
+                                  [&file](const Reader& root) { return readScenario(root, file); });
 }
 
 mesh::SurfaceMesh loadTissue(const Scenario& scenario) {

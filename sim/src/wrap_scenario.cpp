@@ -11,6 +11,7 @@
 
 #include "incise/core/format.h"
 #include "incise/mesh/shapes.h"
+#include "incise/sim/scenario_keys.h"
 #include "json_reader.h"
 
 namespace incise::sim {
@@ -30,10 +31,13 @@ constexpr long long kMaxWrapTriangles = 1LL << 18;  // 262,144
 
 // 1234567 -> "1,234,567".
 std::string grouped(long long n) {
-  std::string digits = std::to_string(n);
-  for (auto i = static_cast<std::ptrdiff_t>(digits.size()) - 3; i > 0; i -= 3)
-    digits.insert(static_cast<std::size_t>(i), ",");
-  return digits;
+  const std::string digits = std::to_string(n);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && digits[i - 1] != '-' && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
 }
 
 // "1 ring", "1,024 segments".
@@ -183,8 +187,8 @@ void readLattice(const Reader& l, global_dffd::GlobalDffdOptions& o) {
     const Eigen::Vector3d c = l.vector("controls", Eigen::Vector3d::Zero());
     for (int a = 0; a < 3; ++a) {
       if (!(c[a] >= o.order && c[a] <= 4096 && c[a] == std::floor(c[a])))
-        l.fail("[" + std::to_string(a) + "] = " + core::formatNumber(c[a]) + " is not a whole number in [" +
-                   std::to_string(o.order) + ", 4096]",
+        l.fail(std::string("[").append(std::to_string(a)).append("] = ").append(core::formatNumber(c[a])) +
+                   " is not a whole number in [" + std::to_string(o.order) + ", 4096]",
                "controls");
       o.controls[static_cast<std::size_t>(a)] = static_cast<int>(c[a]);
     }
@@ -209,11 +213,7 @@ global_dffd::OpeningTreatment readTreatment(const Reader& root) {
                          : global_dffd::OpeningTreatment::Open;
 }
 
-}  // namespace
-
-WrapScenario loadWrapScenario(const std::filesystem::path& file) {
-  const json document = detail::parseJsonFile(file);
-  const Reader root(file, document, "");
+WrapScenario readWrapScenario(const Reader& root, const std::filesystem::path& file) {
   WrapScenario s;
   s.name = root.text("name", file.stem().string().c_str());
   readMeshes(root, s);
@@ -234,6 +234,14 @@ WrapScenario loadWrapScenario(const std::filesystem::path& file) {
   s.format = root.choice("format", "obj", {"obj", "ply"}) == "ply" ? WrapFormat::Ply : WrapFormat::Obj;
   s.tolerance_m = root.number("penetration_tolerance_m", s.tolerance_m, 0.0, 1.0);
   return s;
+}
+
+}  // namespace
+
+WrapScenario loadWrapScenario(const std::filesystem::path& file) {
+  const json document = detail::parseJsonFile(file);
+  return detail::readCheckingKeys(Reader(file, document, ""), wrapScenarioKeys(),
+                                  [&file](const Reader& root) { return readWrapScenario(root, file); });
 }
 
 const char* treatmentName(global_dffd::OpeningTreatment treatment) {

@@ -155,3 +155,40 @@ TEST_CASE("scenario: local refinement's keys", "[sim]") {
     "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
                       Contains("incision.refine: must be \"linear\", \"pn\" or \"off\", got \"cubic\""));
 }
+
+TEST_CASE("scenario: a key nothing reads is refused, naming the nearest known key", "[sim]") {
+  const auto load = [](const char* name, const std::string& text) {
+    return sim::loadScenario(scenarioFile(name, text));
+  };
+  const std::string source = R"("pose_source": {"kind": "strokes", "strokes": [{}]})";
+  // At the root, in a nested object, in an array's entry, in a mapping.
+  REQUIRE_THROWS_WITH(load("budget", R"({"tissue": {"shape": "pad"}, "cut_budegt_us": 100, )" + source + "}"),
+                      Contains("budget.json: cut_budegt_us: unknown key; did you mean cut_budget_us?"));
+  REQUIRE_THROWS_WITH(load("depth", R"({"tissue": {"shape": "pad"}, "incision": {"dpeth_m": 0.002}, )" + source + "}"),
+                      Contains("incision.dpeth_m: unknown key; did you mean incision.depth_m?"));
+  REQUIRE_THROWS_WITH(
+      load("stroke",
+           R"({"tissue": {"shape": "pad"}, "pose_source": {"kind": "strokes", "strokes": [{}, {"lenght_m": 0.02}]}})"),
+      Contains("pose_source.strokes[1].lenght_m: unknown key; did you mean pose_source.strokes[1].length_m?"));
+  REQUIRE_THROWS_WITH(
+      load("pen", R"({"tissue": {"shape": "pad"}, "pose_source": {"kind": "hid-recording", "path": "meshes/bunny.obj",
+                      "pen": {"hover": 0.01}}})"),
+      Contains("pose_source.pen.hover: unknown key; did you mean pose_source.pen.hover_m?"));
+  // Far from every known key: no guess.
+  REQUIRE_THROWS_WITH(load("far", R"({"tissue": {"shape": "pad", "colour": "pink"}, )" + source + "}"),
+                      Contains("tissue.colour: unknown key") && !Contains("did you mean"));
+  // A known key where it does nothing: a mesh tissue's grid.
+  REQUIRE_THROWS_WITH(load("grid", R"({"tissue": {"mesh": "meshes/bunny.obj", "grid_m": 0.001}, )" + source + "}"),
+                      Contains("tissue.grid_m: has no effect here"));
+  // A misspelt key is named rather than the error it causes ("tissue: is missing").
+  REQUIRE_THROWS_WITH(load("tisue", R"({"tisue": {"shape": "pad"}, )" + source + "}"),
+                      Contains("tisue: unknown key; did you mean tissue?"));
+  // Every shipped replay scenario, and the generators' scenarios, hold only keys that are read.
+  for (const auto& folder :
+       {std::filesystem::path(INCISE_SCENARIOS_DIR), std::filesystem::path(INCISE_SCENARIOS_DIR) / "generate"})
+    for (const auto& entry : std::filesystem::directory_iterator(folder))
+      if (entry.path().extension() == ".json") {
+        INFO(entry.path());
+        REQUIRE_NOTHROW(sim::loadScenario(entry.path()));
+      }
+}

@@ -96,6 +96,8 @@ TEST_CASE("wrap scenario: bad scenarios name the file and the key, the line or t
       Contains("shape.json: model.shape: must be box, cylinder, sphere, prism or robot, got \"cube\""));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("obshape", scene(R"({ "name": "rod", "shape": "cone" })"))),
                       Contains("obshape.json: obstacles[0].shape: must be box"));
+  REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("unknown", scene(kBar, R"(, "motion": { "frame": 3 })"))),
+                      Contains("unknown.json: motion.frame: unknown key; did you mean motion.frames?"));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("treat", scene(kBar, R"(, "treatment": "glued")"))),
                       Contains("treat.json: treatment: must be \"open\", \"stitched\" or \"capped\", got \"glued\""));
   REQUIRE_THROWS_WITH(sim::loadWrapScenario(wrapFile("kernel", scene(kBar, R"(, "lattice": { "kernel": "box" })"))),
