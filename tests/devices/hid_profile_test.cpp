@@ -45,7 +45,8 @@ TEST_CASE("hid_profile: chosen by the usages the descriptor declares", "[devices
                   0x09, 0x31, 0x15, 0x81, 0x25, 0x7f, 0x75, 0x08, 0x95, 0x02, 0x81, 0x06, 0xc0});
   const HidProfileChoice none = chooseHidProfile(mouse);
   CHECK(none.kind == HidProfileKind::None);
-  CHECK(none.reason.find("Tip Switch or Tip Pressure") != std::string::npos);
+  CHECK(none.reason.find("no Stylus, Pen, Digitizer or Light Pen collection; its input is mouse (Mouse") !=
+        std::string::npos);
   CHECK_THROWS_AS(makeHidProfile(mouse, {}, {}), HidProfileError);
 }
 
@@ -128,6 +129,82 @@ TEST_CASE("hid_profile: the pen mapping's inverse undoes it (Wacom, with twist)"
   // Within the tablet's resolution: 5 um in x and y, a pressure step in depth, a degree in tilt and 0.2 in twist.
   CHECK((pose.tip_m - target.tip_m).norm() < 2e-5);
   CHECK(pose.orientation.angularDistance(target.orientation) < 0.03);
+}
+
+TEST_CASE("hid_profile: a tilt without an angle unit is degrees, whatever physical range it inherited",
+          "[devices][hid]") {
+  // The Huion Kamvas Pro 19's tilts (-90..90) carry the inch^3 unit and 0..2048 physical range its X and Y
+  // declared: read through them, 30 would be about 0.7 "degrees".
+  const HidDescriptor d = parseHidDescriptor(loadShippedDescriptor("huion_kamvas_pro_19_256c_006b.txt"));
+  HidMapping mapping;
+  mapping.pen = testMapping();
+  const auto profile = makeHidProfile(d, {0x256c, 0x006b}, mapping);
+  const HidReportEncoder encoder(d);
+  const HidReportLayout& layout = *d.find(HidReportType::Input, 10);
+  auto raw = encoder.blank(layout);
+  encoder.setLogical(raw, layout, kInRange, 1);
+  encoder.setLogical(raw, layout, kTip, 1);
+  encoder.setLogical(raw, layout, kTiltX, 30);
+  encoder.setLogical(raw, layout, kTiltY, -45);
+  PoseSample pose;
+  REQUIRE(profile->update(raw, 0.0, pose));
+  const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();
+  CHECK(axis.x() / axis.z() == Approx(std::tan(30.0 * M_PI / 180.0)));
+  // y_edge is -y: a tilt towards +Y leans the axis towards -y.
+  CHECK(-axis.y() / axis.z() == Approx(std::tan(-45.0 * M_PI / 180.0)));
+}
+
+TEST_CASE("hid_profile: a value outside its range is dropped with a null state, else clamped (hid-input's rule)",
+          "[devices][hid]") {
+  HidMapping mapping;
+  mapping.pen = testMapping();
+  PoseSample pose;
+  // The Elan's X and Y declare a null state (81 42): 0xffff, above 18460, means "no position": X is kept.
+  const HidDescriptor elan = parseHidDescriptor(loadShippedDescriptor("elan_04f3_2a49.txt"));
+  const auto pen = makeHidProfile(elan, {0x04f3, 0x2a49}, mapping);
+  const HidReportEncoder elan_encoder(elan);
+  const HidReportLayout& report7 = *elan.find(HidReportType::Input, 7);
+  auto raw = elan_encoder.blank(report7);
+  elan_encoder.setLogical(raw, report7, kInRange, 1);
+  elan_encoder.setLogical(raw, report7, kX, 9230);
+  REQUIRE(pen->update(raw, 0.0, pose));
+  CHECK(pose.tip_m.x() == Approx(0.2));
+  elan_encoder.setLogical(raw, report7, kX, 0xffff);
+  REQUIRE(pen->update(raw, 0.01, pose));
+  CHECK(pose.tip_m.x() == Approx(0.2));
+  // The Huion's X has no null state: 0xffff, above 32767, is clamped to the right edge.
+  const HidDescriptor huion = parseHidDescriptor(loadShippedDescriptor("huion_kamvas_pro_19_256c_006b.txt"));
+  const auto pen2 = makeHidProfile(huion, {0x256c, 0x006b}, mapping);
+  const HidReportEncoder huion_encoder(huion);
+  const HidReportLayout& report10 = *huion.find(HidReportType::Input, 10);
+  raw = huion_encoder.blank(report10);
+  huion_encoder.setLogical(raw, report10, kInRange, 1);
+  huion_encoder.setLogical(raw, report10, kX, 0xffff);
+  REQUIRE(pen2->update(raw, 0.0, pose));
+  CHECK(pose.tip_m.x() == Approx(0.3));
+}
+
+TEST_CASE("hid_profile: a pen without pressure cuts at tip_depth_m while its tip is down", "[devices][hid]") {
+  const HidDescriptor d = parseHidDescriptor(loadShippedDescriptor("nexio_1870_0100.txt"));
+  HidMapping mapping;
+  mapping.pen = testMapping();
+  mapping.pen.tip_depth_m = 0.006;
+  mapping.pen.cut_on = PenMapping::CutOn::Pressure;  // no pressure to compare: the tip switch decides
+  const auto profile = makeHidProfile(d, {0x1870, 0x0100}, mapping);
+  const HidReportEncoder encoder(d);
+  const HidReportLayout& layout = *d.find(HidReportType::Input, 5);
+  auto raw = encoder.blank(layout);
+  encoder.setLogical(raw, layout, kInRange, 1);
+  encoder.setLogical(raw, layout, kTip, 1);
+  PoseSample pose;
+  REQUIRE(profile->update(raw, 0.0, pose));
+  CHECK(pose.tip_m.z() == Approx(0.05 - 0.006));
+  CHECK(pose.buttons == 1u);
+  CHECK_FALSE(pose.pressure.has_value());
+  encoder.setLogical(raw, layout, kTip, 0);
+  REQUIRE(profile->update(raw, 0.01, pose));
+  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.pen.hover_m));
+  CHECK(pose.buttons == 0u);
 }
 
 TEST_CASE("hid_profile: SpaceNavigator velocity control over the reports' times", "[devices][hid]") {
