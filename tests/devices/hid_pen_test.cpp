@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -201,6 +203,35 @@ TEST_CASE("hid_pen: every descriptor shipped in scenarios/hid/descriptors has a 
   for (const Tablet& t : kTablets) cased.insert(t.file);
   CHECK(shipped == cased);
   CHECK(shipped.size() == 30);
+}
+
+TEST_CASE("hid_pen: devices/README.md's table of tablets says what the pen profile reads from each", "[devices][hid]") {
+  std::ifstream in(std::string(INCISE_DEVICES_DIR) + "/README.md");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  for (const Tablet& t : kTablets) {
+    INFO(t.file);
+    const std::string start = std::string("| `") + t.file + "` |";
+    const auto row =
+        std::find_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.rfind(start, 0) == 0; });
+    REQUIRE(row != lines.end());
+    std::vector<std::string> cells;
+    std::stringstream cut(row->substr(1));
+    for (std::string cell; std::getline(cut, cell, '|');) {
+      const auto first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+      cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+    }
+    REQUIRE(cells.size() == 11);
+    const auto search = findHidPen(parseHidDescriptor(loadShippedDescriptor(t.file)));
+    if (!search.pen) {
+      CHECK(cells[4].rfind("no pen: ", 0) == 0);
+      CHECK(cells[10] == "no");
+      continue;
+    }
+    const HidPenSummary s = summarizeHidPen(*search.pen);
+    CHECK(std::vector<std::string>(cells.begin() + 4, cells.end()) ==
+          std::vector<std::string>{s.xy, s.pressure, s.tilt, s.twist, s.buttons, s.in_range, "yes"});
+  }
 }
 
 TEST_CASE("hid_pen: a pen spread over two reports is read from both, its last values held", "[devices][hid]") {
