@@ -91,12 +91,13 @@ std::vector<ToolFields> groupTools(const HidDescriptor& d) {
     if (r.type != HidReportType::Input) continue;
     for (const HidField& f : r.fields) {
       if (f.isConstant()) continue;
-      const auto [collection, kind] = toolOf(d, f.collection);
+      const std::pair<int, HidToolKind> tool = toolOf(d, f.collection);
+      const int collection = tool.first;
       auto it = std::find_if(tools.begin(), tools.end(),
                              [&](const ToolFields& t) { return t.tool.collection == collection; });
       if (it == tools.end()) {
         it = tools.insert(tools.end(), ToolFields{});
-        it->tool.kind = kind;
+        it->tool.kind = tool.second;
         it->tool.collection = collection;
         it->tool.path = pathOf(d, collection);
       }
