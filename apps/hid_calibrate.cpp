@@ -80,24 +80,16 @@ nlohmann::ordered_json penJson(const devices::PenMapping& m) {
 
 int runHidCalibrate(const HidCalibrateArgs& a) {
   installStopSignals();
-  std::unique_ptr<devices::HidTransport> transport;
-  devices::HidDeviceSelector selector;
-  devices::PenMapping target;
-  try {
-    transport = makeHidTransport(a.transport);
-    selector = devices::parseHidDeviceSelector(a.device);
-    target = mappingOf(a.scenario).pen;
-  } catch (const std::exception& e) {
-    failWith("hid calibrate", e.what());
-  }
-  requirePen(*transport, selector);
+  const LiveDevice live = liveDevice("hid calibrate", a.transport, a.device, a.scenario);
+  const devices::PenMapping& target = live.mapping.pen;
+  requirePen(*live.transport, live.selector);
   // Poses with the tip down exactly while the tip switch is (or, without one, while any pressure is read).
   devices::HidMapping reading;
   reading.pen = target;
   reading.pen.dead_band = 0.0;
   reading.pen.cut_on = devices::PenMapping::CutOn::TipSwitch;
   sim::PoseQueue<8192> queue;
-  devices::HidPoseSource source(*transport, selector, reading, queue, [](const std::string& m) {
+  devices::HidPoseSource source(*live.transport, live.selector, reading, queue, [](const std::string& m) {
     std::fprintf(stderr, "incise hid calibrate: %s\n", m.c_str());
   });
   devices::PenPressDetector detector(reading.pen);
@@ -122,8 +114,8 @@ int runHidCalibrate(const HidCalibrateArgs& a) {
   }
   source.stop();
   if (presses.size() < wanted) {
-    std::fprintf(stderr, "incise hid calibrate: %zu of %zu presses from %s in %g s; nothing printed\n",
-                 presses.size(), wanted, source.describe().c_str(), a.timeout_s);
+    std::fprintf(stderr, "incise hid calibrate: %zu of %zu presses from %s in %g s; nothing printed\n", presses.size(),
+                 wanted, source.describe().c_str(), a.timeout_s);
     return 1;
   }
   devices::PenCalibration c;
