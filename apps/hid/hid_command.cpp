@@ -1,7 +1,7 @@
 // `incise hid list | decode | record | synth`: HID devices and their recordings.
 //   list    every HID interface the transport sees: path, VID:PID, serial, name, top-level usage, and the
 //           profile incise would use (or why none).
-//   decode  hid_decode.cpp.   record  hid_record.cpp.
+//   decode  hid_decode.cpp.   record  hid_record.cpp.   calibrate  hid_calibrate.cpp.
 //   synth   the generator of the shipped recordings: `incise hid synth SCENARIO` makes the recording a
 //           hid-recording scenario names, from its "synthesis" block (the strokes of another scenario, a real
 //           descriptor), written atomically (FILE.tmp, then renamed). scripts/make_hid_recordings.sh runs it.
@@ -124,8 +124,8 @@ void onRun(CLI::App* cmd, std::shared_ptr<Args> args, Run run) {
 }  // namespace
 
 void addHidCommand(CLI::App& app) {
-  CLI::App* hid =
-      app.add_subcommand("hid", "HID devices: list them, decode and record their reports, synthesise recordings");
+  CLI::App* hid = app.add_subcommand(
+      "hid", "HID devices: list them, decode and record their reports, calibrate a pen, synthesise recordings");
   hid->require_subcommand(1);
 
   auto list = std::make_shared<ListArgs>();
@@ -150,6 +150,18 @@ void addHidCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   record_cmd->add_option("--transport", record->transport, "hidapi, or replay:FILE.hid (a recording as a device)");
   onRun(record_cmd, record, runHidRecord);
+
+  auto calibrate = std::make_shared<HidCalibrateArgs>();
+  CLI::App* calibrate_cmd =
+      hid->add_subcommand("calibrate", "A scenario's pen block from presses at two corners and one firm press");
+  calibrate_cmd->add_option("--device", calibrate->device, "VID:PID[:serial] in hex, or /dev/hidrawN")->required();
+  calibrate_cmd->add_option("--transport", calibrate->transport,
+                            "hidapi, or replay:FILE.hid (a recording as a device)");
+  calibrate_cmd->add_option("--scenario", calibrate->scenario,
+                            "hid-recording scenario: its pen rectangle over the tissue, and the keys kept");
+  calibrate_cmd->add_option("--timeout", calibrate->timeout_s, "seconds to wait for the presses (default 120)")
+      ->check(CLI::PositiveNumber);
+  onRun(calibrate_cmd, calibrate, runHidCalibrate);
 
   auto synth = std::make_shared<SynthArgs>();
   CLI::App* synth_cmd =

@@ -25,7 +25,15 @@ struct HidRecordArgs {
   std::string scenario;     // `incise record --device`: the mapping into tissue space
   double duration_s = 0.0;  // 0: until SIGINT / SIGTERM (or the device goes away, for hid record)
 };
-int runHidRecord(const HidRecordArgs& args);   // hid_record.cpp: raw reports to a hid-recorder file
-int runPoseRecord(const HidRecordArgs& args);  // hid_record.cpp: poses from a live device to a CSV trace
+int runHidRecord(const HidRecordArgs& args);  // hid_record.cpp: raw reports to a hid-recorder file
+
+struct HidCalibrateArgs {
+  std::string device;  // selector: VID:PID[:serial] or a /dev/hidraw path
+  std::string transport = "hidapi";
+  std::string scenario;  // its pen block: the rectangle over the tissue and the keys not calibrated
+  double timeout_s = 120.0;
+};
+int runHidCalibrate(const HidCalibrateArgs& args);  // hid_calibrate.cpp: a pen block from three presses
+int runPoseRecord(const HidRecordArgs& args);       // hid_record.cpp: poses from a live device to a CSV trace
 
 }  // namespace incise::apps::hid

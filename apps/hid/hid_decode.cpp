@@ -1,7 +1,8 @@
 // `incise hid decode FILE [--json] [--scenario S] [--device N]`: what a hid-recorder file's reports hold,
 // like hid-tools' hid-decode — every field by usage name, logical and physical — and the pose the profile
 // makes of each (with the scenario's mapping when given). A file of hex bytes (a report descriptor alone)
-// prints the descriptor's reports and fields. With --json, one JSON object per report per line:
+// prints the descriptor's reports and fields, the profile (or what it lacks, and where), its tools, and what
+// the pen profile reads. With --json, one JSON object per report per line:
 //   {"time_s", "line", "report_id", "fields": [{"usage_page", "usage", "name", "logical", "physical", "unit"}],
 //    "pose": {"time_s", "tip_m", "orientation", "buttons", "pressure"} or null}
 // and {"time_s", "line", "error"} for a report the descriptor does not allow. Bad reports are printed and
@@ -15,6 +16,7 @@
 #include "hid_commands.h"
 #include "hid_support.h"
 #include "incise/devices/hid_descriptor.h"
+#include "incise/devices/hid_pen.h"
 #include "incise/devices/hid_profile.h"
 #include "incise/devices/hid_recording.h"
 #include "incise/devices/hid_report.h"
@@ -42,11 +44,20 @@ std::string flagsText(const devices::HidField& f) {
          (f.isRelative() ? ",Rel" : ",Abs");
 }
 
+// The field's usage, and the other elements' usages when they differ ("Tip Switch (..), In Range, Eraser").
+std::string fieldUsages(const devices::HidField& f) {
+  if (f.usages.empty()) return "padding";
+  std::string text = usageText(f.usageOf(0));
+  for (std::uint32_t e = 1; f.isVariable() && e < f.count; ++e)
+    if (f.usageOf(e) != f.usageOf(e - 1)) text += ", " + devices::hidUsageName(f.usageOf(e));
+  return text;
+}
+
 void printLayout(const devices::HidDescriptor& d) {
   for (const devices::HidReportLayout& r : d.reports) {
     std::printf("%s report %u: %zu bytes\n", toString(r.type), r.id, r.wireBytes(d.uses_report_ids));
     for (const devices::HidField& f : r.fields) {
-      const std::string usage = f.usages.empty() ? "padding" : usageText(f.usageOf(0));
+      const std::string usage = fieldUsages(f);
       std::printf("  bit %4u  %2u x %-3u %-6s %s  logical %lld..%lld  physical %g..%g %s\n", f.bit_offset, f.bit_size,
                   f.count, flagsText(f).c_str(), usage.c_str(), static_cast<long long>(f.logical_min),
                   static_cast<long long>(f.logical_max), devices::hidPhysical(f, f.logical_min),
@@ -169,6 +180,13 @@ int decodeDescriptor(const HidDecodeArgs& a) {
     const devices::HidDescriptor d = devices::parseHidDescriptor(bytes);
     printLayout(d);
     std::printf("profile: %s\n", devices::chooseHidProfile(d).reason.c_str());
+    const devices::HidPenSearch search = devices::findHidPen(d);
+    std::printf("tools: %s\n", devices::describeHidTools(search.tools).c_str());
+    if (search.pen) {
+      const devices::HidPenSummary s = devices::summarizeHidPen(*search.pen);
+      std::printf("pen: %s; pressure %s; tilt %s; twist %s; buttons %s; in range %s\n", s.xy.c_str(),
+                  s.pressure.c_str(), s.tilt.c_str(), s.twist.c_str(), s.buttons.c_str(), s.in_range.c_str());
+    }
   } catch (const std::exception& e) {
     failWith("hid decode", a.file + ": " + e.what());
   }

@@ -48,15 +48,9 @@ bool timeUp(Clock::time_point start, double duration_s) {
 
 int runHidRecord(const HidRecordArgs& a) {
   installStopSignals();
-  std::unique_ptr<devices::HidTransport> transport;
-  devices::HidDeviceSelector selector;
-  try {
-    transport = makeHidTransport(a.transport);
-    selector = devices::parseHidDeviceSelector(a.device);
-  } catch (const std::exception& e) {
-    failWith("hid record", e.what());
-  }
-  Opened device = openDevice(*transport, selector);
+  const LiveDevice live = liveDevice("hid record", a.transport, a.device, "");
+  const devices::HidDeviceSelector& selector = live.selector;
+  Opened device = openDevice(*live.transport, selector);
   devices::HidRecordedDevice recorded;
   recorded.name =
       device.info.manufacturer.empty() ? device.info.product : device.info.manufacturer + " " + device.info.product;
@@ -100,18 +94,9 @@ int runHidRecord(const HidRecordArgs& a) {
 
 int runPoseRecord(const HidRecordArgs& a) {
   installStopSignals();
-  std::unique_ptr<devices::HidTransport> transport;
-  devices::HidDeviceSelector selector;
-  devices::HidMapping mapping;
-  try {
-    transport = makeHidTransport(a.transport);
-    selector = devices::parseHidDeviceSelector(a.device);
-    mapping = mappingOf(a.scenario);
-  } catch (const std::exception& e) {
-    failWith("record", e.what());
-  }
+  const LiveDevice live = liveDevice("record", a.transport, a.device, a.scenario);
   sim::PoseQueue<8192> queue;
-  devices::HidPoseSource source(*transport, selector, mapping, queue,
+  devices::HidPoseSource source(*live.transport, live.selector, live.mapping, queue,
                                 [](const std::string& m) { std::fprintf(stderr, "incise record: %s\n", m.c_str()); });
   std::optional<devices::TraceWriter> writer;
   devices::TraceWriterOptions options;

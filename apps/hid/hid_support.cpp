@@ -11,6 +11,7 @@
 #include "incise/devices/hidapi_transport.h"
 #include "incise/devices/replay_transport.h"
 #include "incise/sim/scenario.h"
+#include "scenario_run.h"
 
 namespace incise::apps::hid {
 namespace {
@@ -44,6 +45,19 @@ devices::HidMapping mappingOf(const std::string& scenario) {
   if (s.source != sim::Scenario::Source::HidRecording)
     throw std::invalid_argument(scenario + ": pose_source is not a hid-recording: it has no pen or six_dof mapping");
   return s.hid.mapping;
+}
+
+LiveDevice liveDevice(const char* command, const std::string& transport, const std::string& device,
+                      const std::string& scenario) {
+  LiveDevice live;
+  try {
+    live.transport = makeHidTransport(transport);
+    live.selector = devices::parseHidDeviceSelector(device);
+    live.mapping = mappingOf(scenario);
+  } catch (const std::exception& e) {
+    failWith(command, e.what());
+  }
+  return live;
 }
 
 std::string usageText(std::uint32_t usage) {

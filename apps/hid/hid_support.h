@@ -23,6 +23,16 @@ bool stopRequested();
 // is empty. Throws sim::ScenarioError.
 devices::HidMapping mappingOf(const std::string& scenario);
 
+// What a live command starts from: its transport, the device selector and the scenario's mapping. Bad
+// input (a transport, selector or scenario refused) exits 2 with "incise COMMAND: what" (failWith).
+struct LiveDevice {
+  std::unique_ptr<devices::HidTransport> transport;
+  devices::HidDeviceSelector selector;
+  devices::HidMapping mapping;
+};
+LiveDevice liveDevice(const char* command, const std::string& transport, const std::string& device,
+                      const std::string& scenario);
+
 // "Digitizers:Pen (0x000d:0x0002)"
 std::string usageText(std::uint32_t usage);
 

@@ -13,6 +13,7 @@ namespace {
 
 constexpr std::size_t kMaxReportBytes = 4096;
 constexpr std::size_t kMaxPushDepth = 16;
+constexpr std::uint32_t kMaxReportSize = 256;  // bits per element, Linux hid-core's limit
 constexpr std::int64_t kMaxUsageRange = 65536;
 
 enum ItemType : std::uint8_t { kMain = 0, kGlobal = 1, kLocal = 2, kReserved = 3 };
@@ -220,8 +221,8 @@ class Parser {
   }
 
   void reportSize(const Item& item) {
-    if (item.data == 0 || item.data > 32)
-      fail(item, "Report Size " + std::to_string(item.data) + " bits: must be 1..32");
+    if (item.data == 0 || item.data > kMaxReportSize)
+      fail(item, "Report Size " + std::to_string(item.data) + " bits: must be 1.." + std::to_string(kMaxReportSize));
     globals_.report_size = item.data;
     globals_.has_report_size = true;
   }

@@ -1,9 +1,12 @@
 // The pen profile and its inverse (hid_profile.h, "Pen").
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
+#include "hid_pen_units.h"
 #include "hid_profile_internal.h"
+#include "incise/devices/hid_pen.h"
 #include "incise/devices/hid_report.h"
 #include "incise/devices/hid_usages.h"
 
@@ -36,56 +39,44 @@ struct AreaFrame {
   }
 };
 
-// A tilt in degrees: the field's unit when it is an angle, else the value taken as degrees (the HID Usage
-// Tables define X/Y Tilt in degrees; the XP-Pen declares no unit).
-double degrees(const detail::Binding& b, std::span<const std::uint8_t> payload) {
-  const double physical = b.physical(payload);
-  const double to_si = hidUnitToSi(b.field->unit);
-  const bool angle = (b.field->unit & 0xFu) == 2 || (b.field->unit & 0xFu) == 4;
-  return angle && to_si > 0.0 ? physical * to_si / kDegToRad : physical;
+// The value a field holds after a report, as hid-input keeps it: a value outside the logical range is
+// ignored when the field has a null state, else clamped into it (a field declaring min > max: as it is).
+bool acceptValue(const HidField& f, std::int64_t& value) {
+  if (f.logical_min >= f.logical_max) return true;
+  if (value >= f.logical_min && value <= f.logical_max) return true;
+  if ((f.flags & hid_flags::kNullState) != 0) return false;
+  value = std::clamp(value, f.logical_min, f.logical_max);
+  return true;
 }
 
+double fractionOf(const HidField& f, std::int64_t logical) {
+  const double span = static_cast<double>(f.logical_max - f.logical_min);
+  return span > 0.0 ? std::clamp(static_cast<double>(logical - f.logical_min) / span, 0.0, 1.0) : 0.0;
+}
+
+// The pen's state: each role's last accepted value, across the reports the pen's usages are spread over.
 class PenProfile final : public HidProfile {
  public:
   PenProfile(const HidDescriptor& descriptor, const PenMapping& mapping)
       : descriptor_(descriptor), mapping_(mapping), frame_(mapping) {
-    report_ = detail::findPenReport(descriptor);
-    const auto bind = [&](std::uint16_t page, std::uint16_t id) {
-      return detail::findInput(descriptor, hidUsage(page, id), report_);
-    };
-    using namespace hid_usages;
-    x_ = bind(hid_pages::kGenericDesktop, kX);
-    y_ = bind(hid_pages::kGenericDesktop, kY);
-    tip_ = bind(hid_pages::kDigitizers, kTipSwitch);
-    pressure_ = bind(hid_pages::kDigitizers, kTipPressure);
-    in_range_ = bind(hid_pages::kDigitizers, kInRange);
-    barrel_ = bind(hid_pages::kDigitizers, kBarrelSwitch);
-    barrel2_ = bind(hid_pages::kDigitizers, kSecondaryBarrelSwitch);
-    eraser_ = bind(hid_pages::kDigitizers, kEraser);
-    invert_ = bind(hid_pages::kDigitizers, kInvert);
-    tilt_x_ = bind(hid_pages::kDigitizers, kXTilt);
-    tilt_y_ = bind(hid_pages::kDigitizers, kYTilt);
-    twist_ = bind(hid_pages::kDigitizers, kTwist);
+    const HidPen pen = *findHidPen(descriptor).pen;
+    for (std::size_t r = 0; r < kHidPenRoles; ++r) bindings_[r] = detail::Binding(pen.elements[r]);
+    for (const HidReportLayout* layout : pen.layouts()) layouts_[layout_count_++] = layout;
     reset();
   }
 
   bool update(std::span<const std::uint8_t> raw, double time_s, PoseSample& pose) noexcept override {
-    const auto payload = detail::payloadOf(descriptor_, *report_, raw);
+    const HidReportLayout* layout = layoutOf(raw);
+    if (layout == nullptr) return false;
+    const auto payload = detail::payloadOf(descriptor_, *layout, raw);
     if (payload.empty()) return false;
-    if (in_range_ && in_range_.read(payload) == 0) {
-      pose = lifted(time_s);
-      return true;
+    for (std::size_t r = 0; r < kHidPenRoles; ++r) {
+      const detail::Binding& b = bindings_[r];
+      if (!b || b.layout != layout) continue;
+      std::int64_t value = b.read(payload);
+      if (acceptValue(*b.field, value)) values_[r] = value, seen_[r] = true;
     }
-    const double p = pressure_ ? pressure_.fraction(payload) : 0.0;
-    const bool tip_down = tip_ ? tip_.read(payload) != 0 : p > mapping_.dead_band;
-    const Eigen::Vector3d surface =
-        mapping_.origin_m + x_.fraction(payload) * mapping_.x_edge_m + y_.fraction(payload) * mapping_.y_edge_m;
-    last_surface_ = surface;
-    pose.time_s = time_s;
-    pose.tip_m = surface + frame_.up * (tip_down ? -depth(p) : mapping_.hover_m);
-    pose.orientation = orientation(payload);
-    pose.pressure = pressure_ ? std::optional<double>(p) : std::nullopt;
-    pose.buttons = buttons(payload, tip_down, p);
+    pose = current(time_s);
     return true;
   }
 
@@ -97,35 +88,75 @@ class PenProfile final : public HidProfile {
     return pose;
   }
 
-  void reset() noexcept override { last_surface_ = mapping_.origin_m + 0.5 * (mapping_.x_edge_m + mapping_.y_edge_m); }
+  void reset() noexcept override {
+    values_.fill(0);
+    seen_.fill(false);
+    last_surface_ = mapping_.origin_m + 0.5 * (mapping_.x_edge_m + mapping_.y_edge_m);
+  }
   HidProfileKind kind() const noexcept override { return HidProfileKind::Pen; }
 
  private:
+  const detail::Binding& at(HidPenRole role) const { return bindings_[static_cast<std::size_t>(role)]; }
+  std::int64_t value(HidPenRole role) const { return values_[static_cast<std::size_t>(role)]; }
+  bool seen(HidPenRole role) const { return seen_[static_cast<std::size_t>(role)]; }
+  // A role's value as a fraction of its logical range; `unseen` before its first report.
+  double fraction(HidPenRole role, double unseen) const {
+    return seen(role) ? fractionOf(*at(role).field, value(role)) : unseen;
+  }
+  bool on(HidPenRole role) const { return at(role) && value(role) != 0; }
+  double degrees(HidPenRole role) const { return at(role) ? hidPenDegrees(*at(role).field, value(role)) : 0.0; }
+
+  const HidReportLayout* layoutOf(std::span<const std::uint8_t> raw) const {
+    if (raw.empty()) return nullptr;
+    if (!descriptor_.uses_report_ids) return layouts_[0];
+    for (std::size_t i = 0; i < layout_count_; ++i)
+      if (layouts_[i]->id == raw[0]) return layouts_[i];
+    return nullptr;
+  }
+
+  PoseSample current(double time_s) {
+    if (at(HidPenRole::InRange) && seen(HidPenRole::InRange) && value(HidPenRole::InRange) == 0) return lifted(time_s);
+    const bool has_pressure = static_cast<bool>(at(HidPenRole::TipPressure));
+    const double p = has_pressure ? fraction(HidPenRole::TipPressure, 0.0) : 0.0;
+    const bool tip_down = at(HidPenRole::TipSwitch) ? on(HidPenRole::TipSwitch) : p > mapping_.dead_band;
+    const Eigen::Vector3d surface = mapping_.origin_m + fraction(HidPenRole::X, 0.5) * mapping_.x_edge_m +
+                                    fraction(HidPenRole::Y, 0.5) * mapping_.y_edge_m;
+    last_surface_ = surface;
+    PoseSample pose;
+    pose.time_s = time_s;
+    const double depth_m = !tip_down ? -mapping_.hover_m : has_pressure ? depth(p) : mapping_.tip_depth_m;
+    pose.tip_m = surface - frame_.up * depth_m;
+    pose.orientation = orientation();
+    pose.pressure = has_pressure ? std::optional<double>(p) : std::nullopt;
+    const bool cutting =
+        mapping_.cut_on == PenMapping::CutOn::Pressure && has_pressure ? p > mapping_.cut_threshold : tip_down;
+    pose.buttons = (cutting ? 1u : 0u) | (on(HidPenRole::Barrel) ? 2u : 0u) |
+                   (on(HidPenRole::SecondaryBarrel) ? 4u : 0u) |
+                   (on(HidPenRole::Eraser) || on(HidPenRole::Invert) ? 8u : 0u);
+    return pose;
+  }
+
   double depth(double p) const {
     if (p <= mapping_.dead_band) return 0.0;
     const double t = std::min(1.0, (p - mapping_.dead_band) / (1.0 - mapping_.dead_band));
     return mapping_.max_depth_m * std::pow(t, mapping_.curve);
   }
 
-  Eigen::Quaterniond orientation(std::span<const std::uint8_t> payload) const {
-    const bool tilt = mapping_.use_tilt && tilt_x_ && tilt_y_;
-    const double twist = mapping_.use_twist && twist_ ? degrees(twist_, payload) : 0.0;
-    return frame_.orientation(tilt ? degrees(tilt_x_, payload) : 0.0, tilt ? degrees(tilt_y_, payload) : 0.0,
+  Eigen::Quaterniond orientation() const {
+    const bool tilt = mapping_.use_tilt && at(HidPenRole::TiltX) && at(HidPenRole::TiltY);
+    const double twist = mapping_.use_twist ? degrees(HidPenRole::Twist) : 0.0;
+    return frame_.orientation(tilt ? degrees(HidPenRole::TiltX) : 0.0, tilt ? degrees(HidPenRole::TiltY) : 0.0,
                               mapping_.yaw_deg + twist);
-  }
-
-  std::uint32_t buttons(std::span<const std::uint8_t> payload, bool tip_down, double p) const {
-    const bool cutting = mapping_.cut_on == PenMapping::CutOn::TipSwitch ? tip_down : p > mapping_.cut_threshold;
-    const auto on = [&](const detail::Binding& b) { return b && b.read(payload) != 0; };
-    return (cutting ? 1u : 0u) | (on(barrel_) ? 2u : 0u) | (on(barrel2_) ? 4u : 0u) |
-           (on(eraser_) || on(invert_) ? 8u : 0u);
   }
 
   const HidDescriptor& descriptor_;
   PenMapping mapping_;
   AreaFrame frame_;
-  const HidReportLayout* report_ = nullptr;
-  detail::Binding x_, y_, tip_, pressure_, in_range_, barrel_, barrel2_, eraser_, invert_, tilt_x_, tilt_y_, twist_;
+  std::array<detail::Binding, kHidPenRoles> bindings_{};
+  std::array<const HidReportLayout*, kHidPenRoles> layouts_{};
+  std::size_t layout_count_ = 0;
+  std::array<std::int64_t, kHidPenRoles> values_{};
+  std::array<bool, kHidPenRoles> seen_{};
   Eigen::Vector3d last_surface_ = Eigen::Vector3d::Zero();
 };
 

@@ -29,19 +29,11 @@ double Binding::deflection(std::span<const std::uint8_t> payload) const {
   return full > 0.0 ? std::clamp(static_cast<double>(read(payload)) / full, -1.0, 1.0) : 0.0;
 }
 
-bool isDigitizerApplication(std::uint32_t application) {
-  const std::uint32_t u = hidEquivalentUsage(application);
-  return u == hidUsage(hid_pages::kDigitizers, hid_usages::kDigitizer) ||
-         u == hidUsage(hid_pages::kDigitizers, hid_usages::kPen) ||
-         u == hidUsage(hid_pages::kDigitizers, hid_usages::kLightPen);
-}
-
-Binding findInput(const HidDescriptor& descriptor, std::uint32_t usage, const HidReportLayout* layout,
-                  ApplicationFilter filter) {
+Binding findInput(const HidDescriptor& descriptor, std::uint32_t usage, const HidReportLayout* layout) {
   for (const HidReportLayout& r : descriptor.reports) {
     if (r.type != HidReportType::Input || (layout != nullptr && &r != layout)) continue;
     for (const HidField& f : r.fields) {
-      if (f.isConstant() || !f.isVariable() || (filter != nullptr && !filter(f.application))) continue;
+      if (f.isConstant() || !f.isVariable()) continue;
       for (std::uint32_t e = 0; e < f.count; ++e)
         if (hidEquivalentUsage(f.usageOf(e)) == usage) return Binding{&r, &f, e};
     }
@@ -54,21 +46,6 @@ std::span<const std::uint8_t> payloadOf(const HidDescriptor& descriptor, const H
   const bool ids = descriptor.uses_report_ids;
   if (raw.size() < layout.wireBytes(ids) || (ids && raw[0] != layout.id)) return {};
   return raw.subspan(ids ? 1 : 0);
-}
-
-const HidReportLayout* findPenReport(const HidDescriptor& descriptor) {
-  using namespace hid_usages;
-  const std::uint32_t x = hidUsage(hid_pages::kGenericDesktop, kX), y = hidUsage(hid_pages::kGenericDesktop, kY);
-  for (const HidReportLayout& r : descriptor.reports) {
-    if (r.type != HidReportType::Input) continue;
-    const bool has_xy =
-        findInput(descriptor, x, &r, isDigitizerApplication) && findInput(descriptor, y, &r, isDigitizerApplication);
-    const bool has_tip =
-        findInput(descriptor, hidUsage(hid_pages::kDigitizers, kTipSwitch), &r, isDigitizerApplication) ||
-        findInput(descriptor, hidUsage(hid_pages::kDigitizers, kTipPressure), &r, isDigitizerApplication);
-    if (has_xy && has_tip) return &r;
-  }
-  return nullptr;
 }
 
 bool hasSixAxes(const HidDescriptor& descriptor) {
@@ -108,14 +85,12 @@ const HidQuirk* findHidQuirk(HidDeviceId id) {
 }
 
 HidProfileChoice chooseHidProfile(const HidDescriptor& descriptor, HidDeviceId) {
-  if (const HidReportLayout* pen = detail::findPenReport(descriptor))
-    return {HidProfileKind::Pen, "pen: input report " + std::to_string(pen->id) +
-                                     " has X, Y and a tip switch or tip pressure in a digitizer application"};
+  HidPenSearch pen = findHidPen(descriptor);
+  if (pen.pen) return {HidProfileKind::Pen, std::move(pen.reason)};
   if (detail::hasSixAxes(descriptor))
     return {HidProfileKind::SixDof, "6-dof: input fields X, Y, Z, Rx, Ry, Rz (Generic Desktop)"};
   return {HidProfileKind::None,
-          "no profile: no input report with X, Y and Tip Switch or Tip Pressure in a Digitizer, Pen or Light Pen "
-          "application (pen), and not all of X, Y, Z, Rx, Ry, Rz as input fields (6-dof)"};
+          "no profile: " + pen.reason + "; and not all of X, Y, Z, Rx, Ry, Rz as input fields (6-dof)"};
 }
 
 std::unique_ptr<HidProfile> makeHidProfile(const HidDescriptor& descriptor, HidDeviceId id, const HidMapping& mapping) {

@@ -7,6 +7,7 @@
 #include <span>
 
 #include "incise/devices/hid_descriptor.h"
+#include "incise/devices/hid_pen.h"
 #include "incise/devices/hid_profile.h"
 
 namespace incise::devices::detail {
@@ -15,6 +16,10 @@ struct Binding {
   const HidReportLayout* layout = nullptr;
   const HidField* field = nullptr;
   std::uint32_t element = 0;
+
+  Binding() = default;
+  Binding(const HidReportLayout* l, const HidField* f, std::uint32_t e) : layout(l), field(f), element(e) {}
+  explicit Binding(const HidElement& e) : layout(e.layout), field(e.field), element(e.element) {}
 
   explicit operator bool() const { return field != nullptr; }
   // `payload` starts after the ID byte and holds the whole layout (the caller checked its size).
@@ -26,22 +31,14 @@ struct Binding {
   double deflection(std::span<const std::uint8_t> payload) const;
 };
 
-// Which usages an application collection may have for a profile.
-using ApplicationFilter = bool (*)(std::uint32_t application);
-bool isDigitizerApplication(std::uint32_t application);
-
 // The first data element of a variable input field whose usage (through hidEquivalentUsage) is `usage`,
-// in `layout` when given, else in any input report of an application the filter accepts (any application
-// when the filter is null).
-Binding findInput(const HidDescriptor& descriptor, std::uint32_t usage, const HidReportLayout* layout = nullptr,
-                  ApplicationFilter filter = nullptr);
+// in `layout` when given, else in any input report.
+Binding findInput(const HidDescriptor& descriptor, std::uint32_t usage, const HidReportLayout* layout = nullptr);
 
 // The payload of `raw` when it is a complete report of `layout`, else an empty span.
 std::span<const std::uint8_t> payloadOf(const HidDescriptor& descriptor, const HidReportLayout& layout,
                                         std::span<const std::uint8_t> raw);
 
-// The pen report (X, Y and Tip Switch or Tip Pressure in a digitizer application), nullptr when none.
-const HidReportLayout* findPenReport(const HidDescriptor& descriptor);
 // True when the descriptor has all six of X, Y, Z, Rx, Ry, Rz as variable input fields.
 bool hasSixAxes(const HidDescriptor& descriptor);
 

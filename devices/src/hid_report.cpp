@@ -7,6 +7,9 @@
 namespace incise::devices {
 namespace {
 
+// Elements wider than this are read as their low 32 bits, as Linux's hid-core reads them.
+constexpr std::uint32_t kReadBits = 32;
+
 std::uint64_t mask(std::uint32_t bits) { return bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1; }
 
 // A unit nibble as a signed exponent (-8..7).
@@ -46,26 +49,27 @@ const char* toString(HidDecodeStatus status) {
 
 std::int64_t readHidElement(std::span<const std::uint8_t> report, const HidField& field, std::uint32_t element) {
   const std::uint64_t bit = std::uint64_t{field.bit_offset} + std::uint64_t{element} * field.bit_size;
+  const std::uint32_t bits = std::min(field.bit_size, kReadBits);
   const std::size_t first = bit / 8, shift = bit % 8;
-  const std::size_t last = (bit + field.bit_size - 1) / 8;  // at most first + 4: bit_size <= 32
+  const std::size_t last = (bit + bits - 1) / 8;  // at most first + 4: bits <= 32
   std::uint64_t word = 0;
   for (std::size_t i = first; i <= last && i < report.size(); ++i)
     word |= std::uint64_t{report[i]} << (8 * (i - first));
-  const std::uint64_t value = (word >> shift) & mask(field.bit_size);
-  if (!field.isSigned() || field.bit_size == 0) return static_cast<std::int64_t>(value);
-  const std::uint64_t sign = std::uint64_t{1} << (field.bit_size - 1);
+  const std::uint64_t value = (word >> shift) & mask(bits);
+  if (!field.isSigned() || bits == 0) return static_cast<std::int64_t>(value);
+  const std::uint64_t sign = std::uint64_t{1} << (bits - 1);
   return static_cast<std::int64_t>(value ^ sign) - static_cast<std::int64_t>(sign);
 }
 
 void writeHidElement(std::span<std::uint8_t> report, const HidField& field, std::uint32_t element,
                      std::int64_t logical) {
   const std::uint64_t bit = std::uint64_t{field.bit_offset} + std::uint64_t{element} * field.bit_size;
-  const std::uint64_t bits = static_cast<std::uint64_t>(logical) & mask(field.bit_size);
+  const auto bits = static_cast<std::uint64_t>(logical);  // two's complement; bits past 64 repeat the sign
   for (std::uint32_t b = 0; b < field.bit_size; ++b) {
     const std::uint64_t at = bit + b;
     if (at / 8 >= report.size()) return;
     const auto m = static_cast<std::uint8_t>(1u << (at % 8));
-    if ((bits >> b) & 1u)
+    if ((b < 64 ? bits >> b : bits >> 63) & 1u)
       report[at / 8] |= m;
     else
       report[at / 8] &= static_cast<std::uint8_t>(~m);

@@ -1,18 +1,18 @@
 #include "incise/devices/hid_synth.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
+#include "hid_pen_units.h"
 #include "hid_profile_internal.h"
 #include "hid_synth_internal.h"
+#include "incise/devices/hid_pen.h"
 #include "incise/devices/hid_report.h"
 #include "incise/devices/hid_usages.h"
 
 namespace incise::devices {
-namespace {}  // namespace
-
 namespace detail {
 PoseSample interpolatePose(std::span<const PoseSample> poses, double t_s, std::size_t& hint) {
   while (hint + 1 < poses.size() && poses[hint + 1].time_s <= t_s) ++hint;
@@ -42,66 +42,86 @@ std::int64_t fractionToLogical(const detail::Binding& b, double f) {
   return b.field->logical_min + std::llround(std::clamp(f, 0.0, 1.0) * span);
 }
 
-// Degrees into the field's logical value: the inverse of the pen profile's reading of tilt and twist.
-std::int64_t degreesToLogical(const detail::Binding& b, double deg) {
-  const double to_si = hidUnitToSi(b.field->unit);
-  const bool angle = (b.field->unit & 0xFu) == 2 || (b.field->unit & 0xFu) == 4;
-  const double physical = angle && to_si > 0.0 ? deg * (std::numbers::pi / 180.0) / to_si : deg;
-  return hidLogical(*b.field, physical);
-}
-
+// A pen's reports for one pose: one per input report its usages are in, the pose's reading written into each
+// (the inverse of the pen profile). Out of range: a pen with In Range sends reports of zeros; one without
+// keeps its last X and Y with the tip up (it cannot say it left).
 class PenSynth {
  public:
-  PenSynth(const HidDescriptor& d, const PenMapping& m) : d_(d), m_(m), report_(detail::findPenReport(d)) {
-    using namespace hid_usages;
-    const auto bind = [&](std::uint16_t page, std::uint16_t id) {
-      return detail::findInput(d, hidUsage(page, id), report_);
-    };
-    x_ = bind(hid_pages::kGenericDesktop, kX);
-    y_ = bind(hid_pages::kGenericDesktop, kY);
-    tip_ = bind(hid_pages::kDigitizers, kTipSwitch);
-    pressure_ = bind(hid_pages::kDigitizers, kTipPressure);
-    in_range_ = bind(hid_pages::kDigitizers, kInRange);
-    tilt_x_ = bind(hid_pages::kDigitizers, kXTilt);
-    tilt_y_ = bind(hid_pages::kDigitizers, kYTilt);
-    twist_ = bind(hid_pages::kDigitizers, kTwist);
+  PenSynth(const HidDescriptor& d, const PenMapping& m) : d_(d), m_(m), pen_(*findHidPen(d).pen) {
+    for (std::size_t r = 0; r < kHidPenRoles; ++r) bindings_[r] = detail::Binding(pen_.elements[r]);
   }
 
-  std::vector<std::uint8_t> report(const PoseSample* pose) const {
-    std::vector<std::uint8_t> raw = HidReportEncoder(d_).blank(*report_);
-    const auto payload = std::span(raw).subspan(d_.uses_report_ids ? 1 : 0);
-    if (pose == nullptr) return raw;  // out of range: every bit 0
-    const PenReading r = penReadingFor(m_, *pose);
-    const bool down = r.pressure.has_value() && (pose->buttons & 1u) != 0;
-    put(payload, in_range_, 1);
-    put(payload, tip_, down ? 1 : 0);
-    if (pressure_) put(payload, pressure_, down ? fractionToLogical(pressure_, *r.pressure) : 0);
-    put(payload, x_, x_ ? fractionToLogical(x_, r.fx) : 0);
-    put(payload, y_, y_ ? fractionToLogical(y_, r.fy) : 0);
-    if (tilt_x_) put(payload, tilt_x_, degreesToLogical(tilt_x_, r.tilt_x_deg));
-    if (tilt_y_) put(payload, tilt_y_, degreesToLogical(tilt_y_, r.tilt_y_deg));
-    if (twist_) put(payload, twist_, degreesToLogical(twist_, r.twist_deg));
-    return raw;
+  std::vector<std::vector<std::uint8_t>> reports(const PoseSample& pose) {
+    last_ = penReadingFor(m_, pose);
+    const bool down = last_.pressure.has_value() && (pose.buttons & 1u) != 0;
+    return encode(last_, true, down);
+  }
+
+  std::vector<std::vector<std::uint8_t>> leaving() const {
+    if (at(HidPenRole::InRange)) {
+      std::vector<std::vector<std::uint8_t>> out;
+      for (const HidReportLayout* layout : pen_.layouts()) out.push_back(HidReportEncoder(d_).blank(*layout));
+      return out;
+    }
+    return encode(last_, false, false);
   }
 
  private:
+  const detail::Binding& at(HidPenRole role) const { return bindings_[static_cast<std::size_t>(role)]; }
+
+  std::vector<std::vector<std::uint8_t>> encode(const PenReading& r, bool in_range, bool down) const {
+    std::vector<std::vector<std::uint8_t>> out;
+    for (const HidReportLayout* layout : pen_.layouts()) {
+      std::vector<std::uint8_t> raw = HidReportEncoder(d_).blank(*layout);
+      const auto payload = std::span(raw).subspan(d_.uses_report_ids ? 1 : 0);
+      const auto set = [&](HidPenRole role, std::int64_t logical) {
+        if (at(role).layout == layout) put(payload, at(role), logical);
+      };
+      set(HidPenRole::InRange, in_range ? 1 : 0);
+      set(HidPenRole::TipSwitch, down ? 1 : 0);
+      if (at(HidPenRole::TipPressure))
+        set(HidPenRole::TipPressure, down ? fractionToLogical(at(HidPenRole::TipPressure), *r.pressure) : 0);
+      if (at(HidPenRole::X)) set(HidPenRole::X, fractionToLogical(at(HidPenRole::X), r.fx));
+      if (at(HidPenRole::Y)) set(HidPenRole::Y, fractionToLogical(at(HidPenRole::Y), r.fy));
+      if (at(HidPenRole::TiltX))
+        set(HidPenRole::TiltX, hidPenLogicalDegrees(*at(HidPenRole::TiltX).field, r.tilt_x_deg));
+      if (at(HidPenRole::TiltY))
+        set(HidPenRole::TiltY, hidPenLogicalDegrees(*at(HidPenRole::TiltY).field, r.tilt_y_deg));
+      if (at(HidPenRole::Twist))
+        set(HidPenRole::Twist, hidPenLogicalDegrees(*at(HidPenRole::Twist).field, r.twist_deg));
+      out.push_back(std::move(raw));
+    }
+    return out;
+  }
+
   const HidDescriptor& d_;
   PenMapping m_;
-  const HidReportLayout* report_;
-  detail::Binding x_, y_, tip_, pressure_, in_range_, tilt_x_, tilt_y_, twist_;
+  HidPen pen_;
+  std::array<detail::Binding, kHidPenRoles> bindings_{};
+  PenReading last_;
 };
+
+// The reports of one pose at time t_us, spread evenly over the period when the pen uses several reports
+// (a device sends them one after the other; the replay drops poses that share a time).
+void pushReports(HidRecording& out, std::int64_t t_us, std::int64_t period_us,
+                 std::vector<std::vector<std::uint8_t>> reports) {
+  const auto n = static_cast<std::int64_t>(reports.size());
+  for (std::int64_t k = 0; k < n; ++k)
+    out.reports.push_back({0, t_us + k * period_us / n, std::move(reports[static_cast<std::size_t>(k)]), 0});
+}
 
 void synthesizePen(HidRecording& out, const HidDescriptor& d, const HidMapping& mapping,
                    std::span<const PoseSample> poses, double rate_hz) {
-  const PenSynth synth(d, mapping.pen);
+  PenSynth synth(d, mapping.pen);
   const double t0 = poses.front().time_s, dt = 1.0 / rate_hz;
+  const std::int64_t period_us = micros(dt);
   std::size_t hint = 0;
   std::int64_t k = 0;
   for (double t = t0; t <= poses.back().time_s; t = t0 + static_cast<double>(++k) * dt) {
     const PoseSample p = detail::interpolatePose(poses, t, hint);
-    out.reports.push_back({0, micros(t - t0), synth.report(&p), 0});
+    pushReports(out, micros(t - t0), period_us, synth.reports(p));
   }
-  out.reports.push_back({0, micros(static_cast<double>(k) * dt), synth.report(nullptr), 0});
+  pushReports(out, micros(static_cast<double>(k) * dt), period_us, synth.leaving());
 }
 
 }  // namespace

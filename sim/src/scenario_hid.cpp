@@ -18,6 +18,7 @@ void readPen(const JsonReader& r, PenMapping& m) {
   m.dead_band = r.number("dead_band", m.dead_band, 0.0, 0.99);
   m.curve = r.number("curve", m.curve, 0.1, 10.0);
   m.max_depth_m = r.number("max_depth_m", m.max_depth_m, 1e-5, 1.0);
+  m.tip_depth_m = r.number("tip_depth_m", m.tip_depth_m, 0.0, 1.0);
   m.cut_on = r.choice("cut_on", "tip_switch", {"tip_switch", "pressure"}) == "pressure" ? PenMapping::CutOn::Pressure
                                                                                         : PenMapping::CutOn::TipSwitch;
   m.cut_threshold = r.number("cut_threshold", m.cut_threshold, 0.0, 1.0);

@@ -71,6 +71,7 @@ constexpr std::string_view kReplayKeys[] = {
     "pose_source.pen.dead_band",
     "pose_source.pen.curve",
     "pose_source.pen.max_depth_m",
+    "pose_source.pen.tip_depth_m",
     "pose_source.pen.cut_on",
     "pose_source.pen.cut_threshold",
     "pose_source.pen.yaw_deg",

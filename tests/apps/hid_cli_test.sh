@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The incise HID commands end to end, without hardware: the shipped recordings decode and replay, the live
-# commands record from the replay transport (a recording played as if plugged in), a recorder killed with
-# SIGKILL leaves a file that reads back, and bad input gives a clear message, exit 2 and no output.
+# The incise HID commands end to end, without hardware: the shipped recordings decode and replay, a tablet's
+# recording swapped into a pen scenario replays, the live commands record and calibrate from the replay
+# transport (a recording played as if plugged in), a recorder killed with SIGKILL leaves a file that reads
+# back, and bad input gives a clear message, exit 2 and no output.
 #   hid_cli_test.sh INCISE_BINARY SCENARIOS_DIR
 set -u
 incise=$1
@@ -42,6 +43,66 @@ check "... the pen groove as long as the stroke's within 5%" python3 -c "
 import json, sys
 f = json.load(open('$work/r-bunny-pen-wacom/report.json'))['incision_figures']
 sys.exit(0 if len(f) == 1 and f[0]['groove_length_m'] > 0.95 * f[0]['stroke_length_m'] > 0.05 else 1)"
+
+# A tablet from outside the three the scenarios were made with, as a user tries it: a stroke recorded from a
+# Huion Kamvas Pro 19 (synthesised through its descriptor) in place of pad-pen-wacom's recording, nothing else
+# changed, cuts the groove the Wacom recording cuts, within 5%. (Scenario copies in $work name files by
+# absolute paths.)
+scenarios=$(cd "$scenarios" && pwd)
+python3 -c "
+import json, os
+s = json.load(open('$scenarios/pad-pen-wacom.json'))
+synth = s['pose_source']['synthesis']
+synth.update(descriptor='$scenarios/hid/descriptors/huion_kamvas_pro_19_256c_006b.txt', vid='256c', pid='006b',
+             name='HUION Huion Tablet_GT1902', **{'from': '$scenarios/' + synth['from']})
+s['pose_source']['path'] = '$work/huion.hid'
+json.dump(s, open('$work/huion-synth.json', 'w'))
+s = json.load(open('$scenarios/pad-pen-wacom.json'))
+del s['pose_source']['synthesis']
+s['pose_source']['path'] = '$work/huion.hid'
+json.dump(s, open('$work/pad-pen-huion.json', 'w'))"
+check "hid synth through the Huion Kamvas Pro 19's descriptor (a Stylus application nested in a Pen one)" bash -c \
+  "'$incise' hid synth '$work/huion-synth.json' > /dev/null && '$incise' hid list --transport replay:'$work/huion.hid' | grep -q 'profile pen: input report 10 (Pen > Stylus'"
+check "... swapped into pad-pen-wacom, it replays to the Wacom recording's groove within 5%" bash -c \
+  "'$incise' replay '$work/pad-pen-huion.json' --fast --out '$work/r-huion' > /dev/null && '$incise' replay '$scenarios/pad-pen-wacom.json' --fast --out '$work/r-pad-wacom' > /dev/null && python3 -c \"
+import json, sys
+a = json.load(open('$work/r-huion/report.json'))['incision_figures']
+b = json.load(open('$work/r-pad-wacom/report.json'))['incision_figures']
+sys.exit(0 if len(a) == 1 and len(b) == 1 and abs(a[0]['groove_length_m'] - b[0]['groove_length_m']) <= 0.05 * b[0]['groove_length_m'] > 0 else 1)\""
+
+# hid calibrate through the replay transport: the shipped calibration recording (three presses synthesised from
+# scenarios/hid/calibrate/presses.json through the Wacom's descriptor) gives a pen block that lays the pressed
+# corners onto the scenario's rectangle, measures dead band and curve, and loads when pasted in.
+calib=$scenarios/hid/calibrate/pen-wacom.hid
+check "hid synth remakes calibrate/pen-wacom.hid byte for byte" bash -c \
+  "'$incise' hid synth '$scenarios/hid/calibrate/pen-wacom.json' --out '$work/calib.hid' > /dev/null && cmp -s '$work/calib.hid' '$calib'"
+check "hid calibrate prints a pen block" bash -c \
+  "'$incise' hid calibrate --device 056a:0357 --transport replay:'$calib' --scenario '$scenarios/pad-pen-wacom.json' > '$work/pen.json' 2> '$work/calibrate.log'"
+check "... the pressed corners go onto the scenario's rectangle; dead band and curve measured" python3 -c "
+import json, re, sys
+pen = json.load(open('$work/pen.json'))['pen']
+target = json.load(open('$scenarios/pad-pen-wacom.json'))['pose_source']['pen']
+presses = [tuple(map(float, m)) for m in re.findall(r'pressed at X ([0-9.]+), Y ([0-9.]+)', open('$work/calibrate.log').read())]
+def at(f): return [pen['origin_m'][i] + f[0] * pen['x_edge_m'][i] + f[1] * pen['y_edge_m'][i] for i in range(3)]
+far = [target['origin_m'][i] + target['x_edge_m'][i] + target['y_edge_m'][i] for i in range(3)]
+ok = len(presses) == 3 and abs(presses[0][0] - 0.21) < 0.005 and abs(presses[1][1] - 0.7) < 0.005
+ok = ok and max(abs(a - b) for a, b in zip(at(presses[0]), target['origin_m'])) < 2e-4
+ok = ok and max(abs(a - b) for a, b in zip(at(presses[1]), far)) < 2e-4
+ok = ok and 0 < pen['dead_band'] < 0.2 and 0.1 <= pen['curve'] <= 10 and pen['max_depth_m'] == target['max_depth_m']
+sys.exit(0 if ok else 1)"
+python3 -c "
+import json
+s = json.load(open('$scenarios/pad-pen-wacom.json'))
+del s['pose_source']['synthesis']
+s['pose_source']['path'] = '$scenarios/hid/pad-pen-wacom.hid'
+s['pose_source']['pen'] = json.load(open('$work/pen.json'))['pen']
+json.dump(s, open('$work/calibrated.json', 'w'))"
+check "... pasted into the scenario, the block loads and makes poses" bash -c \
+  "'$incise' hid decode '$scenarios/hid/pad-pen-wacom.hid' --scenario '$work/calibrated.json' | grep -q 'pose: tip'"
+check "hid calibrate of a device that is not a pen: exit 2, what it is" expect_exit 2 "is not a pen: no pen: no Stylus" -- \
+  "$incise" hid calibrate --device 046d:c626 --transport replay:"$scenarios/hid/bunny-spacenavigator.hid"
+check "hid calibrate without the presses in time: exit 1, nothing on stdout" bash -c \
+  "'$incise' hid calibrate --device 056a:0357 --transport replay:'$calib' --timeout 0.2 > '$work/none.json' 2> '$work/none.log'; [ \$? -eq 1 ] && [ ! -s '$work/none.json' ] && grep -q '0 of 3 presses' '$work/none.log'"
 
 # hid record through the replay transport: the reports read back as they were sent.
 check "hid record records the replayed device" "$incise" hid record --device 056a:0357 --transport replay:"$wacom" --duration 2 --out "$work/rec.hid"

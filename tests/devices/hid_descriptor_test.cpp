@@ -189,7 +189,7 @@ TEST_CASE("hid_descriptor: broken descriptors are refused with the byte offset",
   extra_end.push_back(0xc0);
   CHECK(refusal(extra_end) == "report descriptor byte 10 (item 0xc0): End Collection without an open collection");
   CHECK(refusal({0xb4}) == "report descriptor byte 0 (item 0xb4): Pop without a Push");
-  CHECK(refusal({0x75, 0x21}) == "report descriptor byte 0 (item 0x75): Report Size 33 bits: must be 1..32");
+  CHECK(refusal({0x76, 0x01, 0x01}) == "report descriptor byte 0 (item 0x76): Report Size 257 bits: must be 1..256");
   CHECK(refusal({0x85, 0x00}) == "report descriptor byte 0 (item 0x85): Report ID 0: must be 1..255");
   // Unknown items: main tag 0xD, global tag 0xC, local tag 0xB, reserved type 3 (0x0c = tag 0, type 3).
   CHECK(refusal({0xd1, 0x00}).find("unknown main item tag 0x0d") != std::string::npos);

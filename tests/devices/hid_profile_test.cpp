@@ -29,6 +29,41 @@ PenMapping testMapping() {
   return m;
 }
 
+// A shipped pen's profile with a mapping, and a report of its pen layout to fill and send.
+class ShippedPen {
+ public:
+  ShippedPen(const char* file, std::uint8_t report_id, const PenMapping& mapping)
+      : d_(parseHidDescriptor(loadShippedDescriptor(file))),
+        encoder_(d_),
+        layout_(*d_.find(HidReportType::Input, report_id)),
+        raw(encoder_.blank(layout_)) {
+    HidMapping m;
+    m.pen = mapping;
+    profile_ = makeHidProfile(d_, {}, m);
+  }
+  ShippedPen(const ShippedPen&) = delete;
+  ShippedPen& operator=(const ShippedPen&) = delete;
+
+  void set(std::uint32_t usage, std::int64_t logical) { REQUIRE(encoder_.setLogical(raw, layout_, usage, logical)); }
+  PoseSample send(double time_s) {
+    PoseSample pose;
+    REQUIRE(profile_->update(raw, time_s, pose));
+    return pose;
+  }
+  HidProfile& profile() { return *profile_; }
+
+ private:
+  HidDescriptor d_;
+  HidReportEncoder encoder_;
+  const HidReportLayout& layout_;
+
+ public:
+  std::vector<std::uint8_t> raw;
+
+ private:
+  std::unique_ptr<HidProfile> profile_;
+};
+
 }  // namespace
 
 TEST_CASE("hid_profile: chosen by the usages the descriptor declares", "[devices][hid]") {
@@ -45,26 +80,21 @@ TEST_CASE("hid_profile: chosen by the usages the descriptor declares", "[devices
                   0x09, 0x31, 0x15, 0x81, 0x25, 0x7f, 0x75, 0x08, 0x95, 0x02, 0x81, 0x06, 0xc0});
   const HidProfileChoice none = chooseHidProfile(mouse);
   CHECK(none.kind == HidProfileKind::None);
-  CHECK(none.reason.find("Tip Switch or Tip Pressure") != std::string::npos);
+  CHECK(none.reason.find("no Stylus, Pen, Digitizer or Light Pen collection; its input is mouse (Mouse") !=
+        std::string::npos);
   CHECK_THROWS_AS(makeHidProfile(mouse, {}, {}), HidProfileError);
 }
 
 TEST_CASE("hid_profile: an XP-Pen report becomes the documented pose", "[devices][hid]") {
-  const HidDescriptor d = parseHidDescriptor(loadShippedDescriptor(kXpPenDescriptor));
-  HidMapping mapping;
-  mapping.pen = testMapping();
-  const auto profile = makeHidProfile(d, {0x28bd, 0x095b}, mapping);
-  const HidReportEncoder encoder(d);
-  const HidReportLayout& layout = *d.find(HidReportType::Input, 7);
-  auto raw = encoder.blank(layout);
-  encoder.setLogical(raw, layout, kInRange, 1);
-  encoder.setLogical(raw, layout, kTip, 1);
-  encoder.setLogical(raw, layout, kBarrel, 1);
-  encoder.setLogical(raw, layout, kX, 32767);  // the right edge
-  encoder.setLogical(raw, layout, kY, 0);      // the top edge
-  encoder.setLogical(raw, layout, kPressure, 16383);
-  PoseSample pose;
-  REQUIRE(profile->update(raw, 1.5, pose));
+  const PenMapping mapping = testMapping();
+  ShippedPen pen(kXpPenDescriptor, 7, mapping);
+  pen.set(kInRange, 1);
+  pen.set(kTip, 1);
+  pen.set(kBarrel, 1);
+  pen.set(kX, 32767);  // the right edge
+  pen.set(kY, 0);      // the top edge
+  pen.set(kPressure, 16383);
+  PoseSample pose = pen.send(1.5);
   CHECK(pose.time_s == 1.5);
   CHECK(pose.tip_m.x() == Approx(0.3));
   CHECK(pose.tip_m.y() == Approx(0.2));
@@ -75,26 +105,26 @@ TEST_CASE("hid_profile: an XP-Pen report becomes the documented pose", "[devices
   CHECK((pose.orientation * Eigen::Vector3d::UnitZ()).z() == Approx(1.0));  // no tilt: straight up
 
   // Tilt: 30 degrees towards +X leans the tool's +z towards +x.
-  encoder.setLogical(raw, layout, kTiltX, 30);
-  REQUIRE(profile->update(raw, 1.6, pose));
+  pen.set(kTiltX, 30);
+  pose = pen.send(1.6);
   const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();
   CHECK(std::atan2(axis.x(), axis.z()) == Approx(30.0 * M_PI / 180.0));
 
   // Tip up: hovering, not cutting. Out of range: lifted, no buttons.
-  encoder.setLogical(raw, layout, kTip, 0);
-  REQUIRE(profile->update(raw, 1.7, pose));
-  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.pen.hover_m));
+  pen.set(kTip, 0);
+  pose = pen.send(1.7);
+  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.hover_m));
   CHECK((pose.buttons & 1u) == 0);
-  encoder.setLogical(raw, layout, kInRange, 0);
-  REQUIRE(profile->update(raw, 1.8, pose));
-  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.pen.lift_m));
+  pen.set(kInRange, 0);
+  pose = pen.send(1.8);
+  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.lift_m));
   CHECK(pose.buttons == 0);
   // A report of another ID, or a short one, moves nothing.
-  raw[0] = 3;
-  CHECK_FALSE(profile->update(raw, 1.9, pose));
-  raw[0] = 7;
-  raw.pop_back();
-  CHECK_FALSE(profile->update(raw, 1.9, pose));
+  pen.raw[0] = 3;
+  CHECK_FALSE(pen.profile().update(pen.raw, 1.9, pose));
+  pen.raw[0] = 7;
+  pen.raw.pop_back();
+  CHECK_FALSE(pen.profile().update(pen.raw, 1.9, pose));
 }
 
 TEST_CASE("hid_profile: the pen mapping's inverse undoes it (Wacom, with twist)", "[devices][hid]") {
@@ -128,6 +158,54 @@ TEST_CASE("hid_profile: the pen mapping's inverse undoes it (Wacom, with twist)"
   // Within the tablet's resolution: 5 um in x and y, a pressure step in depth, a degree in tilt and 0.2 in twist.
   CHECK((pose.tip_m - target.tip_m).norm() < 2e-5);
   CHECK(pose.orientation.angularDistance(target.orientation) < 0.03);
+}
+
+TEST_CASE("hid_profile: a tilt without an angle unit is degrees, whatever physical range it inherited",
+          "[devices][hid]") {
+  // The Huion Kamvas Pro 19's tilts (-90..90) carry the inch^3 unit and 0..2048 physical range its X and Y
+  // declared: read through them, 30 would be about 1.4 "degrees".
+  ShippedPen pen("huion_kamvas_pro_19_256c_006b.txt", 10, testMapping());
+  pen.set(kInRange, 1);
+  pen.set(kTip, 1);
+  pen.set(kTiltX, 30);
+  pen.set(kTiltY, -45);
+  const Eigen::Vector3d axis = pen.send(0.0).orientation * Eigen::Vector3d::UnitZ();
+  CHECK(axis.x() / axis.z() == Approx(std::tan(30.0 * M_PI / 180.0)));
+  // y_edge is -y: a tilt towards +Y leans the axis towards -y.
+  CHECK(-axis.y() / axis.z() == Approx(std::tan(-45.0 * M_PI / 180.0)));
+}
+
+TEST_CASE("hid_profile: a value outside its range is dropped with a null state, else clamped (hid-input's rule)",
+          "[devices][hid]") {
+  // The Elan's X and Y declare a null state (81 42): 0xffff, above 18460, means "no position": X is kept.
+  ShippedPen elan("elan_04f3_2a49.txt", 7, testMapping());
+  elan.set(kInRange, 1);
+  elan.set(kX, 9230);
+  CHECK(elan.send(0.0).tip_m.x() == Approx(0.2));
+  elan.set(kX, 0xffff);
+  CHECK(elan.send(0.01).tip_m.x() == Approx(0.2));
+  // The Huion's X has no null state: 0xffff, above 32767, is clamped to the right edge.
+  ShippedPen huion("huion_kamvas_pro_19_256c_006b.txt", 10, testMapping());
+  huion.set(kInRange, 1);
+  huion.set(kX, 0xffff);
+  CHECK(huion.send(0.0).tip_m.x() == Approx(0.3));
+}
+
+TEST_CASE("hid_profile: a pen without pressure cuts at tip_depth_m while its tip is down", "[devices][hid]") {
+  PenMapping mapping = testMapping();
+  mapping.tip_depth_m = 0.006;
+  mapping.cut_on = PenMapping::CutOn::Pressure;  // no pressure to compare: the tip switch decides
+  ShippedPen pen("nexio_1870_0100.txt", 5, mapping);
+  pen.set(kInRange, 1);
+  pen.set(kTip, 1);
+  PoseSample pose = pen.send(0.0);
+  CHECK(pose.tip_m.z() == Approx(0.05 - 0.006));
+  CHECK(pose.buttons == 1u);
+  CHECK_FALSE(pose.pressure.has_value());
+  pen.set(kTip, 0);
+  pose = pen.send(0.01);
+  CHECK(pose.tip_m.z() == Approx(0.05 + mapping.hover_m));
+  CHECK(pose.buttons == 0u);
 }
 
 TEST_CASE("hid_profile: SpaceNavigator velocity control over the reports' times", "[devices][hid]") {

@@ -56,6 +56,27 @@ TEST_CASE("hid_report: bad reports are reported, never read past their end", "[d
   CHECK(decoded.values == 0);
 }
 
+TEST_CASE("hid_report: a 64-bit field reads as its low 32 bits, as hid-core reads it", "[devices][hid]") {
+  // Pen: Transducer Serial Number, 64 bits, signed 32-bit range; then Tip Switch and 7 bits of padding (the
+  // USI pens of the Elan and Goodix screens send their serial so).
+  const HidDescriptor d = parseBytes({0x05, 0x0d, 0x09, 0x02, 0xa1, 0x01, 0x09, 0x5b, 0x17, 0x00, 0x00, 0x00, 0x80,
+                                      0x27, 0xff, 0xff, 0xff, 0x7f, 0x75, 0x40, 0x95, 0x01, 0x81, 0x02, 0x09, 0x42,
+                                      0x15, 0x00, 0x25, 0x01, 0x75, 0x01, 0x81, 0x02, 0x75, 0x07, 0x81, 0x03, 0xc0});
+  const HidField& serial = d.reports[0].fields[0];
+  const HidField& tip = d.reports[0].fields[1];
+  CHECK(serial.bit_size == 64);
+  CHECK(tip.bit_offset == 64);
+  std::vector<std::uint8_t> raw = {0x78, 0x56, 0x34, 0x12, 0xab, 0xcd, 0xef, 0x01, 0x01};
+  CHECK(readHidElement(raw, serial, 0) == 0x12345678);
+  CHECK(readHidElement(raw, tip, 0) == 1);
+  raw = {0xfe, 0xff, 0xff, 0xff, 0, 0, 0, 0, 0};
+  CHECK(readHidElement(raw, serial, 0) == -2);  // signed: the low 32 bits sign-extended
+  writeHidElement(raw, serial, 0, -3);          // two's complement over all 64 bits
+  CHECK(raw == std::vector<std::uint8_t>{0xfd, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0});
+  writeHidElement(raw, serial, 0, 7);
+  CHECK(raw == std::vector<std::uint8_t>{7, 0, 0, 0, 0, 0, 0, 0, 0});
+}
+
 TEST_CASE("hid_report: units, physical values and their inverse", "[devices][hid]") {
   CHECK(hidUnitName(0x11) == "cm");
   CHECK(hidUnitName(0x14) == "deg");

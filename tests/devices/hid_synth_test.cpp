@@ -19,47 +19,9 @@ using namespace incise::test;
 
 namespace {
 
-// 1 s at 1 kHz: 0.1 s hovering, then cutting along +x at 5 cm/s, 4-8 mm below the area, the blade's axis
-// tilted up to 20 degrees and turning about it; the last 0.1 s lifted out.
-std::vector<PoseSample> stroke() {
-  std::vector<PoseSample> poses;
-  for (int k = 0; k <= 1000; ++k) {
-    const double t = k * 1e-3;
-    PoseSample p;
-    p.time_s = t;
-    const bool cutting = t >= 0.1 && t <= 0.9;
-    p.tip_m = {0.15 + 0.05 * t, 0.15, cutting ? 0.05 - 0.004 - 0.004 * std::sin(3 * t) : 0.06};
-    p.orientation =
-        Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.35 * t, Eigen::Vector3d::UnitY());
-    p.buttons = cutting ? 1u : 0u;
-    poses.push_back(p);
-  }
-  return poses;
-}
-
-HidMapping tabletOverArea() {
-  HidMapping m;
-  m.pen.origin_m = {0.1, 0.2, 0.05};
-  m.pen.x_edge_m = {0.2, 0.0, 0.0};
-  m.pen.y_edge_m = {0.0, -0.12, 0.0};
-  m.pen.max_depth_m = 0.02;
-  m.pen.dead_band = 0.01;
-  return m;
-}
-
-HidRecordedDevice device(const char* descriptor, std::uint16_t vid, std::uint16_t pid) {
-  HidRecordedDevice d;
-  d.name = "synthetic";
-  d.bus = 3;
-  d.vid = vid;
-  d.pid = pid;
-  d.descriptor = loadShippedDescriptor(descriptor);
-  return d;
-}
-
-// The input pose at the replayed pose's time.
+// The input pose at the replayed pose's time (the last one after the stroke: the pen leaving).
 const PoseSample& at(const std::vector<PoseSample>& poses, double t_s) {
-  return poses[static_cast<std::size_t>(std::llround(t_s * 1000.0))];
+  return poses[std::min(poses.size() - 1, static_cast<std::size_t>(std::llround(t_s * 1000.0)))];
 }
 
 }  // namespace
@@ -76,7 +38,8 @@ TEST_CASE("hid_synth: pen strokes come back through the replay to the tablets' r
   for (const Case c :
        {Case{kWacomDescriptor, 0x056a, 0x0357, 2e-5, 0.03}, Case{kXpPenDescriptor, 0x28bd, 0x095b, 2e-5, 0.03}}) {
     INFO(c.descriptor);
-    const HidRecording recording = synthesizeHidRecording(device(c.descriptor, c.vid, c.pid), tabletOverArea(), poses);
+    const HidRecording recording =
+        synthesizeHidRecording(shippedDevice(c.descriptor, c.vid, c.pid), tabletOverArea(), poses);
     CHECK(recording.reports.size() == 201 + 1);  // 200 Hz over 1 s, plus the pen leaving
     const HidRecordingPoses replayed = posesFromHidRecording(recording, 0, tabletOverArea());
     CHECK(replayed.profile == HidProfileKind::Pen);
@@ -106,7 +69,7 @@ TEST_CASE("hid_synth: the SpaceNavigator's closed-loop velocity control follows 
   m.six_dof.max_speed_m_per_s = 0.2;
   m.six_dof.max_rate_rad_per_s = 2.0;
   const HidRecording recording =
-      synthesizeHidRecording(device(kSpaceNavigatorDescriptor, 0x046d, 0xc626), m, poses, {125.0});
+      synthesizeHidRecording(shippedDevice(kSpaceNavigatorDescriptor, 0x046d, 0xc626), m, poses, {125.0});
   const HidRecordingPoses replayed = posesFromHidRecording(recording, 0, m);
   CHECK(replayed.profile == HidProfileKind::SixDof);
   REQUIRE(replayed.poses.size() > 200);
@@ -131,7 +94,7 @@ TEST_CASE("hid_synth: a recording written, read back and replayed twice gives th
   const TempDir dir;
   const auto path = dir.path() / "pen.hid";
   const HidRecording recording =
-      synthesizeHidRecording(device(kWacomDescriptor, 0x056a, 0x0357), tabletOverArea(), stroke());
+      synthesizeHidRecording(shippedDevice(kWacomDescriptor, 0x056a, 0x0357), tabletOverArea(), stroke());
   {
     HidRecordingWriter writer(path, recording.devices[0]);
     for (const auto& r : recording.reports) writer.write(r.time_us, r.bytes);
@@ -158,7 +121,7 @@ TEST_CASE("hid_synth: synthesised reports round-trip through extractor and encod
         std::tuple{kXpPenDescriptor, HidDeviceId{0x28bd, 0x095b}, pen},
         std::tuple{kSpaceNavigatorDescriptor, HidDeviceId{0x046d, 0xc626}, six_dof}}) {
     INFO(name);
-    const HidRecording recording = synthesizeHidRecording(device(name, id.vid, id.pid), mapping, stroke());
+    const HidRecording recording = synthesizeHidRecording(shippedDevice(name, id.vid, id.pid), mapping, stroke());
     const HidDescriptor d = parseHidDescriptor(recording.devices[0].descriptor);
     const HidReportDecoder decoder(d);
     const HidReportEncoder encoder(d);
@@ -176,7 +139,8 @@ TEST_CASE("hid_synth: synthesised reports round-trip through extractor and encod
 }
 
 TEST_CASE("hid_recording_poses: bad reports counted, a device without a profile refused", "[devices][hid]") {
-  HidRecording recording = synthesizeHidRecording(device(kXpPenDescriptor, 0x28bd, 0x095b), tabletOverArea(), stroke());
+  HidRecording recording =
+      synthesizeHidRecording(shippedDevice(kXpPenDescriptor, 0x28bd, 0x095b), tabletOverArea(), stroke());
   recording.reports[5].bytes.resize(3);
   recording.reports[5].line = 17;
   recording.reports[6].bytes[0] = 0x42;

@@ -3,7 +3,7 @@
 // files (parseHexBytes, whose bytes are parsed as a descriptor in turn). HidDescriptorError and
 // parseHexBytes' std::invalid_argument are the documented failures; anything else escaping, a crash, a hang
 // or a sanitizer report is a finding. A parsed descriptor is walked (reports, fields, usages) and must keep
-// the limits the header promises (fields of 1..32 bits, reports of at most 4096 bytes).
+// the limits the header promises (fields of 1..256 bits, reports of at most 4096 bytes).
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -22,7 +22,7 @@ void walk(const HidDescriptor& descriptor) {
     if (report.wireBytes(descriptor.uses_report_ids) > 4097) __builtin_trap();
     if (descriptor.find(report.type, report.id) == nullptr) __builtin_trap();
     for (const HidField& field : report.fields) {
-      if (field.bit_size < 1 || field.bit_size > 32) __builtin_trap();
+      if (field.bit_size < 1 || field.bit_size > 256) __builtin_trap();
       if (field.isVariable())
         for (std::uint32_t e = 0; e < field.count; ++e) (void)field.usageOf(e);
     }

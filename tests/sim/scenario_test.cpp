@@ -136,6 +136,13 @@ TEST_CASE("scenario: hid-recording sources, their mappings and how they were mad
   REQUIRE_THROWS_WITH(sim::loadScenario(hid("axes", R"("path": "x.hid", "six_dof": {"axes": "sideways"},
                                                        "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})")),
                       Contains("pose_source.six_dof.axes: must be"));
+  CHECK(wacom.hid.mapping.pen.tip_depth_m == 0.004);  // the default
+  const sim::Scenario tip = sim::loadScenario(hid("tip", R"("path": "x.hid", "pen": {"tip_depth_m": 0.007},
+                                                   "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})"));
+  CHECK(tip.hid.mapping.pen.tip_depth_m == 0.007);
+  REQUIRE_THROWS_WITH(sim::loadScenario(hid("deep", R"("path": "x.hid", "pen": {"tip_depth_m": 2},
+                                                       "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})")),
+                      Contains("pose_source.pen.tip_depth_m"));
   REQUIRE_THROWS_WITH(sim::loadScenario(hid("quat", R"("path": "x.hid", "six_dof": {"start_orientation": [1, 1, 0, 0]},
                                                        "synthesis": {"from": "meshes/bunny.obj", "descriptor": "meshes/bunny.obj", "vid": "1", "pid": "2"})")),
                       Contains("pose_source.six_dof.start_orientation: must be a unit quaternion"));

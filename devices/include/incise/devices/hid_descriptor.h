@@ -28,7 +28,7 @@
 // Cost: O(descriptor bytes + fields); a few kB of heap. Threads: a parsed HidDescriptor is an immutable
 // value, share it freely. Failure: parseHidDescriptor throws HidDescriptorError, naming the byte offset
 // of the item and what is wrong: truncated data, a collection without its end or an end without a
-// collection, a pop without a push or a push stack over 16 deep, a report size of 0 or over 32 bits, a
+// collection, a pop without a push or a push stack over 16 deep, a report size of 0 or over 256 bits (Linux's limit), a
 // report ID of 0, a usage range over 65536 usages or with its minimum above its maximum, a main item before any report size/count, an item tag HID 1.11 does not define, a
 // report over 4096 bytes, or a descriptor that declares report IDs for some fields and not for others.
 #pragma once
@@ -70,7 +70,7 @@ struct HidField {
   HidReportType type = HidReportType::Input;
   std::uint8_t report_id = 0;    // 0 when the descriptor declares no report IDs
   std::uint32_t bit_offset = 0;  // from the first bit after the report ID byte
-  std::uint32_t bit_size = 0;    // 1..32
+  std::uint32_t bit_size = 0;    // 1..256; elements over 32 bits are read as their low 32 (hid_report.h)
   std::uint32_t count = 0;       // elements
   std::uint32_t flags = 0;       // hid_flags
   // Ranges as declared (64-bit: a 4-byte unsigned maximum such as 0xffffffff fits).

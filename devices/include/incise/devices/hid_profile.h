@@ -2,23 +2,28 @@
 // descriptor declares, never by a VID/PID table; the quirk table (hidQuirks) only corrects descriptors that
 // are known to lie.
 //
-// Pen (digitizers: an application collection Digitizer, Pen or Light Pen of the Digitizers page 0x0D, or
-// Wacom's 0xFF0D page read through hidEquivalentUsage; an input report with X, Y and Tip Switch or Tip
-// Pressure). Optional: In Range, Barrel Switch, Secondary Barrel Switch, Eraser, Invert, X/Y Tilt, Twist.
-// The mapping (PenMapping) puts the tablet's active area onto a rectangle in tissue space:
+// Pen (hid_pen.h: a Stylus, Pen, Digitizer or Light Pen tool, at any depth of collections, on the
+// Digitizers page or Wacom's 0xFF0D, with absolute X and Y and Tip Switch, Touch or Tip Pressure, its usages in
+// one input report or several). Optional: In Range, Barrel Switch, Secondary Barrel Switch, Eraser, Invert,
+// X/Y Tilt, Twist. Each report of the pen's updates the usages it carries and the pose is made from the last
+// value of each (hid-input's rule: a value outside the logical range is dropped when its field has a null
+// state, else clamped). The mapping (PenMapping) puts the tablet's active area onto a rectangle in tissue
+// space:
 //   surface point  s = origin_m + fx * x_edge_m + fy * y_edge_m,  fx, fy = X, Y as fractions of their
-//                  logical ranges (0 at the minimum, 1 at the maximum);
+//                  logical ranges (0 at the minimum, 1 at the maximum; 0.5 before the first report);
 //   up             u = normalise(y_edge_m x x_edge_m): with x_edge along the tablet's X (to the right) and
 //                  y_edge along its Y (towards the user), u points from the tissue towards the pen;
 //   tip            s + u * h, where h = hover_m while the pen is in range with the tip up; -depth while the
 //                  tip is down, depth = max_depth_m * ((p - dead_band) / (1 - dead_band))^curve for the
-//                  normalised pressure p above the dead band (0 below it); lift_m when the pen leaves range;
-//   orientation    the tool's +z along the pen's axis (from X/Y tilt: tan(tilt_x) along x_edge, tan(tilt_y)
-//                  along y_edge, 1 along u; straight up without tilt), its +x (the blade's edge) at
-//                  yaw_deg + twist from x_edge towards y_edge, made perpendicular to the axis;
+//                  normalised pressure p above the dead band (0 below it), or tip_depth_m for a pen without
+//                  Tip Pressure; lift_m when the pen leaves range;
+//   orientation    the tool's +z along the pen's axis (from X/Y tilt in degrees: tan(tilt_x) along x_edge,
+//                  tan(tilt_y) along y_edge, 1 along u; straight up without tilt), its +x (the blade's edge) at
+//                  yaw_deg + twist from x_edge towards y_edge, made perpendicular to the axis; an angle field
+//                  without an angle unit is read as degrees (hid_pen.h);
 //   buttons        bit 0 cutting (the tip switch is down, or the pressure is above cut_threshold with
-//                  cut_on = Pressure), bit 1 barrel, bit 2 secondary barrel, bit 3 eraser or invert; all 0 out
-//                  of range. pressure = p (nullopt when the device has no pressure field).
+//                  cut_on = Pressure and a pen that has pressure), bit 1 barrel, bit 2 secondary barrel, bit 3
+//                  eraser or invert; all 0 out of range. pressure = p (nullopt when the pen has none).
 // 6-DOF (Generic Desktop X, Y, Z, Rx, Ry, Rz input fields, in one report or several as on the
 // SpaceNavigator: translation, rotation and buttons each in its own report). Velocity control (SixDofMapping):
 // each axis's deflection d = logical / max(|logical_min|, |logical_max|), dead_zone removed and rescaled
@@ -67,6 +72,7 @@ struct PenMapping {
   double dead_band = 0.02;                    // normalised pressure that makes no depth
   double curve = 1.0;                         // exponent of the pressure -> depth curve
   double max_depth_m = 0.01;                  // depth below the area at full pressure
+  double tip_depth_m = 0.004;                 // ... while the tip is down, for a pen without Tip Pressure
   enum class CutOn : std::uint8_t { TipSwitch, Pressure } cut_on = CutOn::TipSwitch;
   double cut_threshold = 0.05;  // normalised pressure (CutOn::Pressure)
   double yaw_deg = 0.0;         // the blade's edge at twist 0, from x_edge towards y_edge

@@ -46,9 +46,10 @@ struct HidDecoded {
 };
 
 // The bits of one element (zero- or sign-extended as the field says). `report` starts after the ID byte.
-// Bits past the end of `report` read as 0.
+// Bits past the end of `report` read as 0. An element wider than 32 bits (a 64-bit transducer serial number)
+// gives its low 32 bits, as Linux's hid-core does.
 std::int64_t readHidElement(std::span<const std::uint8_t> report, const HidField& field, std::uint32_t element);
-// Writes one element, clamped to the bits it has (two's complement for a signed field).
+// Writes one element, clamped to the bits it has (two's complement, sign-extended over a wider element).
 void writeHidElement(std::span<std::uint8_t> report, const HidField& field, std::uint32_t element,
                      std::int64_t logical);
 // The linear map logical -> physical of a field (unit exponent applied) and back (rounded to the nearest

@@ -3,11 +3,13 @@
 // extractor and the profile. Replaying the result (hid_recording_poses.h) gives the stroke back up to the
 // device's resolution.
 //
-// Pen (the descriptor's profile is Pen): one report every 1 / rate_hz s from the first pose's time, the pose
+// Pen (the descriptor's profile is Pen, hid_pen.h): every 1 / rate_hz s from the first pose's time, the pose
 // interpolated there (tip linear, orientation slerp, buttons of the pose before), turned into tablet
 // fractions, pressure, tilt and twist by penReadingFor, and encoded: In Range 1; Tip Switch 1 and the
-// pressure while button 0 is down and the tip is below the area; hovering otherwise. A last report, out of
-// range, follows the last pose: the pen leaves.
+// pressure while button 0 is down and the tip is below the area; hovering otherwise. A pen whose usages are
+// spread over several input reports gets one of each per pose, their times spread evenly over the period.
+// After the last pose the pen leaves: reports of zeros (out of range), or for a pen without In Range its
+// last X and Y with the tip up.
 // 6-DOF: velocity control is closed-loop: the generator drives a profile exactly like the one that will
 // replay the file and chooses each report's deflections so that the integrated tip and orientation reach the
 // next interpolated pose by the next report (clamped to full deflection: a stroke faster than
