@@ -1,4 +1,4 @@
-// Per-frame cost of the global DFFD (issue 6, "Performance"): the issue-6 robot (makeRobot, height 10 cm,
+// Per-frame cost of the global DFFD: the benchmarks' robot (makeRobot, height 10 cm,
 // detail kRobotDetail30k: 32,558 vertices) walking along +y through three parallel vertical bars
 // (cylinders along z of radius 3 mm from 2 cm below the feet to 2 cm above the head, at x = -26.6, 0.4,
 // 27.4 mm: 0.4 mm off the robot's symmetry so that the planes cut edges rather than run along vertex
@@ -7,7 +7,7 @@
 // Measured per frame: moving the robot's positions, the split (DffdSplitter: the previous frame's
 // connectivity kept when no vertex changed side, which the report counts, with each frame's split checked
 // against a full one outside the timing) and deformSplit into positions (on oneTBB's workers: every core)
-// ("split and deform": what a viewer draws), p50 / p99 / max. Targets (issue 17): p50 <= 2 ms, p99 <= 3 ms. Then,
+// ("split and deform": what a viewer draws), p50 / p99 / max. Targets: p50 <= 2 ms, p99 <= 3 ms. Then,
 // on the frame with the most split vertices at the bars (within 1 mm of one), the re-deform without a new
 // split (the model did not move, F did): DffdBinding::deform (bound once, outside the timing), alternating
 // between two maps with the same lattice (F, and F with its middle bar stitched), and deformSplit for

@@ -1,4 +1,4 @@
-// HID input benchmark (issue: live input from HID devices). Prints one JSON document:
+// HID input benchmark. Prints one JSON document:
 //   decode_ns          HidReportDecoder::decode of one pen report (Wacom PTH-660, XP-Pen), every field;
 //                      target <= 1000 ns
 //   profile_update_ns  one report -> one pose through the pen / 6-DOF profile (what the device thread does)

@@ -1,4 +1,4 @@
-// Per-sample cost of growing a local DFFD incision (issue: local incisions, "Performance").
+// Per-sample cost of growing a local DFFD incision.
 // A 5 cm stroke over the bunny's back at 5 cm/s, sampled at 1 kHz (1000 samples), cut sample by sample on
 // the bunny Loop-subdivided 3 times (235,136 triangles) and 4 times (940,544 triangles), one thread.
 // Reports p50 / p99 / max of the time of SurfaceCutter::extend per sample, and the ratio of the larger

@@ -1,4 +1,4 @@
-// Per-sample cost of local refinement ahead of the cut (issue 15, "Performance"). Two cases, each cut
+// Per-sample cost of local refinement ahead of the cut. Two cases, each cut
 // sample by sample (5 cm/s, 1 kHz) with refinement on and against the same stroke on a mesh fine enough
 // beforehand (refinement off there):
 //  - coarse: a 10 cm icosphere of 4-7 mm edges (642 vertices), a 3.5 cm stroke over its top, refined along

@@ -1,4 +1,4 @@
-// Scoring a 60 s training session against its --fast replay (issue 13: scoring <= 2x the replay's time).
+// Scoring a 60 s training session against its --fast replay (target: scoring <= 2x the replay's time).
 // The session: the shipped pad-straight scenario (the skin pad, its 5 cm plan) with 12 generated strokes of
 // 4 cm at 1 cm/s, 1 s apart, side by side across the pad (60 s of poses at 1 kHz, 12 incisions). Each round
 // times sim::replay (ReplayPace::Fast, as `incise replay --fast`) on a fresh world, then sim::scoreSession

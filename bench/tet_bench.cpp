@@ -1,5 +1,5 @@
-// Per-sample cost of splitting a tetrahedral tissue along a growing incision (issue: tetrahedral tissue,
-// "Performance"), against the naive alternative of re-running TetGen on the cut surface.
+// Per-sample cost of splitting a tetrahedral tissue along a growing incision, against
+// the naive alternative of re-running TetGen on the cut surface.
 // Tissue: the bunny Loop-subdivided once (14,696 triangles), tetrahedralised by TetGen with
 // max_volume_m3 = 1.2e-9 (about 238k tets); the time of that tetrahedralize() call is TetGen's load time.
 // Stroke: 5 cm over the bunny's back at 5 cm/s, sampled at 1 kHz (1000 samples), as incision_bench; the
@@ -9,9 +9,9 @@
 // stroke (the naive per-sample alternative; if TetGen's input check refuses the cut surface, the time to
 // the refusal and one TetGen run on the uncut surface as the naive cost's lower bound), and the ratio of the
 // naive time to the p99. Targets: p99 <= 300 us on >= 200k tets; ratio >= 1000.
-// Then a second stroke across the first (issue 17, deliverable 1): its per-sample follow() times, the first
-// call's above all, where the cutter takes the settled first cut as the new incision's rest mesh (a full
-// rebuild of the base before; the changed tets only now). Target: that call within the per-sample target.
+// Then a second stroke across the first: its per-sample follow() times, the first
+// call's above all, where the cutter takes the settled first cut as the new incision's rest mesh (only the
+// changed tets are rebuilt). Target: that call within the per-sample target.
 #include <algorithm>
 #include <chrono>
 #include <cmath>

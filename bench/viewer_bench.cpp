@@ -1,4 +1,4 @@
-// The viewer's benchmark (issue 12's Performance section), one JSON document on stdout:
+// The viewer's benchmark, one JSON document on stdout:
 //  - "geometry": the geometry stream's per-frame cost on the sim thread (sim::LatencyStats geometry_us) on
 //    the bunny Loop-subdivided 3 times (235,136 triangles) and 4 times (940,544), the straight 5 cm stroke
 //    replayed as fast as possible with a GeometryMirror pulling after every frame, the mirror seeded before

@@ -1,9 +1,9 @@
-// Re-deformation throughput of a B-spline volume, one thread (issue: foundation, §4).
+// Re-deformation throughput of a B-spline volume, one thread (§4).
 // 32,768 bound parameter points, order 4, lattices 8^3 and 20^3 with perturbed control points.
 // Measures, in the same run: the bound path (VolumeBinding::deformAll: stored spans and basis, an o^3
 // weighted sum per point) and a per-call evaluator (BSplineVolume::evaluateUnchecked: span search and
 // basis at every call, as IRIT's TrivTVEval does). Reports the median of repeated passes.
-// Target for the bound path: >= 1e8 vertices/s on one core (issue 17; it was 5e7). Where the CPU has
+// Target for the bound path: >= 1e8 vertices/s on one core. Where the CPU has
 // AVX-512 the bound path is also timed with the AVX2 kernel forced, for comparison (same bits).
 #include <algorithm>
 #include <chrono>

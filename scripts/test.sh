@@ -27,7 +27,7 @@ if [ "$quick" = 1 ]; then
   exit 0
 fi
 # A failing test runs once more before it counts (--repeat until-pass:2): the picture tests failed once here
-# under load and passed on every rerun (cause not found; see the issue notes). A real failure fails twice.
+# under load and passed on every rerun (cause not found). A real failure fails twice.
 # Tests labelled "long" (the kill test's 100 seeds: 200 s) are left to a manual run (ctest -L long) to keep
 # the whole script near 45 minutes on 2 cores.
 ctest --test-dir build --output-on-failure -j "$jobs" --repeat until-pass:2 -LE long
@@ -42,7 +42,7 @@ TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 ./build-tsan/tests/devices/
 
 # Under the sanitizers a failing test runs up to twice more: "a tet tissue is cut, the same fast and in real
 # time" failed once here under ASan (0.17 mm against its 0.1 mm bound), the known difference of the tet cut
-# between real time and fast when the slowed loop skips deadlines (an open bug, in the issue notes).
+# between real time and fast when the slowed loop skips deadlines (docs/reliability.md, "Determinism").
 # The "gl" tests (pictures through Mesa, under xvfb-run and EGL) ran in the Release pass above; Mesa's and
 # X's own allocations would read as leaks under LeakSanitizer, so the sanitizer pass leaves them out, and
 # the kill test too ("kill": the CLI's files under SIGKILL, compared with an unkilled run's, which the

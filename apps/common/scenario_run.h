@@ -28,8 +28,8 @@ LoadedScenario loadScenarioRun(const std::string& path);
 std::vector<devices::PoseSample> scenarioPoses(const sim::Scenario& scenario, const mesh::SurfaceMesh& tissue);
 
 // The tissue's fingerprint as a trace's recorders write it in a comment ("tissue: <16 hex digits>", the
-// geometry hash of the uncut tissue, cutting/mesh_hash.h), and the one a trace's comments carry ("" if none:
-// traces made before issue 13, or imported).
+// geometry hash of the uncut tissue, mesh/mesh_hash.h), and the one a trace's comments carry ("" if none:
+// traces from elsewhere, e.g. imported).
 std::string tissueHashText(const mesh::SurfaceMesh& tissue);
 inline constexpr const char* kTissueComment = "tissue: ";
 std::string traceTissueHash(const std::vector<std::string>& comments);

@@ -4,7 +4,7 @@
 // frames over the 100 us target (per minute), pose-to-visible latency in frames,
 // deadline misses told apart into overruns (a frame longer than the period: our cost) and late wake-ups
 // (the loop started late: the VM or the scheduler), the world's queue and contact-proxy counters, the
-// targets (issue 17: frame p99 <= 250 us at 1 kHz, 150 us at 4 kHz; haptic p99 <= 20 us, max <= 100 us; no
+// targets (frame p99 <= 250 us at 1 kHz, 150 us at 4 kHz; haptic p99 <= 20 us, max <= 100 us; no
 // overrun), and the machine. Before the scenarios, the platform's noise (platform_noise.h): the same loop
 // timing a constant computation of the haptic part's usual length, and how often the machine alone takes it
 // past 100 us; the haptic maximum is read against it.

@@ -61,7 +61,7 @@ const char* largest(const std::vector<const char*>& names, const std::vector<int
   return names[best];
 }
 
-// A box of n divisions: 6 faces of n x n quads, 12 n^2 triangles (cutting/shapes.h, makeBox).
+// A box of n divisions: 6 faces of n x n quads, 12 n^2 triangles (mesh/shapes.h, makeBox).
 SurfaceMesh boxOf(const Reader& k) {
   const Eigen::AlignedBox3d box(k.vector("min_m", Eigen::Vector3d::Constant(-0.01)),
                                 k.vector("max_m", Eigen::Vector3d::Constant(0.01)));

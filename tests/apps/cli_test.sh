@@ -26,7 +26,7 @@ import json, sys
 f = json.load(open('$work/cutfig/summary.json'))['incision_figures']
 sys.exit(0 if len(f) == 1 and abs(f[0]['groove_length_m'] - f[0]['stroke_length_m']) <= 0.1 * f[0]['stroke_length_m'] else 1)"
 
-# A cut that did nothing never reports success (issue 14): a 10 cm box of 12 triangles (a CAD model's large
+# A cut that did nothing never reports success: a 10 cm box of 12 triangles (a CAD model's large
 # flat faces) is coarser than the lattice; cut exits 1 and the summary's failure says why and where.
 cat > "$work/cadbox.obj" <<'OBJ'
 v -0.05 -0.02 -0.05
@@ -57,7 +57,7 @@ check "cut on a mesh coarser than the lattice, refinement off, exits 1 and says 
   --refine off --out "$work/cadcut"
 check "... its summary's failure names the empty lattice columns" grep -q '"failure": ".*80 of 80 lattice columns' "$work/cadcut/summary.json"
 check "... and the incision's shortfall" grep -q '"shortfall": "coarse_mesh"' "$work/cadcut/summary.json"
-# With it (the default, issue 15) the faces along the stroke are bisected until the lattice holds them: a
+# With it (the default) the faces along the stroke are bisected until the lattice holds them: a
 # groove as long as the stroke within 2 mm, a closed mesh, and the summary gives what refinement added.
 check "cut on the same coarse box with local refinement cuts a groove" "$incise" cut --mesh "$work/cadbox.obj" \
   --scale 1 --subdivide 0 --start -0.02 0.05 0.003 --length 0.04 --out "$work/cadrefined"

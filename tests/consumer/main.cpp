@@ -1,4 +1,4 @@
-// Uses the public API exactly as the foundation issue fixes it: exits 0 only if an o-fold insertion and
+// Uses the public API exactly as an outside project would: exits 0 only if an o-fold insertion and
 // a moved + plane give the expected discontinuity.
 #include <incise/bspline/bspline_volume.h>
 

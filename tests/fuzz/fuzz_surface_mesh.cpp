@@ -1,4 +1,4 @@
-// libFuzzer harness: the mesh loader and its validation (cutting/surface_mesh.h: loadSurfaceMesh, which
+// libFuzzer harness: the mesh loader and its validation (mesh/surface_mesh.h: loadSurfaceMesh, which
 // checks a closed, consistently oriented two-manifold, and summarize's checkManifold on what it accepts).
 // loadSurfaceMesh picks its reader by the file's extension, so the input's first byte picks it (modulo 4:
 // .obj, .off, .stl, .ply) and the rest is the file. Only the public loader is called, whatever reader sits

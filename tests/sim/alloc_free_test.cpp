@@ -1,4 +1,4 @@
-// Issue 17, deliverable 2: after its first frame, the sim thread allocates nothing. Each shipped scenario
+// After its first frame, the sim thread allocates nothing. Each shipped scenario
 // named here is replayed frame by frame on this thread, as replay's fast pace does it (the poses released at
 // their times, a geometry stream attached and its reader pulling between frames, as under `incise view`),
 // with every heap allocation made inside Simulation::frame counted (alloc_counter.h: operator new and the
@@ -129,7 +129,7 @@ TEST_CASE("alloc: bunny-crossing at 4 kHz allocates nothing on the sim thread af
 }
 
 TEST_CASE("alloc: every other shipped trace and stroke scenario allocates nothing after its first frame", "[alloc]") {
-  // The pads refine the skin ahead of the cut (issue 15): its bisections and the coarse grid are counted too.
+  // The pads refine the skin ahead of the cut: its bisections and the coarse grid are counted too.
   for (const char* name : {"bunny-straight", "bunny-curved", "bunny-back", "pad-straight", "pad-s-curve"})
     requireNoAllocation(name, 1);
 }

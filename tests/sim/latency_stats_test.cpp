@@ -107,7 +107,7 @@ TEST_CASE("latency_stats: the summary of no frames is all zeros", "[sim]") {
 }
 
 TEST_CASE("latency_stats: a miss is an overrun (the frame's own cost) or a late wake-up", "[sim]") {
-  // Issue 17: a VM's late wake-ups are told apart from frames that took longer than the period.
+  // A VM's late wake-ups are told apart from frames that took longer than the period.
   LatencyStats stats(100);
   for (int i = 0; i < 10; ++i) {
     FrameTiming t = uniform(100.0, /*missed=*/i % 2 == 0);  // frames 0, 2, 4, 6, 8 miss

@@ -54,7 +54,7 @@ struct StallingSink : sim::ForceSink {
 }  // namespace
 
 TEST_CASE("replay: a coarse pad (4 mm grid) is cut through local refinement, the same fast and in real time", "[sim]") {
-  // Issue 15: the pad-straight trace over the same pad meshed 16x coarser than shipped.
+  // The pad-straight trace over the same pad meshed 16x coarser than shipped.
   sim::Scenario s = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/pad-straight.json");
   s.shape.grid_m = 0.004;
   // A frame's budget that holds all the work there is, in both paces: with local refinement, a pose's contact
@@ -198,7 +198,7 @@ TEST_CASE("replay: pose-to-visible latency stays within 3 frames", "[sim]") {
   REQUIRE(run.report.latency.pose_to_visible_frames.p99 <= 3.0);
 }
 
-// ---- Strokes that cross open grooves (issue: a stroke crossing an open groove keeps cutting beyond it) --
+// ---- Strokes that cross open grooves: a stroke crossing an open groove keeps cutting beyond it --
 
 namespace {
 

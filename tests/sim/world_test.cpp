@@ -158,7 +158,7 @@ TEST_CASE("world: bad parameters are refused at construction", "[sim]") {
 }
 
 TEST_CASE("world: a tet tissue too coarse for the lattice is refused at load; a fine one is not refined", "[sim]") {
-  // Issue 15: local refinement does not bisect tets yet, so a tet tissue must come fine enough, and its surface
+  // Local refinement does not bisect tets, so a tet tissue must come fine enough, and its surface
   // is never refined (it must keep matching the tets' boundary).
   sim::WorldOptions options;
   options.tets.enabled = true;
@@ -238,15 +238,15 @@ FramesRun runFrames(const mesh::SurfaceMesh& tissue, const sim::WorldOptions& op
 
 TEST_CASE("world: a new incision waits for the previous one's work in later frames, the same bytes as at once",
           "[sim]") {
-  // Issue 17: starting an incision never makes the haptic part do the previous one's remaining work; it waits
+  // Starting an incision never makes the haptic part do the previous one's remaining work; it waits
   // in the cut phase, a frame's budget at a time, and the cut is the one a budget large enough to do it at
   // once gives, byte for byte.
   sim::WorldOptions options;
   options.tool.cut_button = 0;
   // Without local refinement: its bisections ahead of the cut retriangulate the skin a later pose's contact
   // meets (the same plane, other triangles: a normal that differs in its last bits), so with it the cut
-  // depends on how far the work had got when that pose came, whatever the waiting (a known limit, in the
-  // issue's notes).
+  // depends on how far the work had got when that pose came, whatever the waiting (a known
+  // limit).
   options.cutter.refine = incision::CutterOptions::Refine::Off;
   const mesh::SurfaceMesh tissue = bunny();
   const std::vector<devices::PoseSample> poses = twoStrokes(tissue, options);

@@ -1,5 +1,5 @@
-// DffdSplitter: the split of a moving model kept from frame to frame (§3.2; issue 17, "split only what
-// changed"). See global_dffd.h for the contract and global_dffd_split.cpp for the split it replays.
+// DffdSplitter: the split of a moving model kept from frame to frame (§3.2: only what
+// changed is split again). See global_dffd.h for the contract and global_dffd_split.cpp for the split it replays.
 #include <algorithm>
 #include <cmath>
 #include <cstring>

@@ -1,4 +1,4 @@
-// The surface cutter's room for an incision, reserved at load (surface_cutter.h, "Allocation"; issue 17: the
+// The surface cutter's room for an incision, reserved at load (surface_cutter.h, "Allocation": the
 // sim thread allocates nothing after its first frame): the arrays an incision fills, sized for
 // CutterOptions::reserved_bound_vertices; the seam's chain, grown at both ends in one buffer; the bound
 // vertices' lattice cells, a list per cell through one pool, with their counts (what redeform() will move,

@@ -71,7 +71,7 @@ void requireSimple(const char* who, const std::vector<Point2>& p) {
       report((i + n - 1) % n, i);
   }
   // Non-consecutive edges: the pairs whose bounding boxes meet (CGAL's box intersection, O(n log n + pairs)),
-  // then the exact test on those. A hand-written x sweep was O(k^2) on a vertical run of k edges.
+  // then the exact test on those. A plain x sweep would be O(k^2) on a vertical run of k edges.
   std::vector<Segment2> edges;
   edges.reserve(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)

@@ -1,4 +1,4 @@
-// The surface cutter's local refinement ahead of the cut (issue 15; surface_cutter_refine.cpp): a tissue
+// The surface cutter's local refinement ahead of the cut (surface_cutter_refine.cpp): a tissue
 // coarse next to the lattice (a 10 cm icosphere of 4-7 mm edges, a CAD-like box of 12 triangles, a pad on a
 // 4 mm grid) is cut without subdividing all of it. After the cut: a groove as long as the stroke, a closed
 // two-manifold with its Euler characteristic, no zero-area face, no vertex moved outside the lattice's hull,

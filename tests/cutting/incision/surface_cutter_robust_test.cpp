@@ -1,7 +1,7 @@
-// The surface cutter on tissues and strokes nobody tuned it for (issue 14): the regression tests of the
+// The surface cutter on tissues and strokes nobody tuned it for: the regression tests of the
 // findings (a stroke along a pad's grid line, a CAD-like box of large flat faces and long thin triangles, a
 // coarse closed model, cut unrefined) and a seeded property test over icospheres, skin pads at several grid
-// resolutions (a 4 mm one and a coarse icosphere cut through local refinement, issue 15),
+// resolutions (a 4 mm one and a coarse icosphere cut through local refinement),
 // a torus and the bunny, with random starts, directions, lengths, bends and depths. After every cut: a
 // closed two-manifold with its Euler characteristic, no zero-area or sliver face, no NaN, walls facing out
 // of the tissue (the volume drops by the wound, stays positive), the groove as deep as the blade within 5%,
@@ -172,7 +172,7 @@ struct Tissues {
   mesh::SurfaceMesh pad2 = mesh::makeSkinPad(Eigen::Vector3d(0.06, 0.02, 0.06), 0.0007);
   mesh::SurfaceMesh torus = makeTorus(0.03, 0.012, 180, 72);
   mesh::SurfaceMesh bunny2 = testing::bunny(2);
-  // Coarse next to the lattice (6 mm across): cut through local refinement (issue 15).
+  // Coarse next to the lattice (6 mm across): cut through local refinement.
   mesh::SurfaceMesh coarse_sphere = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);  // 4-7 mm edges
   mesh::SurfaceMesh coarse_pad = mesh::makeSkinPad(Eigen::Vector3d(0.1, 0.02, 0.1), 0.004);
 };
@@ -280,7 +280,7 @@ IncisionFigures cutFigures(mesh::SurfaceMesh& mesh, const StrokePathOptions& pat
   return cutter.stats().figures.back();
 }
 
-// Local refinement off (issue 15 refines coarse meshes along the stroke): the mesh is cut as it is.
+// Local refinement off (it refines coarse meshes along the stroke): the mesh is cut as it is.
 CutterOptions unrefined() {
   CutterOptions options;
   options.refine = CutterOptions::Refine::Off;
@@ -290,7 +290,7 @@ CutterOptions unrefined() {
 }  // namespace
 
 TEST_CASE("surface_cutter: a stroke exactly along a pad's grid line cuts clean (issue 14)", "[cutting]") {
-  // Was: 616 zero-area faces, not a closed two-manifold, an empty failure.
+  // Guards against 616 zero-area faces, a mesh not closed two-manifold and a failure with no reason.
   const mesh::SurfaceMesh& pad = tissues().pad1;
   cutAndCheck(padCase({-0.02, 0.05, 0.0}, Eigen::Vector3d::UnitX(), pad));      // along a grid line
   cutAndCheck(padCase({-0.02, 0.05, 0.00025}, Eigen::Vector3d::UnitX(), pad));  // 0.25 mm beside it
@@ -308,7 +308,7 @@ TEST_CASE("surface_cutter: a stroke exactly along a pad's grid line cuts clean (
 TEST_CASE(
     "surface_cutter: a CAD-like box of large flat faces and long thin triangles, unrefined, says why it cannot cut",
     "[cutting]") {
-  // Was: no opening, six zero-area faces, an empty failure. A 10 cm box of 12 triangles, and one whose
+  // Guards against no opening, six zero-area faces and a failure with no reason. A 10 cm box of 12 triangles, and one whose
   // faces are 40 long thin strips: the lattice (6 mm across) holds no vertex.
   for (const Eigen::Vector3i& divisions : {Eigen::Vector3i(1, 1, 1), Eigen::Vector3i(1, 1, 40)}) {
     mesh::SurfaceMesh box = mesh::makeBox(
@@ -328,7 +328,7 @@ TEST_CASE(
 TEST_CASE(
     "surface_cutter: a coarse closed model (4-7 mm edges on 10 cm), unrefined, reports a shortfall, never success",
     "[cutting]") {
-  // Was (a scanned fist, 3.5 cm stroke): one edge split, no wall, exit 0.
+  // Guards against (seen on a scanned fist, 3.5 cm stroke) one edge split, no wall, and exit 0.
   mesh::SurfaceMesh sphere = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);
   mesh::ManifoldReport after;
   const IncisionFigures f = cutFigures(sphere, alongX({-0.0175, 0.1, 0.0011}, 0.035), after, unrefined());

@@ -387,7 +387,7 @@ TEST_CASE("surface_cutter: a work budget per call changes when the cut appears, 
   REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
 }
 
-// Issue 17: what begin() did at once with the settled incision's vertices (the grid moves and, with
+// What begin() would do at once with the settled incision's vertices (the grid moves and, with
 // refinement, their coarse flags: O(its bound vertices), up to 1 ms in a frame) prepareBegin() does in
 // budgeted calls first; the next incision cuts the same bytes as when begin() does it all.
 TEST_CASE("surface_cutter: prepareBegin re-indexes the settled incision in budgeted calls, the same bytes",
@@ -421,7 +421,7 @@ TEST_CASE("surface_cutter: prepareBegin re-indexes the settled incision in budge
   REQUIRE(objBytes(direct_mesh, "direct") == objBytes(prepared_mesh, "prepared"));
 }
 
-// Issue 17: a column's grid query is charged to the budget (one unit per 64 vertices found), so a call that
+// A column's grid query is charged to the budget (one unit per 64 vertices found), so a call that
 // starts a column does not also bind a budget's worth of vertices; and so are its crossings' split (one unit
 // per 16 vertices bound in it). With one unit a call, a call that starts a column binds none, a call that
 // binds a vertex splits no crossing, and the cut is still the unlimited one.
@@ -457,7 +457,7 @@ TEST_CASE("surface_cutter: a column's grid query and crossings are work the budg
   REQUIRE(objBytes(free_mesh, "unlimited") == objBytes(budget_mesh, "limited"));
 }
 
-// Issue 17: what an incision uses is reserved at load; an incision that outgrows it still cuts, the same
+// What an incision uses is reserved at load; an incision that outgrows it still cuts, the same
 // bytes, and counts each growth (CutStats::reserve_overflows), which the default reserve never needs here.
 TEST_CASE("surface_cutter: a reserve too small grows, is counted, and cuts the same bytes", "[cutting]") {
   std::string bytes[2];

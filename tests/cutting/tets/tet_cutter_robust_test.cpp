@@ -1,4 +1,4 @@
-// The tet cutter on tissues and strokes nobody tuned it for (issue 14): a tetrahedralised skin pad cut
+// The tet cutter on tissues and strokes nobody tuned it for: a tetrahedralised skin pad cut
 // exactly along its top's grid lines, along the diagonals, within rounding of a grid line and along random
 // strokes (seeded). After every cut: conforming at rest and deformed, every tet positive, no sliver among
 // the split tets (smallest dihedral angle above half a degree), the volume kept at rest, no failure.

@@ -1,4 +1,4 @@
-// The haptic part's own copy of the skin around the scalpel (issue 17; ARCHITECTURE.md, "One frame"): the
+// The haptic part's own copy of the skin around the scalpel (ARCHITECTURE.md, "One frame"): the
 // cut phase copies the skin faces near the blade's probe out of the tissue (SurfaceCutter::skinNear: at
 // rest for the current incision, walls left out, as SurfaceCutter::intersect sees it) into a fixed array,
 // and the next frame's haptic part finds its contact there alone: no grid query, no mesh, nothing the cut

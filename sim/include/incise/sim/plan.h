@@ -1,4 +1,4 @@
-// A planned incision on the tissue (issue 13): the scenario's "plan" polyline (PlanSpec, scenario.h)
+// A planned incision on the tissue: the scenario's "plan" polyline (PlanSpec, scenario.h)
 // projected onto the tissue's surface at load, resampled into stations, and the queries the scoring asks of
 // it: where along the plan a point lies and how far beside it.
 //

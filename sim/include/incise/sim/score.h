@@ -1,4 +1,4 @@
-// Scoring a training session (issue 13): a recorded trace replayed through the same simulation as
+// Scoring a training session: a recorded trace replayed through the same simulation as
 // `incise replay --fast` (sim::replay, ReplayPace::Fast, the scenario's period and settle time), every
 // frame's haptic state gathered, then the cut the simulation made measured against the scenario's plan.
 // The same scenario and trace give the same score, to the byte (the replay is deterministic).

@@ -2,7 +2,7 @@
 // one frame at a time by the sim thread (ARCHITECTURE.md, "Data flow and threads" and "One frame").
 //
 // A frame is two calls, so that the caller can time them separately without the world reading a clock:
-//   updateTool(poses, dt_s)  the haptic part, and nothing else (issue 17): every pose that arrived this
+//   updateTool(poses, dt_s)  the haptic part, and nothing else: every pose that arrived this
 //                            frame, oldest first, is checked (non-finite, or not after the previous one in
 //                            time: skipped and counted) and queued for the cut phase; then one contact, from
 //                            the newest pose, against the ContactProxy (contact_proxy.h: a few hundred skin
@@ -180,9 +180,9 @@ class World {
   // the next refill comes a frame later, or later still when the frame starts late. So the reach is
   // 2 x speed x (period + lateness) for a blade moving kProxySpeedMPerS with frames up to kProxyLateS late:
   // 2 mm at 1 kHz, 1.25 mm at 4 kHz. A refill's faces grow with the region's width squared (the probe plus
-  // twice the reach): bunny-crossing's largest refill went from 798 faces at a 4 mm reach to 417 at 2 mm,
-  // its frame p99 from 290-300 to 220 us; at 0.5 mm (4 kHz) the tool left the region more often
-  // (README, "Issue 17").
+  // twice the reach): bunny-crossing's largest refill is 798 faces at a 4 mm reach and 417 at 2 mm, its
+  // frame p99 290-300 and 220 us; at 0.5 mm (4 kHz) the tool leaves the region more often
+  // (docs/benchmarks.md, "the contact proxy's refill inside the deadline").
   static constexpr double kProxySpeedMPerS = 0.5, kProxyLateS = 0.001;
   static constexpr double kProxyReachMinM = 0.0005, kProxyReachMaxM = 0.02;
   double proxyReachM() const noexcept;  // from the period updateTool was last given (1 kHz before the first)

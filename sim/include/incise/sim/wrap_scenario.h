@@ -14,7 +14,7 @@
 //     "format": "obj", "penetration_tolerance_m": 1e-6 }
 //
 // Units: metres (degrees for rotate_x_deg). Threads: any. Cost: loading builds the meshes (shapes via
-// cutting/shapes.h, files via loadSurfaceMesh, subdivided as asked): O(their size); allocates.
+// mesh/shapes.h, files via loadSurfaceMesh, subdivided as asked): O(their size); allocates.
 // Failure: loadWrapScenario throws ScenarioError with "file:line:column: JSON syntax error" for JSON
 // syntax and "file: key.path: ..." for a missing, mistyped or out-of-range value, a missing file or a
 // model validateModel refuses; "file: obstacle 'name': ..." for an obstacle mesh that cannot be made. A model

@@ -1,6 +1,6 @@
 // Closed triangle meshes made by the program: boxes, cylinders, icospheres, extruded polygons (prisms), a
 // face-profile outline, their disjoint union and a humanoid "robot" of boxes and cylinders. They are the
-// obstacles and models of the global-DFFD scenes (issue 6: a robot walking through bars, a sphere squashed
+// obstacles and models of the global-DFFD scenes (a robot walking through bars, a sphere squashed
 // around a cylinder, a part molded around a non-convex silhouette), shared by tests, the CLI and the
 // benchmarks.
 //
@@ -43,7 +43,7 @@ SurfaceMesh makeBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3i& divis
 // depth; each finite and > 0) whose top face is the plane y = 0 (normal +y, the stroke generator's rays come
 // down -y onto it), centred on x = z = 0, its bottom at y = -size_m.y. The top (and bottom) is a regular grid
 // of cells at most grid_m (finite, > 0) on a side: ceil(size_m.x / grid_m) x ceil(size_m.z / grid_m) quads,
-// two triangles each; the sides have ceil(size_m.y / (4 grid_m)) layers. The issue-13 pad: size (0.1, 0.02,
+// two triangles each; the sides have ceil(size_m.y / (4 grid_m)) layers. The shipped pad: size (0.1, 0.02,
 // 0.1), grid 0.001 -> 100 x 100 cells on top, 5 layers on the sides, 44,000 faces. Throws as makeBox, or for more than 1e6 cells
 // along a side. Cost O(faces).
 SurfaceMesh makeSkinPad(const Eigen::Vector3d& size_m, double grid_m);
@@ -113,10 +113,10 @@ SurfaceMesh merge(const std::vector<SurfaceMesh>& parts);
 // detail (1..200) scales the resolution: with d = detail, torso box 4d divisions, head box 2d, cylinders 12d
 // segments and d cap rings, legs 6d rings, arms 5d, neck d: 516 d^2 - 60 d + 14 vertices and
 // 1032 d^2 - 120 d faces. Detail 1 -> 470 vertices (912 faces); detail 8 -> 32,558 vertices (65,088 faces),
-// the smallest detail with >= 30,000 vertices (the issue-6 robot, kRobotDetail30k). Cost O(d^2).
+// the smallest detail with >= 30,000 vertices (the benchmarks' robot, kRobotDetail30k). Cost O(d^2).
 SurfaceMesh makeRobot(double height_m, int detail);
 
-// The detail of makeRobot that gives the issue-6 robot (>= 30,000 vertices).
+// The detail of makeRobot that gives the benchmarks' robot (>= 30,000 vertices).
 inline constexpr int kRobotDetail30k = 8;
 
 }  // namespace incise::mesh
