@@ -3,7 +3,7 @@
 // left open, stitched or capped. Writes DIR/frame_NNNN.obj (or .ply) per frame, DIR/frames.jsonl (one JSON
 // line per frame: vertices, faces, boundary loops, worst penetration into an obstacle, min det J, times)
 // and prints a summary; a progress bar on stderr when it is a terminal. The scenario format is in
-// scenarios/README.md ("Wrap scenarios"), read by sim::loadWrapScenario (sim/wrap_scenario.h); this file
+// docs/scenarios.md ("Wrap scenarios"), read by sim::loadWrapScenario (sim/wrap_scenario.h); this file
 // runs the frames and writes the outputs. Exit codes: 2 bad input (the file and key, or the obstacle and
 // reason), 1 a frame penetrates an obstacle or a stitched/capped frame is not closed, 0 otherwise.
 #include <chrono>

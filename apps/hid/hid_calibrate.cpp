@@ -57,7 +57,7 @@ void prompt(std::size_t press, double max_depth_m) {
 
 nlohmann::ordered_json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-// Every key of a scenario's pose_source.pen (scenarios/README.md), in its order.
+// Every key of a scenario's pose_source.pen (docs/scenarios.md), in its order.
 nlohmann::ordered_json penJson(const devices::PenMapping& m) {
   return {{"pen",
            {{"origin_m", vectorJson(m.origin_m)},

@@ -1,5 +1,5 @@
 // Private to sim: reading a scenario's {"kind": "hid-recording"} pose source (scenario.h; the keys are in
-// scenarios/README.md). Failure: ScenarioError naming the file and the key path.
+// docs/scenarios.md). Failure: ScenarioError naming the file and the key path.
 #pragma once
 
 #include "incise/sim/scenario.h"

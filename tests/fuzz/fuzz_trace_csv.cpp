@@ -6,8 +6,8 @@
 // line to the next (the header, the comment block after it, the previous sample's time for the strictly
 // increasing check, the unterminated tail) needs only a few lines; 1 KB holds the header and five samples
 // at full precision, dozens of short ones. At the default 4 KB a fuzzed trace is mostly bad lines, each a
-// TraceError, and under ASan the unwinding and the allocator held the harness to 700-3,000 exec/s (README,
-// "Fuzzing"); the loop below, recovery at the next line included, is unchanged.
+// TraceError, and under ASan the unwinding and the allocator held the harness to 700-3,000 exec/s
+// (docs/reliability.md, "Fuzzing"); the loop below, recovery at the next line included, is unchanged.
 #include <cstddef>
 #include <cstdint>
 

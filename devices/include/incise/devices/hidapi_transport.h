@@ -3,7 +3,7 @@
 // /sys/class/hidraw/hidrawN/device/report_descriptor, or with the HIDIOCGRDESC ioctl on /dev/hidrawN when
 // sysfs is not mounted.
 //
-// Access: /dev/hidraw* is root-only on a stock system; a udev rule (README, "HID devices") gives the
+// Access: /dev/hidraw* is root-only on a stock system; a udev rule (docs/devices.md, "Permissions") gives the
 // user read access. enumerate() lists every HID interface the system has, readable or not; open() says
 // "permission denied" for one that is not.
 // Threads: as HidTransport (one thread at a time); hid_init in the constructor, hid_exit in the destructor:

@@ -1,50 +1,15 @@
-// The tissue's surface for readers on other threads (a viewer, a recorder, a test): the sim thread
-// publishes what the cut changed each frame — moved and new vertices, new, changed and deleted faces — as
-// fixed-size records in a single-producer single-consumer ring; the reader applies them in order to its
-// own copy (GeometryMirror, geometry_mirror.h). Snapshots (simulation.h) carry the tool's pose, the
-// contact point and the force; this stream carries the mesh.
-//
-// Writer, once per frame after the cut (Simulation::frame, phase 4): the cutter's change journal
-// (World::meshChanges) goes into two dirty queues (a flag per element and a FIFO of indices: an element
-// changed ten times is queued once and sent with its newest value); then at most `records_per_frame`
-// records are written with the elements' current values, oldest queued first — vertices, and faces once
-// the reader has all three of their vertices (a "sent" bit per vertex; a face still waiting for a new
-// vertex goes to the back of the queue; faces get a quarter of the budget while vertices keep coming) —
-// and a Frame record closes the frame. With more changes than budget (the wound's opening moves many
-// vertices every frame on a dense mesh) each waits its turn: a few frames later, never lost. The frame's
-// records become visible to the reader at once (one release store of the write position): the reader never
-// sees part of a frame. The sim thread's cost is O(journal entries) to mark (a flag test each; the cutter's
-// own work is larger per entry) plus O(records_per_frame) to write: bounded whatever the mesh size (the
-// benchmark: bench/viewer_bench.cpp, figures in README.md). It never blocks and never allocates after
-// attach(), unless the mesh grows past the room reserved there (then the queues grow once, counted in
-// regrowths).
-//
-// A reader that falls behind loses nothing and never sees a torn state: when the ring has no room for a
-// frame, the writer writes nothing that frame (counted in stalled_frames) and keeps marking, so the reader,
-// once it has caught up, gets every element changed meanwhile with its newest value. A reader's first copy
-// is made before the run with seed() (no sweep), or asked for with requestReset() (a reader that starts
-// late, or dropped its copy): the writer starts the next frame with a Reset record (the element counts) and
-// then sends every vertex and every face within the same per-frame budget (a sweep), interleaved with the
-// changes; once the sweep is over and nothing is waiting, the Frame record says `exact`: the reader's copy
-// then equals the mesh bit for bit. Faces only ever name vertices the reader has, so every state a reader
-// applies up to a Frame record is a valid mesh.
-//
-// With a tet tissue (World::tets()) the stream also carries the tet cutter's working mesh, so that a reader
-// can follow the tet mesh's boundary (TetMirror, tet_mirror.h): TetNode records (a node's deformed
-// position) and Tet records (one per child of a base tet; all of a base tet's children in the same frame,
-// slot 0 first, once the reader has their nodes), from the tet cutter's journal (tets::TetChanges)
-// through two more dirty queues, within the same per-frame budget (a third of it while the surface has
-// work waiting, and what the surface leaves). A TetReset record (the node and base-tet counts) starts a
-// sweep of the tet part alone, after every Reset (the tet cutter never renumbers its mesh after load: a
-// new incision's rebase only appends base tets and reports what it changed). Frame flags
-// kFrameTetsComplete / kFrameTetsExact say the same of the tet part as kFrameComplete / kFrameExact of the
-// surface.
+// The tissue's surface (and, with a tet tissue, the tet cutter's working mesh) for readers on other threads
+// (a viewer, a recorder, a test): each frame the sim thread publishes what the cut changed as fixed-size
+// records in a single-producer single-consumer ring; the reader applies them in order to its own copy
+// (GeometryMirror, geometry_mirror.h; TetMirror, tet_mirror.h). Snapshots (simulation.h) carry the tool; this
+// stream carries the mesh. A reader never sees part of a frame, and one that falls behind loses nothing.
 //
 // Shapes: indices are OpenMesh handle indices of the tissue (vertices are never deleted; a deleted face
 // keeps its index, kind kDeletedFace). Units: metres. Threads: attach(), publish() and flush() from the
 // writer thread (the sim thread; seed() before and flush() after the loop); requestReset() and read() from one
-// reader thread. Failure: the constructor throws std::invalid_argument for bad options; nothing else throws
-// but attach() (std::bad_alloc).
+// reader thread. Cost on the sim thread: O(journal entries + records_per_frame) a frame, whatever the mesh
+// size (bench/viewer_bench.cpp, docs/benchmarks.md). Failure: the constructor throws std::invalid_argument
+// for bad options; nothing else throws but attach() (std::bad_alloc).
 #pragma once
 
 #include <atomic>
@@ -123,6 +88,15 @@ struct GeometryCounters {
   std::int64_t frames = 0, stalled_frames = 0, records = 0, resets = 0, regrowths = 0;
 };
 
+// A reader that falls behind never sees a torn state: when the ring has no room for a frame, the writer
+// writes nothing that frame (counted in stalled_frames) and keeps marking, so the reader, once it has caught
+// up, gets every element changed meanwhile with its newest value. A reader's first copy is made before the
+// run with seed() (no sweep), or asked for with requestReset() (a reader that starts late, or dropped its
+// copy): the writer starts the next frame with a Reset record (the element counts) and then sends every
+// vertex and every face within the same per-frame budget (a sweep), interleaved with the changes; once the
+// sweep is over and nothing is waiting, the Frame record says `exact`: the reader's copy then equals the mesh
+// bit for bit. Faces only ever name vertices the reader has, so every state a reader applies up to a Frame
+// record is a valid mesh.
 class GeometryStream {
  public:
   explicit GeometryStream(const GeometryStreamOptions& options = {});
@@ -136,7 +110,28 @@ class GeometryStream {
   // `mirror` at once (sim::copyGeometry) and counts that reader as in sync, so the run starts without a
   // sweep (which, on a large mesh, would take the per-frame budget for many frames). Allocates.
   void seed(World& world, GeometryMirror& mirror);
-  // Writer, once per frame: see the header comment. Never blocks, never throws.
+  // Writer, once per frame after the cut (Simulation::frame, step 4). Never blocks, never throws. The cutter's
+  // change journal (World::meshChanges) goes into two dirty queues (a flag per element and a FIFO of
+  // indices: an element changed ten times is queued once and sent with its newest value); then at most
+  // `records_per_frame` records are written with the elements' current values, oldest queued first —
+  // vertices, and faces once the reader has all three of their vertices (a "sent" bit per vertex; a face
+  // still waiting for a new vertex goes to the back of the queue; faces get a quarter of the budget while
+  // vertices keep coming) — and a Frame record closes the frame. With more changes than budget (the wound's
+  // opening moves many vertices every frame on a dense mesh) each waits its turn: a few frames later, never
+  // lost. The frame's records become visible to the reader at once (one release store of the write
+  // position). Cost: O(journal entries) to mark (a flag test each) plus O(records_per_frame) to write. It
+  // never allocates after attach(), unless the mesh grows past the room reserved there (then the queues grow
+  // once, counted in regrowths).
+  //
+  // With a tet tissue (World::tets()) the stream also carries the tet cutter's working mesh: TetNode records
+  // (a node's deformed position) and Tet records (one per child of a base tet; all of a base tet's children
+  // in the same frame, slot 0 first, once the reader has their nodes), from the tet cutter's journal
+  // (tets::TetChanges) through two more dirty queues, within the same per-frame budget (a third of it while
+  // the surface has work waiting, and what the surface leaves). A TetReset record (the node and base-tet
+  // counts) starts a sweep of the tet part alone, after every Reset (the tet cutter never renumbers its mesh
+  // after load: a new incision's rebase only appends base tets and reports what it changed). Frame flags
+  // kFrameTetsComplete / kFrameTetsExact say the same of the tet part as kFrameComplete / kFrameExact of the
+  // surface.
   GeometryPublish publish(World& world, std::int64_t frame) noexcept;
   // Writer, after the loop has stopped: publishes until nothing is waiting (waiting for the reader to make
   // room, up to `timeout`), so the reader ends exact. `reader`, when given, is called after each publish

@@ -1,6 +1,6 @@
 // Scenarios: one JSON file describes a run — the tissue, the tool and tissue parameters, the incision's
 // lattice, the pose source, the rate and the budget — shared by the tests, the CLI and the benchmarks.
-// The format is documented in scenarios/README.md; every key is optional except tissue.mesh (or .shape) and
+// The format is documented in docs/scenarios.md; every key is optional except tissue.mesh (or .shape) and
 // pose_source; relative paths are relative to the scenario file.
 //
 //   { "name": "bunny-straight",
@@ -18,7 +18,7 @@
 //                    "six_dof": { "start_m": [..], "max_speed_m_per_s": 0.1, ... },
 //                    "synthesis": { "from": "generate/bunny-straight.json", "descriptor": "hid/descriptors/...",
 //                                   "vid": "056a", "pid": "0357", "name": "...", "rate_hz": 200 } }
-// (scenarios/README.md lists every key with its default and unit).
+// (docs/scenarios.md lists every key with its default and unit).
 //
 // A generated pose source ("kind": "strokes") lists strokes over the tissue — start_m [x, y, z] above the
 // surface, direction, length_m, bend_m, speed_m_per_s, pause_s before it — and is how the shipped traces

@@ -33,7 +33,7 @@
 //
 // Threads: any (the replay runs on the caller's thread). Cost: the replay (as `replay --fast`) plus
 // O((wall vertices + cutting frames) x plan stations + wall faces), O(frames) for the motion and an FFT per
-// stroke (benchmark: 1.1-1.3x the replay for a 60 s session, README). Allocation: a ScoreFrame kept per
+// stroke (benchmark: 1.1-1.3x the replay for a 60 s session, docs/benchmarks.md). Allocation: a ScoreFrame kept per
 // frame. Failure: std::invalid_argument for an empty trace; ScenarioError for a plan that does not project
 // (plan.h); mesh::MeshError for a bad tissue (World).
 #pragma once

@@ -1,7 +1,7 @@
 // Wrap scenarios (`incise wrap`, the global DFFD of paper §3): one JSON file describes a model moved along
 // v (y) through static obstacles — the model and the obstacles (a mesh file or a shape), the lattice, the
 // treatment of the openings, the motion, the output format and the penetration check. The format is
-// documented in scenarios/README.md ("Wrap scenarios"); every key is optional except model and obstacles;
+// documented in docs/scenarios.md ("Wrap scenarios"); every key is optional except model and obstacles;
 // relative paths are relative to the scenario file.
 //
 //   { "name": "sphere-cylinder",
