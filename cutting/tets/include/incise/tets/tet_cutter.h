@@ -1,47 +1,17 @@
 // Cuts a tetrahedral tissue (TetMesh, e.g. from tetrahedralize()) with the same local DFFD incisions that
 // SurfaceCutter grows on the drawn surface (Schein & Elber, "Discontinuous Free Form Deformations", §3.2
 // and §4; Incision in incision.h). The cutter follows an Incision it does not own: after the owner has
-// added samples and updated the opening, follow() does the tet work for the columns that became final.
+// added samples and updated the opening, follow() cuts the tets under the columns that became final and
+// moves the nodes; a new incision starts from the mesh the previous one left. The same samples give the same
+// mesh (the same bytes from view()) however they are grouped into calls, and whatever the budget.
 //
-// Per final lattice column (nodes found through a grid, tets through node -> tet incidence; no pass over
-// the mesh):
-//  1. the nodes under the column are parameterised by inverting F0 (as the surface cutter); the tets around
-//     each node bound are decided once all their nodes are known;
-//     phi = u - 1/2; a node closer to the cut than `snap_tolerance_m` gets phi = 0 (it lies on the cut:
-//     snapping instead of a sliver);
-//  2. a tet whose nodes all have phi and whose cut polygon (phi = 0 through it, linear in the tet) lies
-//     inside the cut (after the stroke's start, above the blade's depth, up to the last station once the
-//     stroke is finished: the surface cutter's test) is cut: a point is placed on each crossing edge (shared
-//     by every tet around that edge) and the tet is split into its - and + pieces (tet_split.h: all the
-//     cases: 1-3 edges, through a node, along a face); the tets around a new point that are not cut are
-//     subdivided conformingly without separating (the crack front);
-//  3. every node on the cut is duplicated when the tets around it fall into separate groups once cut faces
-//     no longer connect them: the u < 1/2 group keeps it, the u >= 1/2 group gets a copy; nodes on the crack
-//     front stay single and move with the mean of both sides;
-//  4. nodes move to rest + D(u, v, w) on their side (Incision::displacementAt, through cached stencils),
-//     again whenever the incision's opening changes (Incision::columnOpening).
-// The order of all this depends only on the samples, so the same samples give the same mesh (the same
-// bytes from mesh()) however they are grouped into calls, and whatever the budget.
-//
-// A new incision (a new `incision_number` in follow()) starts from the mesh as the previous one left it
-// (deformed, settled): it becomes the new rest mesh. Only what the previous incision changed is redone (the
-// "rebase", tet_cutter_rebase.cpp): each base tet it split or relabelled is replaced by its pieces (the
-// first piece keeps the base tet's index, the others are appended in base-tet order), their edges and the
-// node -> tet incidence are updated, its nodes' rest positions become their deformed ones (moved in the
-// node grid) and their per-incision state is cleared. O(changed tets + changed nodes), under the call's
-// budget (tet_cutter_rebase.cpp: a few items per inversion's worth), before the new incision's first column:
-// nothing on the owner's thread is O(mesh) after load (issue 17). The result is the mesh a new TetCutter
-// built from that settled mesh in that order would hold (tests/cutting/tets/tet_cutter_rebase_test.cpp), except
-// that the tets' lag behind the lattice (about two tet edges) uses the median edge measured at load.
-//
-// Threads: one owner (the sim thread). Cost per column: O(tets under `order` columns) plus one inversion
-// per new node; per call with no new column: O(columns) + O(nodes under columns whose opening changed).
-// Allocation: none per call within the headroom reserved at load (kHeadroomNodes new nodes, and their tets,
-// edges and incidence, over the cutter's life); beyond it, amortised growth, counted in
-// stats().reserve_overflows.
-// Failure: the constructor throws MeshError for a mesh that is not conforming and std::invalid_argument
-// for bad options; follow() never throws: a split that would leave a flat or inverted tet stops the cutter
-// with `failure` set in stats() (the mesh stays as the last finished column left it).
+// Units: metres. Threads: one owner (the sim thread). Cost per column: O(tets under `order` columns) plus one
+// inversion per new node; per call with no new column: O(columns) + O(nodes under columns whose opening
+// changed); nothing is O(mesh) after load. Allocation: none per call within the headroom reserved at load
+// (kHeadroomNodes), beyond it amortised growth, counted in stats().reserve_overflows. Failure: the
+// constructor throws MeshError for a mesh that is not conforming and std::invalid_argument for bad options;
+// follow() never throws: a split that would leave a flat or inverted tet stops the cutter with `failure` set
+// in stats() (the mesh stays as the last finished column left it).
 #pragma once
 
 #include <array>
@@ -106,6 +76,35 @@ class TetCutter {
   // has made final since the last call, within the budget unless `unlimited`, and moves the nodes whose
   // displacement changed. `incision_number` identifies the incision (SurfaceCutter's stats().incisions):
   // a new number starts a new one from the current mesh. Never throws.
+  //
+  // Per final lattice column (nodes found through a grid, tets through node -> tet incidence; no pass over
+  // the mesh):
+  //  1. the nodes under the column are parameterised by inverting F0 (as the surface cutter); the tets around
+  //     each node bound are decided once all their nodes are known;
+  //     phi = u - 1/2; a node closer to the cut than `snap_tolerance_m` gets phi = 0 (it lies on the cut:
+  //     snapping instead of a sliver);
+  //  2. a tet whose nodes all have phi and whose cut polygon (phi = 0 through it, linear in the tet) lies
+  //     inside the cut (after the stroke's start, above the blade's depth, up to the last station once the
+  //     stroke is finished: the surface cutter's test) is cut: a point is placed on each crossing edge (shared
+  //     by every tet around that edge) and the tet is split into its - and + pieces (tet_split.h: all the
+  //     cases: 1-3 edges, through a node, along a face); the tets around a new point that are not cut are
+  //     subdivided conformingly without separating (the crack front);
+  //  3. every node on the cut is duplicated when the tets around it fall into separate groups once cut faces
+  //     no longer connect them: the u < 1/2 group keeps it, the u >= 1/2 group gets a copy; nodes on the crack
+  //     front stay single and move with the mean of both sides;
+  //  4. nodes move to rest + D(u, v, w) on their side (Incision::displacementAt, through cached stencils),
+  //     again whenever the incision's opening changes (Incision::columnOpening).
+  //
+  // A new incision (a new `incision_number`) starts from the mesh as the previous one left it
+  // (deformed, settled): it becomes the new rest mesh. Only what the previous incision changed is redone (the
+  // "rebase", tet_cutter_rebase.cpp): each base tet it split or relabelled is replaced by its pieces (the
+  // first piece keeps the base tet's index, the others are appended in base-tet order), their edges and the
+  // node -> tet incidence are updated, its nodes' rest positions become their deformed ones (moved in the
+  // node grid) and their per-incision state is cleared. O(changed tets + changed nodes), under the call's
+  // budget (a few items per inversion's worth), before the new incision's first column. The result is the
+  // mesh a new TetCutter built from that settled mesh in that order would hold
+  // (tests/cutting/tets/tet_cutter_rebase_test.cpp), except that the tets' lag behind the lattice (about two
+  // tet edges) uses the median edge measured at load.
   TetStep follow(const incision::Incision& incision, int incision_number,
                  TetBudget budget = TetBudget::PerCall) noexcept;
 
