@@ -1,45 +1,16 @@
-// The simulated world: the tissue (a surface mesh cut by local DFFD incisions) and the scalpel, advanced
-// one frame at a time by the sim thread (ARCHITECTURE.md, "Data flow and threads" and "One frame").
-//
-// A frame is two calls, so that the caller can time them separately without the world reading a clock:
-//   updateTool(poses, dt_s)  the haptic part, and nothing else: every pose that arrived this
-//                            frame, oldest first, is checked (non-finite, or not after the previous one in
-//                            time: skipped and counted) and queued for the cut phase; then one contact, from
-//                            the newest pose, against the ContactProxy (contact_proxy.h: a few hundred skin
-//                            triangles around the blade that the cut phase keeps current), the blade's
-//                            last depth + 2 mm as a segment towards its tip, and when that finds nothing a
-//                            swept test from the previous frame's tip to this one (a fast stroke cannot
-//                            tunnel through the skin); the haptic force: a penalty spring along the contact
-//                            normal with damping, plus a constant cutting resistance against the blade's
-//                            tangential motion while it cuts, clamped to max_force_N. No mesh, no grid, no
-//                            cutting work: O(poses + proxy triangles), a few microseconds;
-//   cut(t_s)                 the cut phase: the queued poses in order, each with its exact contact against
-//                            the skin (SurfaceCutter::intersect, wound walls left out: a blade crossing an
-//                            open groove is in its air and starts a new incision at the far lip); a pose in
-//                            contact with the cut button held is a stroke sample (entry point, normal, time).
-//                            A pose that starts an incision while the previous one still has work (columns
-//                            not cut, the wound not settled or not re-indexed, the tets behind) waits, with
-//                            every pose after it, while that work is done within this and later frames' budgets, and begins
-//                            it then. First the proxy refilled around the newest pose when the blade nears
-//                            its edge (inside the frame's deadline); then the cutter's carried work for
-//                            this frame (the budget from cut_budget_us) and the wound's opening at t_s, the
-//                            tets' work for the same incision under the same budget; last the proxy again
-//                            when a new incision (or PN refinement) changed the skin at rest.
-// The cut depends only on the pose samples (their positions and times) and their order, never on which
-// frame handled them or how long an incision waited: replaying a trace as fast as possible or in real time
-// gives the same geometry, and the same as when begin() did the previous incision's work at once.
-// Overflow: the poses queue in a fixed PoseQueue (kQueuedPoses); a cut phase that starts with it over half full
-// does the waiting work at once, whatever the budget (counted in counters().catch_ups: the same geometry);
-// a pose that finds the queue full (more than kQueuedPoses in one updateTool call) is rejected and counted.
+// The simulated world: the tissue (a surface mesh, and with `tets` a tet mesh too, cut by local DFFD
+// incisions, paper §4) and the scalpel, advanced one frame at a time by the sim thread in two calls that the
+// caller times apart without the world reading a clock: updateTool() (the haptic part) then cut() (the cut
+// phase). The cut depends only on the pose samples and their order, never on which frame handled them: a
+// trace replayed as fast as possible or in real time gives the same geometry (ARCHITECTURE.md, "One frame").
 //
 // Units: metres, seconds, newtons. The blade points along the tool's local -z axis (the tip is the pose
 // position) and its cutting edge faces the local +x axis (the stroke direction at first contact).
 // Threads: one owner, the sim thread. Cost: updateTool O(poses + ContactProxy::kCapacity); cut as
 // SurfaceCutter under its budget plus one exact contact per pose and, now and then, a proxy refill.
-// Allocation: the queue and the proxy at construction; per frame none beyond the cutters' own.
-// Failure: the constructor throws (std::invalid_argument for bad parameters, mesh::MeshError for a
-// tissue that is not a closed two-manifold, intersects itself or that TetGen refuses); updateTool and cut
-// never throw (bad poses are skipped and counted).
+// Allocation: the queue and the proxy at construction; per frame none beyond the cutters' own. Failure: the
+// constructor throws (std::invalid_argument for bad parameters, mesh::MeshError for a tissue that is not a
+// closed two-manifold, intersects itself or that TetGen refuses); updateTool and cut never throw.
 #pragma once
 
 #include <cstdint>
@@ -156,12 +127,35 @@ class World {
     return result;
   }
 
+  // The haptic part, and nothing else: every pose that arrived this frame, oldest first, is checked
+  // (non-finite, or not after the previous one in time: skipped and counted) and queued for the cut phase;
+  // then one contact, from the newest pose, against the ContactProxy (contact_proxy.h: a few hundred skin
+  // triangles around the blade that the cut phase keeps current), the blade's last depth + 2 mm as a segment
+  // towards its tip, and when that finds nothing a swept test from the previous frame's tip to this one (a
+  // fast stroke cannot tunnel through the skin); the haptic force: a penalty spring along the contact normal
+  // with damping, plus a constant cutting resistance against the blade's tangential motion while it cuts,
+  // clamped to max_force_N. No mesh, no grid, no cutting work: O(poses + proxy triangles), a few
+  // microseconds. The poses queue in a fixed PoseQueue (kQueuedPoses): a pose that finds it full (more than
+  // kQueuedPoses in one call) is rejected and counted.
   HapticState updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept;
   // The part of cut_budget_us the surface cutter may spend: all of it, or half with tets (the other half is
   // the tets' inversion budget).
   double surfaceCutBudgetUs() const noexcept {
     return options_.tets.enabled ? 0.5 * options_.cut_budget_us : options_.cut_budget_us;
   }
+  // The cut phase: the queued poses in order, each with its exact contact against the skin
+  // (SurfaceCutter::intersect, wound walls left out: a blade crossing an open groove is in its air and starts
+  // a new incision at the far lip); a pose in contact with the cut button held is a stroke sample (entry
+  // point, normal, time). A pose that starts an incision while the previous one still has work (columns not
+  // cut, the wound not settled or not re-indexed, the tets behind) waits, with every pose after it, while that
+  // work is done within this and later frames' budgets, and begins it then: the same geometry as when begin()
+  // does the previous incision's work at once. First the proxy is refilled around the newest pose when the
+  // blade nears its edge (inside the frame's deadline); then the cutter's carried work for this frame (the
+  // budget from cut_budget_us) and the wound's opening at t_s, the tets' work for the same incision under the
+  // same budget; last the proxy again when a new incision (or PN refinement) changed the skin at rest. A cut
+  // phase that starts with the pose queue over half full does the waiting work at once, whatever the budget
+  // (counted in counters().catch_ups: the same geometry).
+  //
   // `deadline`: when the surface cutter's budgeted work stops (against the clock: surfaceCutBudgetUs() after
   // the cut phase began); time_point::max(): the inversion budget alone (fast replays, tests). Where the
   // work stops never changes the surface's bytes. The tets keep to their inversion budget only: their nodes
