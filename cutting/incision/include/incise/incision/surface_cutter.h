@@ -1,45 +1,18 @@
 // Cuts a tissue surface mesh with local DFFD incisions grown along scalpel strokes (Schein & Elber,
-// "Discontinuous Free Form Deformations", §4; the lattice itself is Incision, incision.h).
-//
-// For every lattice column that becomes final (see Incision), the cutter, touching only mesh elements
-// under that column (a VertexGrid query of the column's control-point hull, no pass over the mesh):
-//  1. parameterises the vertices of the slab v in [j, j + 1) by inverting the undeformed lattice F0
-//     (damped Newton, volume_inversion.h);
-//  2. splits each edge whose end points lie on opposite sides of u = 1/2 and whose crossing lies inside
-//     the cut (after the stroke's start, above the blade's depth) at the crossing, in parameter space
-//     (paper §3.2); the new vertex is a seam vertex at u = 1/2 exactly. Degenerate coincidences: a vertex
-//     inside the cut within CutterOptions::snap_fraction of its shortest edge from u = 1/2 (on the plane,
-//     within rounding of it, a stroke along existing edges or through vertices) is snapped: it becomes a
-//     seam vertex where it is, and no edge is split that close to an end point, so no sliver is made;
-//  3. walks the seam (the chain of seam edges, the level set u = 1/2 on the surface) and, for every seam
-//     vertex with a seam neighbour on both sides, duplicates it: faces on the u >= 1/2 side move to the
-//     copy (evaluated at 1/2 + 0), the original keeps the u < 1/2 side (evaluated at 1/2 - epsilon);
-//  4. adds wall geometry for the depth of the cut (§4): below every duplicated seam vertex a column of
-//     `wall_rows` vertices per side down to one shared bottom vertex at the blade's depth, and two walls of
-//     triangles between consecutive columns, meeting at the bottom (the blade's V); at the seam's two ends
-//     the walls close in a fan. The mesh stays a closed two-manifold with its Euler characteristic.
-// Before step 1, where CutterOptions::refine asks for it, the skin faces within the column's control-point hull
-// that are coarser than the lattice are bisected along their longest edges (surface_cutter_refine.cpp), so a
-// coarse model is cut without subdividing all of it; the faces elsewhere stay as they were, bit for bit.
-// Then every vertex whose displacement changed is moved to rest + D(u, v, w) (Incision::displacementAt).
-// When an incision's work is done its IncisionFigures say where the groove runs along the stroke and, if
-// it is much shorter than the stroke, why (Shortfall: no contact, a mesh coarser than the lattice, ...):
-// a cut that did nothing never passes for one that did.
-// The order of all this depends only on the samples, so the same samples give the same mesh (the same
-// bytes) however they are grouped into extend() calls.
-//
-// Vertex and face kinds (surface_mesh.h) record what each new element is: Seam vertices, Split faces
-// (pieces of cut faces), Wall vertices and faces. Several incisions may cut one mesh, crossing or not: a
-// new incision starts from the mesh as the previous ones left it (their wounds stop evolving).
+// "Discontinuous Free Form Deformations", §4; the lattice itself is Incision, incision.h). For every lattice
+// column that becomes final the mesh under it (and only there) is split along u = 1/2, the seam duplicated,
+// walls added down to the blade's depth and the vertices moved by the displacement (extend()). The mesh
+// stays a closed two-manifold with its Euler characteristic; new elements carry their kinds (surface_mesh.h:
+// Seam vertices, Split faces, Wall vertices and faces); the same samples give the same bytes however they
+// are grouped into calls. An incision that falls short says why (IncisionFigures, Shortfall).
 //
 // Threads: one owner (the sim thread). Cost per column step: O(vertices and faces under `order` columns);
 // per extend() with no new column: O(columns still opening). Allocation: none after construction while an
-// incision binds at most CutterOptions::reserved_bound_vertices vertices (the lattice is made at load and
-// restarted by begin(), the mesh has kHeadroomVertices of room, the grids, the seam's chain, wall columns and
-// strips are pools); beyond that, growth counted in stats().reserve_overflows. Failure: the constructor (load time) throws MeshError for a mesh that is not a
-// closed two-manifold and std::invalid_argument for bad options (Incision::validateOptions); begin(),
-// extend(), advance() and finish() never throw: bad samples come back as a status, and an internal
-// topology failure stops the incision with `failed` set and the message in stats().
+// incision binds at most CutterOptions::reserved_bound_vertices vertices (lattice, kHeadroomVertices of mesh,
+// grids, seam chain and walls reserved at load); beyond that, growth counted in stats().reserve_overflows.
+// Failure: the constructor throws MeshError for a mesh that is not a closed two-manifold and
+// std::invalid_argument for bad options; the incision's calls never throw: bad samples come back as a
+// status, and an internal topology failure stops the incision with `failed` set and the message in stats().
 #pragma once
 
 #include <cstddef>
@@ -71,6 +44,8 @@ class SurfaceCutter {
   // (whatever the budget: this call may take as long as that work) and its wound settled at its final
   // opening (a cut begun within retraction_time_s of the last one makes that one snap open). A non-finite sample or a
   // zero normal is refused with a status (no incision starts). Never throws.
+  // Several incisions may cut one mesh, crossing or not: a new incision starts from the mesh as the previous
+  // ones left it (their wounds stop evolving).
   CutStep begin(const StrokeSample& first, const Eigen::Vector3d& blade_direction) noexcept;
   // The first part of begin(): finishes the current incision, if any, does its carried work whatever the
   // budget and sets its wound to its final, settled opening. A follower of the incision (TetCutter) calls
@@ -93,6 +68,31 @@ class SurfaceCutter {
   bool prepareBegin(bool unlimited = false) noexcept;
   // Adds stroke samples to the current incision and processes every column they make final (within the
   // per-call budget). A sample off the surface finishes the incision. Never throws.
+  //
+  // For every lattice column that becomes final (see Incision), the cutter, touching only mesh elements
+  // under that column (a VertexGrid query of the column's control-point hull, no pass over the mesh):
+  //  1. parameterises the vertices of the slab v in [j, j + 1) by inverting the undeformed lattice F0
+  //     (damped Newton, volume_inversion.h);
+  //  2. splits each edge whose end points lie on opposite sides of u = 1/2 and whose crossing lies inside
+  //     the cut (after the stroke's start, above the blade's depth) at the crossing, in parameter space
+  //     (paper §3.2); the new vertex is a seam vertex at u = 1/2 exactly. Degenerate coincidences: a vertex
+  //     inside the cut within CutterOptions::snap_fraction of its shortest edge from u = 1/2 (on the plane,
+  //     within rounding of it, a stroke along existing edges or through vertices) is snapped: it becomes a
+  //     seam vertex where it is, and no edge is split that close to an end point, so no sliver is made;
+  //  3. walks the seam (the chain of seam edges, the level set u = 1/2 on the surface) and, for every seam
+  //     vertex with a seam neighbour on both sides, duplicates it: faces on the u >= 1/2 side move to the
+  //     copy (evaluated at 1/2 + 0), the original keeps the u < 1/2 side (evaluated at 1/2 - epsilon);
+  //  4. adds wall geometry for the depth of the cut (§4): below every duplicated seam vertex a column of
+  //     `wall_rows` vertices per side down to one shared bottom vertex at the blade's depth, and two walls of
+  //     triangles between consecutive columns, meeting at the bottom (the blade's V); at the seam's two ends
+  //     the walls close in a fan. The mesh stays a closed two-manifold with its Euler characteristic.
+  // Before step 1, where CutterOptions::refine asks for it, the skin faces within the column's control-point hull
+  // that are coarser than the lattice are bisected along their longest edges (surface_cutter_refine.cpp), so a
+  // coarse model is cut without subdividing all of it; the faces elsewhere stay as they were, bit for bit.
+  // Then every vertex whose displacement changed is moved to rest + D(u, v, w) (Incision::displacementAt).
+  // When an incision's work is done its IncisionFigures say where the groove runs along the stroke and, if
+  // it is much shorter than the stroke, why (Shortfall: no contact, a mesh coarser than the lattice, ...):
+  // a cut that did nothing never passes for one that did.
   CutStep extend(const StrokeSample& sample) noexcept;
   CutStep extend(std::span<const StrokeSample> samples) noexcept;
   // Adds a sample without processing: the work waits for the next advance() (a frame's one cutting call).
