@@ -1,41 +1,14 @@
 // Scoring a training session: a recorded trace replayed through the same simulation as
 // `incise replay --fast` (sim::replay, ReplayPace::Fast, the scenario's period and settle time), every
-// frame's haptic state gathered, then the cut the simulation made measured against the scenario's plan.
-// The same scenario and trace give the same score, to the byte (the replay is deterministic).
+// frame's haptic state gathered, then the motion measured (strokes, economy, idle time, force, smoothness:
+// Score) and the cut the simulation made measured against the scenario's plan (PlanScore). The same scenario
+// and trace give the same score, to the byte (the replay is deterministic).
 //
-// What is measured (units in every name):
-//  - strokes: a stroke is a blade-in-tissue interval, a run of frames in contact (HapticState::contact;
-//    gaps shorter than stroke_gap_s are bridged). Per stroke and overall: time from first contact to last,
-//    path length of the tip in contact, mean speed, peak force, smoothness (smoothness.h: log dimensionless
-//    jerk and SPARC of the tip's speed, resampled at the median pose interval).
-//  - overall: economy = plan length / path length in contact (with a plan) or, without one, the straight
-//    line from the first contact to the last over the path in contact; idle time (the tip slower than
-//    idle_speed_m_per_s between the first contact and the last); peak force; time above the tissue's force
-//    threshold (scenario tissue.force_threshold_N) and the impulse of the excess, integral of
-//    max(0, |F| - threshold) dt.
-//  - session (every pose, in contact or not; what a JIGSAWS trace, which never touches the tissue, is
-//    scored on): duration, path length, straight line from the first pose to the last, economy = straight
-//    / path, smoothness.
-//  - the cut against the plan (a scenario with "plan"): the plan (plan.h) is cut into bins of at most the
-//    lattice spacing; the cut's Wall faces (surface_mesh.h: the groove's two walls from the lips down to
-//    its bottom, as the simulation made them) whose vertices lie within capture_m of the plan and not
-//    beyond its ends each cover the bins whose centres lie within the face's span along the plan (the
-//    walls tile the groove, so a bin is cut when a face covers it, whatever the mesh's resolution). A cut
-//    bin's lateral deviation is the mean offset across the plan of its faces' centroids (the walls open
-//    symmetrically, so the mean is the groove's centre line), its depth their deepest vertex below the
-//    plan's surface point (along the plan's normal). Lateral: mean |deviation|, RMS, max over the cut bins;
-//    share of the plan's length cut within the lateral tolerance; share uncut; length cut outside the band
-//    = the grooves' total length (CutStats figures) less the length cut within it. Depth: mean |depth -
-//    target| and max overshoot over the cut bins, share of the plan's length cut within the depth tolerance.
-//    Beside it, the blade's depth: per bin the deepest the tip went below the skin in the cutting frames
-//    whose entry point lies in the bin, its mean |error| against the target and its max overshoot.
-//    A session that cut nothing has share_uncut 1 and shares within tolerance 0.
-//
-// Threads: any (the replay runs on the caller's thread). Cost: the replay (as `replay --fast`) plus
+// Units: in every name. Threads: any (the replay runs on the caller's thread). Cost: the replay plus
 // O((wall vertices + cutting frames) x plan stations + wall faces), O(frames) for the motion and an FFT per
-// stroke (benchmark: 1.1-1.3x the replay for a 60 s session, docs/benchmarks.md). Allocation: a ScoreFrame kept per
-// frame. Failure: std::invalid_argument for an empty trace; ScenarioError for a plan that does not project
-// (plan.h); mesh::MeshError for a bad tissue (World).
+// stroke (benchmark: 1.1-1.3x the replay for a 60 s session, docs/benchmarks.md). Allocation: a ScoreFrame
+// kept per frame. Failure: std::invalid_argument for an empty trace; ScenarioError for a plan that does not
+// project (plan.h); mesh::MeshError for a bad tissue (World).
 #pragma once
 
 #include <cstdint>
@@ -98,6 +71,20 @@ struct PlanBin {
   double blade_depth_m = 0.0;  // the deepest the blade's tip went below the skin there
 };
 
+// The cut against the plan (a scenario with "plan"): the plan (plan.h) is cut into bins of at most the
+// lattice spacing; the cut's Wall faces (surface_mesh.h: the groove's two walls from the lips down to
+// its bottom, as the simulation made them) whose vertices lie within capture_m of the plan and not
+// beyond its ends each cover the bins whose centres lie within the face's span along the plan (the
+// walls tile the groove, so a bin is cut when a face covers it, whatever the mesh's resolution). A cut
+// bin's lateral deviation is the mean offset across the plan of its faces' centroids (the walls open
+// symmetrically, so the mean is the groove's centre line), its depth their deepest vertex below the
+// plan's surface point (along the plan's normal). Lateral: mean |deviation|, RMS, max over the cut bins;
+// share of the plan's length cut within the lateral tolerance; share uncut; length cut outside the band
+// = the grooves' total length (CutStats figures) less the length cut within it. Depth: mean |depth -
+// target| and max overshoot over the cut bins, share of the plan's length cut within the depth tolerance.
+// Beside it, the blade's depth: per bin the deepest the tip went below the skin in the cutting frames
+// whose entry point lies in the bin, its mean |error| against the target and its max overshoot.
+// A session that cut nothing has share_uncut 1 and shares within tolerance 0.
 struct PlanScore {
   double length_m = 0.0, target_depth_m = 0.0, lateral_tolerance_m = 0.0, depth_tolerance_m = 0.0;
   double lateral_mean_abs_m = 0.0, lateral_rms_m = 0.0, lateral_max_m = 0.0;
@@ -109,6 +96,19 @@ struct PlanScore {
   std::vector<PlanBin> bins;
 };
 
+// What is measured of the motion:
+//  - strokes: a stroke is a blade-in-tissue interval, a run of frames in contact (HapticState::contact;
+//    gaps shorter than stroke_gap_s are bridged). Per stroke and overall: time from first contact to last,
+//    path length of the tip in contact, mean speed, peak force, smoothness (smoothness.h: log dimensionless
+//    jerk and SPARC of the tip's speed, resampled at the median pose interval).
+//  - overall: economy = plan length / path length in contact (with a plan) or, without one, the straight
+//    line from the first contact to the last over the path in contact; idle time (the tip slower than
+//    idle_speed_m_per_s between the first contact and the last); peak force; time above the tissue's force
+//    threshold (scenario tissue.force_threshold_N) and the impulse of the excess, integral of
+//    max(0, |F| - threshold) dt.
+//  - session (every pose, in contact or not; what a JIGSAWS trace, which never touches the tissue, is
+//    scored on): duration, path length, straight line from the first pose to the last, economy = straight
+//    / path, smoothness.
 struct Score {
   std::string scenario;
   std::int64_t frames = 0, poses = 0;
@@ -128,7 +128,8 @@ struct Score {
   std::vector<ScoreFrame> frames_seen;  // every frame, for plots
 };
 
-// The session of `trace` on `tissue` (the scenario's uncut tissue, loadTissue) scored as above.
+// The session of `trace` on `tissue` (the scenario's uncut tissue, loadTissue) scored as Score and PlanScore
+// say.
 Score scoreSession(const Scenario& scenario, const mesh::SurfaceMesh& tissue,
                    std::span<const devices::PoseSample> trace, const ScoreOptions& options = {});
 
