@@ -1,32 +1,9 @@
-// One local DFFD incision (Schein & Elber, "Discontinuous Free Form Deformations", §4): the lattice
-// that a scalpel stroke grows, without any mesh. SurfaceCutter (surface_cutter.h) applies it to a mesh.
-//
-// The stroke's samples (hit point, surface normal, time) are resampled at a fixed arc length `spacing_m`
-// into stations G_s with normal N_s, tangent T_s (central differences) and side S_s = T_s x N_s. Station s
-// is lattice column j = s + P (P = order - 1 columns of padding before the start, extrapolated along -T_0;
-// columns after the last station are extrapolated along +T). Control points follow the paper's Eq. (2):
-//   P_ijk = G_j + (floor(l/2) - i) alpha S_j + (floor(n/2) - k) beta N_j,
-// with clamped uniform knots in u (across the cut, l controls) and w (along the normal, n controls) on
-// [0, 1], and uniform unit-spaced knots in v (one span per column), so that appending a column never
-// changes the basis of the columns before it. Then u = 1/2 is raised to multiplicity `order` (Boehm, §3.1):
-// the two coincident planes i_minus, i_plus = i_minus + 1 are the potential C^-1 discontinuity
-// (Definition 2). The lattice with these control points is `rest()`, F0: the map that parameterises the
-// tissue (F0(u, 1/2, w) follows G; w = 1/2 is the surface, w = bottomW() the blade's depth).
-//
-// The cut is a displacement lattice `displacement()`, D, with the same knots and control points
-//   dP_ijk = +/- kappa(i) * opening_j * rho(k) * S_j   (+ on the u < 1/2 side, which lies towards +S)
-// kappa: the paper's kernel over the u-planes, a quadratic B-spline profile, 1 on the two discontinuity
-// planes and 0 on the outer planes (which stay put, so D = 0 on the lattice's boundary); rho: 1 at and
-// above the surface, falling linearly to 0 at the blade's depth (the blade's V shape); opening_j: half the
-// wound's width times the time response r((t - t_j) / retraction_time_s), r(x) = 1 - (1 - x)^3 on [0, 1]
-// (the opening grows from 0 to its full width as the tissue retracts, and settles exactly), times a ramp
-// over the first `order` stations. A deformed point is x + D(u, v, w): F = F0 + D with F0(uvw) = x
-// exactly, so points where D is 0 are never moved by inversion error.
-//
-// Finality: column j is final once station j - P + 1 exists (its tangent is known) or the stroke is
-// finished. Only final columns open and only the parameter range they determine, v < finalEndV(), is cut;
-// so the cut trails the newest sample by about (order/2 + 1) * spacing_m, and the result depends only on
-// the samples, never on how they were grouped into calls (growing sample by sample = one call with all).
+// One local DFFD incision (Schein & Elber, "Discontinuous Free Form Deformations", §4): the lattice that a
+// scalpel stroke grows, without any mesh; SurfaceCutter (surface_cutter.h) applies it to a mesh. The
+// stroke's samples become stations every spacing_m, one lattice column each (Eq. (2)); u = 1/2 has
+// multiplicity `order`, the potential C^-1 discontinuity; the cut is a displacement lattice D that opens
+// over time on either side of it. Only final columns are cut, so the result depends only on the samples,
+// never on how they were grouped into calls.
 //
 // Units: metres, seconds. Shapes: rest() and displacement() have (l + order - m0) x max_columns x n controls
 // (m0 = multiplicity of 1/2 in the clamped u knots). Threads: one owner (the sim thread); const members
@@ -103,11 +80,32 @@ class Incision {
   void finish() noexcept;
   bool finished() const noexcept { return finished_; }
 
+  // The cut is a displacement lattice `displacement()`, D, with the same knots and control points
+  //   dP_ijk = +/- kappa(i) * opening_j * rho(k) * S_j   (+ on the u < 1/2 side, which lies towards +S)
+  // kappa: the paper's kernel over the u-planes, a quadratic B-spline profile, 1 on the two discontinuity
+  // planes and 0 on the outer planes (which stay put, so D = 0 on the lattice's boundary); rho: 1 at and
+  // above the surface, falling linearly to 0 at the blade's depth (the blade's V shape); opening_j: half the
+  // wound's width times the time response r((t - t_j) / retraction_time_s), r(x) = 1 - (1 - x)^3 on [0, 1]
+  // (the opening grows from 0 to its full width as the tissue retracts, and settles exactly), times a ramp
+  // over the first `order` stations. A deformed point is x + D(u, v, w): F = F0 + D with F0(uvw) = x
+  // exactly, so points where D is 0 are never moved by inversion error.
+  //
   // Sets the displacement lattice for time t_s (>= every sample's time for a meaningful response) and
   // appends to `changed_columns` the columns whose displacement changed since the previous call.
   // No allocation when `changed_columns` has capacity.
   void updateOpening(double t_s, std::vector<int>& changed_columns);
 
+  // The stroke's samples (hit point, surface normal, time) are resampled at a fixed arc length `spacing_m`
+  // into stations G_s with normal N_s, tangent T_s (central differences) and side S_s = T_s x N_s. Station s
+  // is lattice column j = s + P (P = order - 1 columns of padding before the start, extrapolated along -T_0;
+  // columns after the last station are extrapolated along +T). Control points follow the paper's Eq. (2):
+  //   P_ijk = G_j + (floor(l/2) - i) alpha S_j + (floor(n/2) - k) beta N_j,
+  // with clamped uniform knots in u (across the cut, l controls) and w (along the normal, n controls) on
+  // [0, 1], and uniform unit-spaced knots in v (one span per column), so that appending a column never
+  // changes the basis of the columns before it. Then u = 1/2 is raised to multiplicity `order` (Boehm, §3.1):
+  // the two coincident planes i_minus, i_plus = i_minus + 1 are the potential C^-1 discontinuity
+  // (Definition 2). The lattice with these control points is `rest()`, F0: the map that parameterises the
+  // tissue (F0(u, 1/2, w) follows G; w = 1/2 is the surface, w = bottomW() the blade's depth).
   const bspline::BSplineVolume& rest() const noexcept { return rest_; }
   const bspline::BSplineVolume& displacement() const noexcept { return displacement_; }
   const IncisionOptions& options() const noexcept { return options_; }
@@ -120,6 +118,10 @@ class Incision {
   }
 
   int stationCount() const noexcept { return static_cast<int>(stations_.size()); }
+  // Column j is final once station j - P + 1 exists (its tangent is known) or the stroke is
+  // finished. Only final columns open and only the parameter range they determine, v < finalEndV(), is cut;
+  // so the cut trails the newest sample by about (order/2 + 1) * spacing_m, and the result depends only on
+  // the samples, never on how they were grouped into calls (growing sample by sample = one call with all).
   // Columns [0, finalColumns()) are final.
   int finalColumns() const noexcept;
   // The parameter range whose F0 is final: v < finalEndV().
