@@ -1,9 +1,9 @@
 // Binding of a fixed set of parameter points (mesh vertices in the lattice's parameter space) to a
-// B-spline volume's knots (ARCHITECTURE.md, "Binding"). The spans and basis values of each point are
-// computed once, so re-deforming after control points move is an o_u * o_v * o_w weighted sum per point
-// with no span search and no basis evaluation; and only points whose support holds a moved control point
-// need it. This is what makes a cut cheap enough for a 1 kHz loop (paper §5: evaluation is linear in the
-// number of vertices; here the constant is small).
+// B-spline volume's knots: the spans and basis values of each point are computed once, so re-deforming
+// after control points move is an o_u * o_v * o_w weighted sum per point with no span search and no basis
+// evaluation, only for points whose support holds a moved control point. This is what makes a cut cheap
+// enough for a 1 kHz loop (paper §5: evaluation is linear in the number of vertices; here the constant is
+// small).
 //
 // Shapes: `parameters` is #P points (u, v, w) inside the volume's domain; outputs are #P positions.
 // Cost: construction O(#P * o^2 + #cells); deformAll O(#P * o^3); deformAffected O(affected points * o^3

@@ -142,7 +142,7 @@ class Incision {
   Eigen::Vector3d displacementAt(const Eigen::Vector3d& uvw, int side) const noexcept;
 
   // The same, split in two so that a point's spans and basis values are computed once (when it is bound)
-  // and every later re-deformation is one o^3 weighted sum per evaluation (ARCHITECTURE.md, "Binding"):
+  // and every later re-deformation is one o^3 weighted sum per evaluation (as volume_binding.h):
   // stencil() writes `count` (1, or 2 for side 2) evaluations: first[c], the corner control's linear index,
   // and basis[c * stencilSize() ...], the u, v and w basis values; displacementFromStencil() sums them.
   // displacementAt(uvw, side) == displacementFromStencil(stencil(uvw, side)) bit for bit. noexcept, no
