@@ -1,38 +1,12 @@
 // HID traffic in the text format of hid-tools' `hid-recorder` (what Linux users capture a stylus, a mouse
 // or a 6-DOF controller with, from /dev/hidraw*, and replay with `hid-replay`): a reader, and a writer that
-// survives being killed. Only the bytes: what a report means is the report descriptor's business.
-//
-// Format (hid-recorder's, as hid-tools 0.12 prints it and its hid-replay parses it). Lines end in '\n'
-// (a '\r' before it is ignored; a UTF-8 byte-order mark at the start too). Each line starts with a
-// prefix in its first column:
-//   #            a comment, skipped wherever it stands. hid-recorder prints the device's name and the
-//                decoded descriptor as comments before its R: line ("# 0x05, 0x01,   // Usage Page ..."),
-//                an empty "# " after it, and each report's decoding before its E: line ("#  Button: 1 ...").
-//   D: n         the device the following lines belong to, n decimal. hid-recorder prints it only when it
-//                records several devices (the older C hid-recorder always); without one, device 0.
-//                Devices are numbered 0, 1, 2, ... in order of their first D: line; a D: line may go
-//                back to an earlier device (reports interleave), never skip one.
-//   R: len b..   the device's report descriptor: its length in bytes (decimal, 1..kHidMaxDescriptorBytes),
-//                then that many bytes in hex, one or two digits each ("05 01 09 02 ...").
-//   N: name      the device's name, the rest of the line after "N: " as it is (may be empty).
-//   P: phys      its physical path, as N:. hid-tools' recorder does not print it; the C one did.
-//   I: b v p     bus type, vendor id, product id, in hex without 0x ("I: 3 046d c24e": USB). b < 2^32,
-//                v and p < 2^16.
-//   E: s.u len b..  one report of the current device: time as seconds '.' microseconds (hid-recorder
-//                prints "%06d.%06d", the C one "%lu.%06u": any number of digits for the seconds, exactly
-//                six for the microseconds; time 0 is the first report), the report's length in bytes
-//                (decimal, 1..kHidMaxReportBytes) and its bytes in hex as in R:.
-//   Fields are separated by one or more spaces or tabs; trailing spaces and tabs are ignored (except in
-//   N: and P:, kept verbatim). Empty lines are skipped. Each device has at most one R:, N:, P: and I:
-//   line; N:, P: and I: may be missing (name and phys "", bus, vid and pid 0), R: may not. A device's
-//   E: lines come after its R: line, and their times never go back (equal times are allowed:
-//   hid-recorder stamps every report of one read with the same time). Times are compared per device:
-//   two devices' reports interleave in arrival order.
-//   A final line without its '\n' is not part of the recording: it is what a writer killed in the middle of
-//   a write leaves behind (even a complete-looking report there may be cut: "E: ... 8 01 02" of "... 01 02 03").
+// survives being killed (HidRecordingWriter). Only the bytes: what a report means is the report descriptor's
+// business. The format, as hid-tools 0.12 prints and parses it, is above readHidRecording.
 //
 // Units: time in integer microseconds (exact, as the file has it); time_s() in seconds for the rest of
-// incise. Threads: a HidRecording is a plain value; readHidRecording runs on any thread. Cost: O(file size).
+// incise. Threads: a HidRecording is a plain value; readHidRecording runs on any thread; a writer belongs to
+// one thread at a time, off the sim thread. Cost: O(file size). Failure: HidRecordingError "path:line: ..."
+// from the reader; the writer's exceptions are listed above HidRecordingWriter.
 #pragma once
 
 #include <cstddef>
@@ -104,6 +78,35 @@ class HidRecordingError : public std::runtime_error {
   std::size_t line_;
 };
 
+// Format (hid-recorder's, as hid-tools 0.12 prints it and its hid-replay parses it). Lines end in '\n'
+// (a '\r' before it is ignored; a UTF-8 byte-order mark at the start too). Each line starts with a
+// prefix in its first column:
+//   #            a comment, skipped wherever it stands. hid-recorder prints the device's name and the
+//                decoded descriptor as comments before its R: line ("# 0x05, 0x01,   // Usage Page ..."),
+//                an empty "# " after it, and each report's decoding before its E: line ("#  Button: 1 ...").
+//   D: n         the device the following lines belong to, n decimal. hid-recorder prints it only when it
+//                records several devices (the older C hid-recorder always); without one, device 0.
+//                Devices are numbered 0, 1, 2, ... in order of their first D: line; a D: line may go
+//                back to an earlier device (reports interleave), never skip one.
+//   R: len b..   the device's report descriptor: its length in bytes (decimal, 1..kHidMaxDescriptorBytes),
+//                then that many bytes in hex, one or two digits each ("05 01 09 02 ...").
+//   N: name      the device's name, the rest of the line after "N: " as it is (may be empty).
+//   P: phys      its physical path, as N:. hid-tools' recorder does not print it; the C one did.
+//   I: b v p     bus type, vendor id, product id, in hex without 0x ("I: 3 046d c24e": USB). b < 2^32,
+//                v and p < 2^16.
+//   E: s.u len b..  one report of the current device: time as seconds '.' microseconds (hid-recorder
+//                prints "%06d.%06d", the C one "%lu.%06u": any number of digits for the seconds, exactly
+//                six for the microseconds; time 0 is the first report), the report's length in bytes
+//                (decimal, 1..kHidMaxReportBytes) and its bytes in hex as in R:.
+//   Fields are separated by one or more spaces or tabs; trailing spaces and tabs are ignored (except in
+//   N: and P:, kept verbatim). Empty lines are skipped. Each device has at most one R:, N:, P: and I:
+//   line; N:, P: and I: may be missing (name and phys "", bus, vid and pid 0), R: may not. A device's
+//   E: lines come after its R: line, and their times never go back (equal times are allowed:
+//   hid-recorder stamps every report of one read with the same time). Times are compared per device:
+//   two devices' reports interleave in arrival order.
+//   A final line without its '\n' is not part of the recording: it is what a writer killed in the middle of
+//   a write leaves behind (even a complete-looking report there may be cut: "E: ... 8 01 02" of "... 01 02 03").
+//
 // Reads the whole recording at `path`.
 // Failure: HidRecordingError with path and line, for: a file that cannot be opened or read; an empty file;
 // a line with an unknown prefix; a D: index that is not a number or skips a device; a second R:, N:, P: or
