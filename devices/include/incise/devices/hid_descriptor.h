@@ -3,34 +3,9 @@
 // descriptor; HidapiTransport reads it from /sys/class/hidraw/hidrawN/device/report_descriptor, and a
 // hid-recorder file carries it on its `R:` line.
 //
-// What the parser understands (6.2.2.2-6.2.2.8):
-//   - short items (1-byte prefix: 4-bit tag, 2-bit type, 2-bit size 0/1/2/4 bytes, little-endian data) and
-//     long items (prefix 0xFE, data size, long tag: skipped, no HID 1.11 long item is defined);
-//   - main items Input, Output, Feature (their data bits as flags), Collection, End Collection;
-//   - global items usage page, logical/physical minimum and maximum, unit exponent, unit, report size,
-//     report ID, report count, push, pop;
-//   - local items usage, usage minimum/maximum (a 4-byte usage carries its own page in its high 16 bits),
-//     designator and string indices (accepted, not kept), delimiter (a set of alternative usages: the first
-//     is kept, as Linux's hid-core does);
-//   - signed values: logical and physical minima are signed (sign-extended from the item's size); a maximum
-//     is signed when its minimum is negative, else unsigned (so `26 ff 00` after a zero minimum is 255).
-//     Physical minimum = maximum = 0 means "same as logical" (6.2.2.7).
-//   - unit exponent: the 4-bit two's-complement nibble (0x0d = -3); a larger value is taken as a signed
-//     byte (some firmware writes 0xfd), as hid-core does.
-// Report layout: per report type and ID, fields in descriptor order at increasing bit offsets. The offsets
-// count from the first data bit after the report ID byte; a report's wire size is its bits rounded up to
-// bytes, plus one byte when the descriptor declares report IDs.
-//
-// Usages are 32-bit extended usages: page << 16 | id. A variable field of count N has N usages (the
-// declared ones in order, a usage minimum/maximum range expanded, the last one repeated when fewer are
-// declared); an array field keeps its usage list and reports indices into it (6.2.2.5).
-//
 // Cost: O(descriptor bytes + fields); a few kB of heap. Threads: a parsed HidDescriptor is an immutable
 // value, share it freely. Failure: parseHidDescriptor throws HidDescriptorError, naming the byte offset
-// of the item and what is wrong: truncated data, a collection without its end or an end without a
-// collection, a pop without a push or a push stack over 16 deep, a report size of 0 or over 256 bits (Linux's limit), a
-// report ID of 0, a usage range over 65536 usages or with its minimum above its maximum, a main item before any report size/count, an item tag HID 1.11 does not define, a
-// report over 4096 bytes, or a descriptor that declares report IDs for some fields and not for others.
+// of the item and what is wrong (the cases are listed above parseHidDescriptor).
 #pragma once
 
 #include <cstddef>
@@ -59,6 +34,9 @@ inline constexpr std::uint32_t kVolatile = 1u << 7;
 inline constexpr std::uint32_t kBufferedBytes = 1u << 8;
 }  // namespace hid_flags
 
+// Usages are 32-bit extended usages: page << 16 | id. A variable field of count N has N usages (the
+// declared ones in order, a usage minimum/maximum range expanded, the last one repeated when fewer are
+// declared); an array field keeps its usage list and reports indices into it (6.2.2.5).
 inline constexpr std::uint32_t hidUsage(std::uint16_t page, std::uint16_t id) {
   return static_cast<std::uint32_t>(page) << 16 | id;
 }
@@ -99,6 +77,9 @@ struct HidCollection {
   std::size_t offset = 0;  // byte offset of its Collection item
 };
 
+// Report layout: per report type and ID, fields in descriptor order at increasing bit offsets. The offsets
+// count from the first data bit after the report ID byte; a report's wire size is its bits rounded up to
+// bytes, plus one byte when the descriptor declares report IDs.
 struct HidReportLayout {
   HidReportType type = HidReportType::Input;
   std::uint8_t id = 0;
@@ -131,6 +112,25 @@ class HidDescriptorError : public std::runtime_error {
   std::size_t offset_;
 };
 
+// The descriptor in `bytes`, parsed. What the parser understands (6.2.2.2-6.2.2.8):
+//   - short items (1-byte prefix: 4-bit tag, 2-bit type, 2-bit size 0/1/2/4 bytes, little-endian data) and
+//     long items (prefix 0xFE, data size, long tag: skipped, no HID 1.11 long item is defined);
+//   - main items Input, Output, Feature (their data bits as flags), Collection, End Collection;
+//   - global items usage page, logical/physical minimum and maximum, unit exponent, unit, report size,
+//     report ID, report count, push, pop;
+//   - local items usage, usage minimum/maximum (a 4-byte usage carries its own page in its high 16 bits),
+//     designator and string indices (accepted, not kept), delimiter (a set of alternative usages: the first
+//     is kept, as Linux's hid-core does);
+//   - signed values: logical and physical minima are signed (sign-extended from the item's size); a maximum
+//     is signed when its minimum is negative, else unsigned (so `26 ff 00` after a zero minimum is 255).
+//     Physical minimum = maximum = 0 means "same as logical" (6.2.2.7).
+//   - unit exponent: the 4-bit two's-complement nibble (0x0d = -3); a larger value is taken as a signed
+//     byte (some firmware writes 0xfd), as hid-core does.
+// Failure: HidDescriptorError for truncated data, a collection without its end or an end without a
+// collection, a pop without a push or a push stack over 16 deep, a report size of 0 or over 256 bits (Linux's
+// limit), a report ID of 0, a usage range over 65536 usages or with its minimum above its maximum, a main
+// item before any report size/count, an item tag HID 1.11 does not define, a report over 4096 bytes, or a
+// descriptor that declares report IDs for some fields and not for others.
 HidDescriptor parseHidDescriptor(std::span<const std::uint8_t> bytes);
 
 // "05 01 09 08 ...": whitespace-separated two-digit hex bytes, `#` comments to the end of the line (the
