@@ -1,22 +1,8 @@
 // The global DFFD (Schein & Elber, "Discontinuous Free Form Deformations", §3): a deformable model moving
-// through static obstacles splits open around each of them and re-forms behind it.
-//
-// Construction (§3.1): a trivariate B-spline F over the obstacles' axis-aligned bounding box plus a margin,
-// the identity at first (clamped uniform knots, controls at the Greville abscissae: the parameter domain
-// is the box, so a point's parameters are its coordinates). Axes: u = x (across: the split direction),
-// v = y (the model's motion), w = z (the slicing direction). Per obstacle, `order` knots at its centre of
-// mass in u give the two discontinuity planes F- and F+ (Definition 2); optionally order - 1 knots in v at
-// its v-extremes (Figure 4). For every control row (j, k) the planes' controls are projected along u onto
-// the obstacle's boundary: C-(v) / C+(v) in the plane w = w_k (Figure 1), taken conservatively as the
-// obstacle's smallest / largest x over the v- and w-support of that control, so that F's image of the
-// - side stays at or left of the obstacle and the + side at or right of it. The move spreads along u to
-// the neighbouring planes on the same side through a kernel kappa (a truncated Gaussian or a quadratic
-// B-spline) that decays from 1 to 0 over `kernel_width` planes. Controls move along u only, so Theorem 1
-// applies: F is fold-free while every row keeps its u-order (checkAxisOrder); a kernel that would break it
-// is refused, or widened until it does not (FoldPolicy).
-// Splitting (§3.2, splitAtDiscontinuities): crossing edges are split at u_i and the new vertices
-// duplicated, mapped at u_i - epsilon and u_i + epsilon. Stitching (§3.2): stitch() moves the controls of
-// both discontinuity planes to the level w_s, closing each side's opening into a seam.
+// through static obstacles splits open around each of them and re-forms behind it. GlobalDffd is the map F
+// (§3.1: a trivariate B-spline over the obstacles' box, two discontinuity planes per obstacle projected onto
+// it); the model is split along the planes (splitAtDiscontinuities, DffdSplitter, §3.2), deformed
+// (deformSplit, DffdBinding) and its openings left open, stitched (GlobalDffd::stitch) or capped.
 //
 // Units: metres. Threads: const members from any thread. Cost: construction O(#controls * faces of the
 // obstacles) (the conservative boundary), allocation at load only; map() O(order^3).
@@ -25,8 +11,6 @@
 // than once — the paper's stated limit), two obstacles too close for the order and the kernel (with the
 // number of control planes that would be needed), a kernel that would fold F under FoldPolicy::Refuse;
 // its fields (kind, obstacle, controls_needed) say the same for code. std::invalid_argument for bad options.
-// Sources: global_dffd.cpp (the lattice and the projection), global_dffd_split.cpp (the model split),
-// global_dffd_openings.cpp (open, stitched, capped).
 #pragma once
 
 #include <array>
@@ -117,6 +101,19 @@ struct DffdObstacle {
 
 class GlobalDffd {
  public:
+  // Construction (§3.1): a trivariate B-spline F over the obstacles' axis-aligned bounding box plus a margin,
+  // the identity at first (clamped uniform knots, controls at the Greville abscissae: the parameter domain
+  // is the box, so a point's parameters are its coordinates). Axes: u = x (across: the split direction),
+  // v = y (the model's motion), w = z (the slicing direction). Per obstacle, `order` knots at its centre of
+  // mass in u give the two discontinuity planes F- and F+ (Definition 2); optionally order - 1 knots in v at
+  // its v-extremes (Figure 4). For every control row (j, k) the planes' controls are projected along u onto
+  // the obstacle's boundary: C-(v) / C+(v) in the plane w = w_k (Figure 1), taken conservatively as the
+  // obstacle's smallest / largest x over the v- and w-support of that control, so that F's image of the
+  // - side stays at or left of the obstacle and the + side at or right of it. The move spreads along u to
+  // the neighbouring planes on the same side through a kernel kappa (a truncated Gaussian or a quadratic
+  // B-spline) that decays from 1 to 0 over `kernel_width` planes. Controls move along u only, so Theorem 1
+  // applies: F is fold-free while every row keeps its u-order (checkAxisOrder); a kernel that would break it
+  // is refused, or widened until it does not (FoldPolicy).
   GlobalDffd(const std::vector<Obstacle>& obstacles, const GlobalDffdOptions& options = {});
 
   const bspline::BSplineVolume& volume() const noexcept { return volume_; }
