@@ -1,28 +1,8 @@
 // Scenarios: one JSON file describes a run — the tissue, the tool and tissue parameters, the incision's
-// lattice, the pose source, the rate and the budget — shared by the tests, the CLI and the benchmarks.
-// The format is documented in docs/scenarios.md; every key is optional except tissue.mesh (or .shape) and
-// pose_source; relative paths are relative to the scenario file.
-//
-//   { "name": "bunny-straight",
-//     "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01, "subdivide": 2,
-//                 "stiffness_N_per_m": 400, "damping_N_s_per_m": 2, "cutting_resistance_N": 0.6 },
-//     "tool": { "blade_length_m": 0.03, "cut_button": 0, "max_force_N": 8 },
-//     "incision": { "depth_m": 0.004, "opening_m": 0.002, "alpha_m": 0.0015, "beta_m": 0.002,
-//                   "spacing_m": 0.0005, "order": 4, "retraction_time_s": 0.05, "wall_rows": 3 },
-//     "pose_source": { "kind": "trace", "path": "traces/bunny-straight.csv" },
-//     "rate_hz": 1000, "cut_budget_us": 300, "settle_s": 0.2 }
-//
-// A recorded HID stream ("kind": "hid-recording") names a hid-recorder file and the pen or 6-DOF mapping:
-//   "pose_source": { "kind": "hid-recording", "path": "hid/bunny-pen-wacom.hid", "device": 0,
-//                    "pen": { "origin_m": [..], "x_edge_m": [..], "y_edge_m": [..], "max_depth_m": 0.02, ... },
-//                    "six_dof": { "start_m": [..], "max_speed_m_per_s": 0.1, ... },
-//                    "synthesis": { "from": "generate/bunny-straight.json", "descriptor": "hid/descriptors/...",
-//                                   "vid": "056a", "pid": "0357", "name": "...", "rate_hz": 200 } }
-// (docs/scenarios.md lists every key with its default and unit).
-//
-// A generated pose source ("kind": "strokes") lists strokes over the tissue — start_m [x, y, z] above the
-// surface, direction, length_m, bend_m, speed_m_per_s, pause_s before it — and is how the shipped traces
-// were made (`incise record`).
+// lattice, the pose source (a trace, generated strokes or a HID recording), the rate and the budget —
+// shared by the tests, the CLI and the benchmarks. docs/scenarios.md lists every key with its type, unit,
+// default and range; every key is optional except tissue.mesh (or .shape) and pose_source; relative paths
+// are relative to the scenario file.
 //
 // Threads: any. Failure: loadScenario throws ScenarioError with "file:line:column: ..." for JSON syntax
 // errors and "file: key.path: ..." for a missing, mistyped or out-of-range value or a missing file.
@@ -41,6 +21,9 @@
 
 namespace incise::sim {
 
+// A generated pose source ("kind": "strokes") lists strokes over the tissue — start_m [x, y, z] above the
+// surface, direction, length_m, bend_m, speed_m_per_s, pause_s before it — and is how the shipped traces
+// were made (`incise record`).
 struct StrokeSpec {
   Eigen::Vector3d start_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
@@ -63,6 +46,12 @@ struct HidSynthesis {
   double rate_hz = 200.0;
 };
 
+// A recorded HID stream ("kind": "hid-recording") names a hid-recorder file and the pen or 6-DOF mapping:
+//   "pose_source": { "kind": "hid-recording", "path": "hid/bunny-pen-wacom.hid", "device": 0,
+//                    "pen": { "origin_m": [..], "x_edge_m": [..], "y_edge_m": [..], "max_depth_m": 0.02, ... },
+//                    "six_dof": { "start_m": [..], "max_speed_m_per_s": 0.1, ... },
+//                    "synthesis": { "from": "generate/bunny-straight.json", "descriptor": "hid/descriptors/...",
+//                                   "vid": "056a", "pid": "0357", "name": "...", "rate_hz": 200 } }
 struct HidRecordingSource {
   std::filesystem::path path;
   int device = 0;  // the D: index in the recording
@@ -109,6 +98,15 @@ struct Scenario {
   std::int64_t periodUs() const { return static_cast<std::int64_t>(std::llround(1e6 / rate_hz)); }
 };
 
+// The scenario in `file`, e.g.
+//   { "name": "bunny-straight",
+//     "tissue": { "mesh": "meshes/bunny.obj", "scale": 0.01, "subdivide": 2,
+//                 "stiffness_N_per_m": 400, "damping_N_s_per_m": 2, "cutting_resistance_N": 0.6 },
+//     "tool": { "blade_length_m": 0.03, "cut_button": 0, "max_force_N": 8 },
+//     "incision": { "depth_m": 0.004, "opening_m": 0.002, "alpha_m": 0.0015, "beta_m": 0.002,
+//                   "spacing_m": 0.0005, "order": 4, "retraction_time_s": 0.05, "wall_rows": 3 },
+//     "pose_source": { "kind": "trace", "path": "traces/bunny-straight.csv" },
+//     "rate_hz": 1000, "cut_budget_us": 300, "settle_s": 0.2 }
 Scenario loadScenario(const std::filesystem::path& file);
 
 // The scenario's tissue mesh: loaded, scaled and subdivided, or made (shape); throws mesh::MeshError.
