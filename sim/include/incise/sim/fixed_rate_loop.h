@@ -1,19 +1,9 @@
 // The clock and the thread of the simulation: calls a step function at a fixed period against absolute
 // deadlines, always with the same dt. The step never reads a clock (Box2D-style: the app owns the clock,
 // the step takes its dt), so a trace replayed with runFast() (as fast as possible) and with start() (in real
-// time) runs the same frames with the same dt and gives the same result.
+// time) runs the same frames with the same dt and gives the same result. Overruns and skipped deadlines are
+// counted (the timing rules: above FixedRateLoop).
 //
-// Timing: deadline_k = t0 + k * period on std::chrono::steady_clock, t0 = when the loop thread starts.
-// The thread sleeps with std::this_thread::sleep_until (optionally the last spin_us are busy-waited, for
-// a tighter start), then calls step(FrameInfo) with dt_s = period. Deadlines are absolute, so lateness
-// never accumulates: frame k starts at t0 + k * period plus that one wake-up's error.
-// Overruns: a frame that ends after the next deadline is an overrun. dt is never stretched and the missed
-// time is not made up beyond a limit: the loop never stays more than max_catch_up_frames deadlines behind.
-// With the default 0 the deadlines that passed during the frame are skipped (counted in skipped_deadlines)
-// and the loop realigns to the next future deadline; with c > 0 up to c frames run back to back to catch up
-// (each starts late; it is an overrun too when it still ends after its next deadline). Skipped deadlines
-// run no frame: FrameInfo::frame and t_s count frames actually run, so simulated time falls behind wall
-// time by the skipped periods (inputs stamped with wall time then land in later frames than in runFast).
 // Units: period_us and spin_us in microseconds, dt_s and t_s in seconds, period errors in microseconds.
 // Threads: start(), stop(), runFast() from one controlling thread; requestStop(), running(), counters() and
 // the realtime status from any thread, the step included. The step runs on the loop's own thread (start) or
@@ -66,6 +56,17 @@ struct LoopCounters {
   double max_period_error_us = 0.0;    // the largest period_error_us so far
 };
 
+// Timing: deadline_k = t0 + k * period on std::chrono::steady_clock, t0 = when the loop thread starts.
+// The thread sleeps with std::this_thread::sleep_until (optionally the last spin_us are busy-waited, for
+// a tighter start), then calls step(FrameInfo) with dt_s = period. Deadlines are absolute, so lateness
+// never accumulates: frame k starts at t0 + k * period plus that one wake-up's error.
+// Overruns: a frame that ends after the next deadline is an overrun. dt is never stretched and the missed
+// time is not made up beyond a limit: the loop never stays more than max_catch_up_frames deadlines behind.
+// With the default 0 the deadlines that passed during the frame are skipped (counted in skipped_deadlines)
+// and the loop realigns to the next future deadline; with c > 0 up to c frames run back to back to catch up
+// (each starts late; it is an overrun too when it still ends after its next deadline). Skipped deadlines
+// run no frame: FrameInfo::frame and t_s count frames actually run, so simulated time falls behind wall
+// time by the skipped periods (inputs stamped with wall time then land in later frames than in runFast).
 class FixedRateLoop {
  public:
   using StepFunction = std::function<void(const FrameInfo&)>;
