@@ -2,17 +2,9 @@
 // <dF/du x dF/dv, dF/dw> signal that moving control points folded space onto itself (Schein & Elber,
 // "Discontinuous Free Form Deformations", §3.1, Theorem 1).
 //
-// checkAxisOrder is Theorem 1's test: on a box lattice whose control points move along one axis only,
-// det J stays positive while every row of control points keeps its strict order along that axis.
-// checkJacobianPositive is a sufficient test for any lattice (exact arithmetic aside): det J > 0 in a
-// knot cell when every triple of control differences of the cell's support has a positive determinant.
-// minJacobianDeterminant samples det J, for tests and reports.
-//
-// C^-1 knots: controls i and i+1 along an axis with knots[i+1] == knots[i+o] (o = order) straddle a knot
-// of full multiplicity: after inserting o copies of u0, they are the last control of the - side and the
-// first of the + side (the two discontinuity planes F^-, F^+ of Definition 2). Their basis functions never
-// overlap, so no derivative of F involves their difference: both checks leave their order free (the two
-// sides of a cut may open apart or pass each other).
+// Two tests: checkAxisOrder (Theorem 1, for a box lattice whose controls move along one axis) and
+// checkJacobianPositive (sufficient, for any lattice); and minJacobianDeterminant, a sampler for tests and
+// reports.
 //
 // Shapes: control indices (i, j, k) as in BSplineVolume; knot cells named by their span indices.
 // Units: determinants in (length unit)^3 / (parameter unit)^3.
@@ -35,6 +27,12 @@ struct FoldReport {
   std::string message;  // what failed and where, with the values; empty when ok
 };
 
+// C^-1 knots: controls i and i+1 along an axis with knots[i+1] == knots[i+o] (o = order) straddle a knot
+// of full multiplicity: after inserting o copies of u0, they are the last control of the - side and the
+// first of the + side (the two discontinuity planes F^-, F^+ of Definition 2). Their basis functions never
+// overlap, so no derivative of F involves their difference: both checks leave their order free (the two
+// sides of a cut may open apart or pass each other).
+//
 // Theorem 1: along every row of controls in direction `axis` (0 = u, 1 = v, 2 = w), the `axis` component
 // strictly increases, P_{i+1,j,k}[axis] > P_{i,j,k}[axis] for axis 0, except across a C^-1 knot (above).
 // On failure (i, j, k) is the lower control of the first offending pair. Cost O(#controls).
