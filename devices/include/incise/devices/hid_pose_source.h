@@ -1,19 +1,7 @@
 // A live HID pose source: a device thread that finds the device (HidDeviceSelector), reads its reports
 // with a timeout, turns them into poses through the profile its descriptor calls for (hid_profile.h),
 // stamps them with the steady clock at arrival and pushes them into a PoseSink (the simulation's queue).
-//
-// Hot-plug. When a read fails (the device went away, mid-stroke or not) the source pushes the profile's
-// lifted pose at once — no buttons, tip lifted: the simulation sees no contact, no force and no cutting,
-// and an incision in progress finishes as when the user lifts the pen — reports "unplugged", and
-// re-enumerates every reconnect_period_s. It reopens the first device matching the selector by VID, PID
-// and serial (not by the hidraw path, which changes on replug), and resumes: a pen at once (its reports
-// are absolute), a 6-DOF device from its last pose with zero velocity. Each change of state is reported
-// once through the message callback; nothing is logged per report.
-//
-// Per report (the device thread's hot path): one read into a fixed buffer, the profile's update, one
-// push: no allocation, no lock, no logging. A report that is empty, has an undeclared ID or is shorter than
-// its layout is counted (badReports) and skipped; one of a layout the profile does not use (a tablet's pad
-// or touch report) is counted as ignored; a pose not after the previous one in time is not pushed.
+// It survives unplugging and replugging (hot-plug) and allocates nothing per report: above HidPoseSource.
 //
 // Threads: construct, start, stop and destroy from one thread; the counters, state() and describe()
 // from any thread; the message callback and the sink run on the device thread. stop() returns within
@@ -47,6 +35,18 @@ struct HidPoseSourceOptions {
   double reconnect_period_s = 0.5;  // between enumerations while no device is open
 };
 
+// Hot-plug. When a read fails (the device went away, mid-stroke or not) the source pushes the profile's
+// lifted pose at once — no buttons, tip lifted: the simulation sees no contact, no force and no cutting,
+// and an incision in progress finishes as when the user lifts the pen — reports "unplugged", and
+// re-enumerates every reconnect_period_s. It reopens the first device matching the selector by VID, PID
+// and serial (not by the hidraw path, which changes on replug), and resumes: a pen at once (its reports
+// are absolute), a 6-DOF device from its last pose with zero velocity. Each change of state is reported
+// once through the message callback; nothing is logged per report.
+//
+// Per report (the device thread's hot path): one read into a fixed buffer, the profile's update, one
+// push: no allocation, no lock, no logging. A report that is empty, has an undeclared ID or is shorter than
+// its layout is counted (badReports) and skipped; one of a layout the profile does not use (a tablet's pad
+// or touch report) is counted as ignored; a pose not after the previous one in time is not pushed.
 class HidPoseSource {
  public:
   using MessageFn = std::function<void(const std::string&)>;

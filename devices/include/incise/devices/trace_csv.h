@@ -1,23 +1,6 @@
 // Recorded pose traces as CSV text: the format, a reader that is a PoseSource, and a writer that
-// survives being killed. The format is also described, with an example, in devices/TRACE_FORMAT.md.
-//
-// Format. Lines end in '\n' (a '\r' before it is ignored; a UTF-8 byte-order mark before the header too).
-//   line 1    exactly   time_s,tip_x_m,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure
-//   then      any number of comment lines, '#' in the first column (provenance: "# generator: ...").
-//             Comments may also stand between samples; they are skipped there.
-//   then      one sample per line: 10 comma-separated fields, no quoting, no spaces, no empty lines.
-//     column  name       meaning                                                       PoseSample field
-//     1       time_s     seconds, device clock; strictly increasing from sample to sample    time_s
-//     2-4     tip_*_m    tool tip, metres, device frame                                       tip_m
-//     5-8     q_w..q_z   orientation (tool frame -> device frame), unit within 1e-6       orientation
-//     9       buttons    bit mask as a decimal integer in [0, 4294967295]                   buttons
-//     10      pressure   normalised [0, 1], or empty when the device has no pressure sensor  pressure
-//   Numbers are what std::from_chars reads in its general format: '.' as decimal point whatever the
-//   locale, optional exponent, no '+', no hex, no surrounding spaces. NaN and infinities are rejected.
-//   The writer prints doubles as "%.17g" (via std::to_chars), so every double reads back bit-exactly
-//   (-0.0 and subnormals included).
-//   A final line without its '\n' is not part of the trace: it is what a writer killed in the middle of
-//   a write leaves behind, and even a complete-looking number there may be cut ("0.12" of "0.125").
+// survives being killed. The format is also described, with an example, in devices/TRACE_FORMAT.md;
+// here above kTraceHeader.
 #pragma once
 
 #include <array>
@@ -41,6 +24,23 @@ class RecordStream;  // devices/src/record_stream.h: the buffered write(2) strea
 }  // namespace detail
 
 // The first line of every trace, without its '\n'.
+// Format. Lines end in '\n' (a '\r' before it is ignored; a UTF-8 byte-order mark before the header too).
+//   line 1    exactly   time_s,tip_x_m,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure
+//   then      any number of comment lines, '#' in the first column (provenance: "# generator: ...").
+//             Comments may also stand between samples; they are skipped there.
+//   then      one sample per line: 10 comma-separated fields, no quoting, no spaces, no empty lines.
+//     column  name       meaning                                                       PoseSample field
+//     1       time_s     seconds, device clock; strictly increasing from sample to sample    time_s
+//     2-4     tip_*_m    tool tip, metres, device frame                                       tip_m
+//     5-8     q_w..q_z   orientation (tool frame -> device frame), unit within 1e-6       orientation
+//     9       buttons    bit mask as a decimal integer in [0, 4294967295]                   buttons
+//     10      pressure   normalised [0, 1], or empty when the device has no pressure sensor  pressure
+//   Numbers are what std::from_chars reads in its general format: '.' as decimal point whatever the
+//   locale, optional exponent, no '+', no hex, no surrounding spaces. NaN and infinities are rejected.
+//   The writer prints doubles as "%.17g" (via std::to_chars), so every double reads back bit-exactly
+//   (-0.0 and subnormals included).
+//   A final line without its '\n' is not part of the trace: it is what a writer killed in the middle of
+//   a write leaves behind, and even a complete-looking number there may be cut ("0.12" of "0.125").
 inline constexpr std::string_view kTraceHeader = "time_s,tip_x_m,tip_y_m,tip_z_m,q_w,q_x,q_y,q_z,buttons,pressure";
 // The same names one by one; column c (1-based) is kTraceColumns[c - 1].
 inline constexpr std::array<std::string_view, 10> kTraceColumns = {

@@ -1,18 +1,8 @@
 // The simulation thread's frame and the replay driver (ARCHITECTURE.md, "Data flow and threads"): poses
 // come in through a single-producer single-consumer queue, the world takes a step, the force goes to a
 // ForceSink, the results leave through a triple-buffered Snapshot that another thread takes without ever
-// blocking the loop, and every frame's timings go to LatencyStats.
-//
-// A frame, in order (Simulation::frame): 1. drain every queued pose (oldest first) into a fixed array;
-// 2. World::updateTool, the haptic part alone (contact against the world's ContactProxy, force) ->
-// ForceSink (timed: haptic_us); 3. World::cut at the frame's time: the poses' stroke samples and all the
-// cutting work, under the budget (timed: cut_us); 4. when a GeometryStream is attached, the frame's mesh
-// changes into it (timed: geometry_us; geometry_stream.h), then publish the Snapshot (timed: publish_us);
-// 5. record the frame in LatencyStats (a deadline missed by the frame's own time over the period is an
-// overrun, one missed by starting late a late wake-up). Frame k's time is t0 + k * period: simulated,
-// never read from a clock, so the cut is the same whichever frame saw which pose. Pose-to-visible latency:
-// frames from the frame whose poses made new lattice columns final (less however long they waited in the
-// world's queue) to the frame whose snapshot shows them cut.
+// blocking the loop, and every frame's timings go to LatencyStats. Frame k's time is t0 + k * period, never
+// read from a clock (the frame's steps: above Simulation::frame).
 //
 // Threads: pushPose from one producer thread (a device or the replay feeder); frame from the sim thread;
 // takeSnapshot from one reader thread. Allocation: none per frame (fixed arrays, reserved stats). Failure:
@@ -91,6 +81,16 @@ class Simulation final : public devices::PoseSink {
 
   bool pushPose(const devices::PoseSample& pose) noexcept;  // producer thread; false: queue full, dropped
   bool push(const devices::PoseSample& pose) noexcept override { return pushPose(pose); }
+  // A frame, in order: 1. drain every queued pose (oldest first) into a fixed array;
+  // 2. World::updateTool, the haptic part alone (contact against the world's ContactProxy, force) ->
+  // ForceSink (timed: haptic_us); 3. World::cut at the frame's time: the poses' stroke samples and all the
+  // cutting work, under the budget (timed: cut_us); 4. when a GeometryStream is attached, the frame's mesh
+  // changes into it (timed: geometry_us; geometry_stream.h), then publish the Snapshot (timed: publish_us);
+  // 5. record the frame in LatencyStats (a deadline missed by the frame's own time over the period is an
+  // overrun, one missed by starting late a late wake-up). Frame k's time is t0 + k * period: simulated,
+  // never read from a clock, so the cut is the same whichever frame saw which pose. Pose-to-visible latency:
+  // frames from the frame whose poses made new lattice columns final (less however long they waited in the
+  // world's queue) to the frame whose snapshot shows them cut.
   void frame(const FrameInfo& info) noexcept;  // sim thread
   bool takeSnapshot(Snapshot& out) noexcept;   // reader thread: true when newer than the last
   // Before the first frame: publish the mesh's changes into `stream` every frame (attach() is done here:

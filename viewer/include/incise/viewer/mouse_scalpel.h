@@ -3,16 +3,7 @@
 // the surface that the wheel sets; the blade stands along the surface normal at the hit (local -z into the
 // tissue, as sim::World reads a pose) with its cutting edge (local +x) along the cursor's motion over the
 // surface. The poses go to the simulation like any live device's (devices::PoseSink).
-//
-// Over a wound the ray meets the walls or falls into the groove: the wall faces are left out and, within
-// `groove_reach_m` of the last skin hit, the ray is met with the tangent plane there instead, so that a
-// stroke crosses its own (or an earlier) incision without the blade jumping to the far side of the tissue.
-// With the button up the tip hovers `hover_m` above the hit (no contact); a ray that meets nothing lifts
-// the tip off the tissue along the last normal. The blade goes in once the cursor, button held, has moved
-// `start_m` over the surface from where the button went down: its first pose in the tissue is at that
-// point, stamped with the press's time, its edge along the way the cursor went (the simulation lays the
-// incision along the edge at first contact, so it must be the stroke's direction), then the pose under the
-// cursor.
+// Over a wound, hovering and the blade's entry: above MouseScalpel.
 //
 // Units: metres, seconds; pixels with the origin at the top left. Threads: the viewer's (a value type).
 // Cost: pose() O(F) (a ray against every face of the model: ~1 ms on 60k triangles). Failure: the
@@ -49,6 +40,15 @@ struct MouseReading {
   double time_s = 0.0;
 };
 
+// Over a wound the ray meets the walls or falls into the groove: the wall faces are left out and, within
+// `groove_reach_m` of the last skin hit, the ray is met with the tangent plane there instead, so that a
+// stroke crosses its own (or an earlier) incision without the blade jumping to the far side of the tissue.
+// With the button up the tip hovers `hover_m` above the hit (no contact); a ray that meets nothing lifts
+// the tip off the tissue along the last normal. The blade goes in once the cursor, button held, has moved
+// `start_m` over the surface from where the button went down: its first pose in the tissue is at that
+// point, stamped with the press's time, its edge along the way the cursor went (the simulation lays the
+// incision along the edge at first contact, so it must be the stroke's direction), then the pose under the
+// cursor.
 class MouseScalpel {
  public:
   explicit MouseScalpel(const MouseScalpelOptions& options = {});
