@@ -1,16 +1,8 @@
 // A live run (a trainee's mouse in the viewer, a device): the sim thread at its rate on FixedRateLoop while
 // a producer on another thread (the window's, a device's) pushes poses as they happen; snapshots, every
-// frame's timings and the geometry stream for a viewer, as in a real-time replay (simulation.h).
+// frame's timings and the geometry stream for a viewer, as in a real-time replay (simulation.h). The poses it
+// took replay as a trace to the same cut, byte for byte (the clock and stop(): above LiveSession).
 //
-// The clock is the session's: seconds since start(), frame k at k x period. A producer stamps its poses
-// with nowS() (or its own clock started with the session) and pushes them in time order; a pose whose time
-// is not after the previous one is dropped by World, as from any device. The session keeps a copy of every
-// pose it took, in order (poses(), after stop()): replayed as a trace through a fresh world of the same
-// scenario it gives the same cut, byte for byte, because the cut depends on the poses alone, never on the
-// frames that handled them (the test does exactly that).
-//
-// stop() ends the producer's part: frames run on until the cutter has no work left and `settle_s` has
-// passed since the last pose (the wound opens), then the loop ends and the geometry stream is flushed.
 // Threads: the owner calls start() and stop(); push() from one producer thread; takeSnapshot() from one
 // reader thread; the World belongs to the sim thread between start() and stop(). Cost: push O(1) (a queue
 // slot and an amortised append to the copy, on the producer's thread). Failure: the constructor throws
@@ -43,6 +35,15 @@ struct LiveOptions {
   std::int64_t flush_timeout_ms = 5000;
 };
 
+// The clock is the session's: seconds since start(), frame k at k x period. A producer stamps its poses
+// with nowS() (or its own clock started with the session) and pushes them in time order; a pose whose time
+// is not after the previous one is dropped by World, as from any device. The session keeps a copy of every
+// pose it took, in order (poses(), after stop()): replayed as a trace through a fresh world of the same
+// scenario it gives the same cut, byte for byte, because the cut depends on the poses alone, never on the
+// frames that handled them (the test does exactly that).
+//
+// stop() ends the producer's part: frames run on until the cutter has no work left and `settle_s` has
+// passed since the last pose (the wound opens), then the loop ends and the geometry stream is flushed.
 class LiveSession final : public devices::PoseSink {
  public:
   LiveSession(World& world, const LiveOptions& options, ForceSink* sink = nullptr);

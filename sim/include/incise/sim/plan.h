@@ -2,13 +2,6 @@
 // projected onto the tissue's surface at load, resampled into stations, and the queries the scoring asks of
 // it: where along the plan a point lies and how far beside it.
 //
-// Projection: every given point goes to its closest point on the surface (mesh::closestSurfacePoint);
-// the polyline between consecutive projected points is resampled every station_m (at most the lattice
-// spacing, incision.spacing_m) and each sample projected again, so the plan follows a curved surface. The
-// stations carry the arc length s_m from the start (measured along the projected stations), the unit
-// tangent, the surface normal and across = normal x tangent (the side a lateral offset is measured along,
-// positive to the left of the direction of travel seen from outside).
-//
 // Shapes: positions in metres, normals and tangents unit. Threads: any; the functions share no state.
 // Cost: projectPlan O(stations x vertices near each) after an O(V) grid; locate O(stations).
 // Failure: projectPlan throws ScenarioError naming the scenario file and the point: "file: plan.points_m[2]:
@@ -49,6 +42,12 @@ struct Plan {
 
 // The spec projected onto `tissue` (the uncut tissue), stations every spacing_m at most (> 0: the lattice
 // spacing). `file` names the scenario in errors.
+// Every given point goes to its closest point on the surface (mesh::closestSurfacePoint); the polyline
+// between consecutive projected points is resampled every station_m (at most the lattice spacing,
+// incision.spacing_m) and each sample projected again, so the plan follows a curved surface. The stations
+// carry the arc length s_m from the start (measured along the projected stations), the unit tangent, the
+// surface normal and across = normal x tangent (the side a lateral offset is measured along, positive to the
+// left of the direction of travel seen from outside).
 Plan projectPlan(const PlanSpec& spec, const mesh::SurfaceMesh& tissue, double spacing_m,
                  const std::filesystem::path& file);
 

@@ -2,11 +2,6 @@
 // complete one (the viewer, a recorder), neither ever waits for the other and the reader never sees a value
 // that is half written.
 //
-// Scheme: three slots. The writer owns one (it fills it), the reader owns one (it reads it), the third is
-// the "back" slot. publish() swaps the writer's slot with the back slot and sets a "new data" bit; update()
-// swaps the reader's slot with the back slot when that bit is set. Both swaps are one atomic exchange of a
-// byte holding the back slot's index and the bit (acq_rel: the writer's stores to a slot happen before the
-// reader's loads from it, and the reader's loads happen before the writer reuses the slot).
 // Shapes: three T, constructed up front (default-constructed, or copies of `initial`).
 // Threads: exactly one writer thread calls writeSlot() and publish(); exactly one reader thread at a time
 // calls update() and read(). The viewer owns the reader end. A second consumer does not share it: give it
@@ -25,6 +20,11 @@
 
 namespace incise::sim {
 
+// Scheme: three slots. The writer owns one (it fills it), the reader owns one (it reads it), the third is
+// the "back" slot. publish() swaps the writer's slot with the back slot and sets a "new data" bit; update()
+// swaps the reader's slot with the back slot when that bit is set. Both swaps are one atomic exchange of a
+// byte holding the back slot's index and the bit (acq_rel: the writer's stores to a slot happen before the
+// reader's loads from it, and the reader's loads happen before the writer reuses the slot).
 template <typename T>
 class TripleBuffer {
  public:

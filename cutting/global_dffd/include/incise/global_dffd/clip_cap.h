@@ -1,15 +1,13 @@
 // Clipping a closed tissue surface by an axis-aligned plane and capping the cut, so that the kept part is
 // closed again: the "capped" treatment of a model split at a discontinuity plane u = u_i (paper §3.2, first
-// method: the model is clipped by the plane and the cuts are capped). A thin wrapper around CGAL's Polygon
-// Mesh Processing clip (CGAL::Polygon_mesh_processing::clip with clip_volume(true), on a
-// CGAL::Surface_mesh with the Exact_predicates_inexact_constructions_kernel); CGAL stays out of this header.
+// method: the model is clipped by the plane and the cuts are capped), through CGAL's Polygon Mesh Processing
+// clip; CGAL stays out of this header.
 //
 // Shapes: a SurfaceMesh in, a SurfaceMesh out (triangles only, deleted elements of the input skipped; a
 // clipped result has none, with normals computed). Kinds are not carried through CGAL: every element of a
 // clipped result is Original, the cap's faces included.
-// Units: as the mesh (metres in incise); `value` in the same units.
-// Threads: any thread; calls on distinct or const meshes may run concurrently. Allocates: not for the sim
-// thread.
+// Units: as the mesh (metres in incise); `value` in the same units. Threads: any thread; calls on distinct
+// or const meshes may run concurrently. Allocates: not for the sim thread.
 // Failure: std::invalid_argument for axis outside 0..2 or a non-finite value (checked first); MeshError
 // for an input that is not a closed two-manifold (with checkManifold's first problem), when CGAL finds a
 // self-intersection among the triangles the plane crosses, reports failure (clip returns false: the result
@@ -36,6 +34,8 @@ enum class KeepSide { Below, Above };
 // Cost: O((V + F) log(V + F)): the manifold check, the conversions and CGAL's corefinement with a box cut
 // by the plane; about 6 ms for the bunny (3,674 triangles) and 65-80 ms for it Loop-subdivided twice
 // (58,784), half of it in CGAL's clip (Release, one core).
+// Through CGAL::Polygon_mesh_processing::clip with clip_volume(true), on a CGAL::Surface_mesh with the
+// Exact_predicates_inexact_constructions_kernel.
 mesh::SurfaceMesh clipAndCap(const mesh::SurfaceMesh& mesh, int axis, double value, KeepSide keep);
 
 }  // namespace incise::global_dffd
