@@ -3,13 +3,6 @@
 // values by usage — logical, and in physical units — and its inverse, the encoder that builds a report
 // from values (the generator of the shipped recordings uses it).
 //
-// Values (HID 1.11 6.2.2.7): a field element's bits are little-endian at its bit offset; a field whose
-// logical minimum is negative is two's-complement signed, else unsigned. physical = physical_min +
-// (logical - logical_min) * (physical_max - physical_min) / (logical_max - logical_min), in units of
-// 10^unit_exponent of the field's unit: HidValue::physical has the exponent applied (Wacom's X: logical
-// 0..44800 -> 0..22.4 cm). hidUnitToSi converts length and angle units to metres and radians. A logical
-// value outside the logical range (a null state, 6.2.2.5) is passed on as it is; HidValue::in_range says so.
-//
 // Cost: decode O(bits in the report) with no allocation: about 20-100 ns for a tablet report (see the
 // benchmark hid_bench). Threads: a decoder is immutable after construction; decode from any thread.
 // Failure: decode never throws; a report that is empty, names an ID the descriptor does not declare, or is
@@ -27,6 +20,12 @@
 
 namespace incise::devices {
 
+// Values (HID 1.11 6.2.2.7): a field element's bits are little-endian at its bit offset; a field whose
+// logical minimum is negative is two's-complement signed, else unsigned. physical = physical_min +
+// (logical - logical_min) * (physical_max - physical_min) / (logical_max - logical_min), in units of
+// 10^unit_exponent of the field's unit: HidValue::physical has the exponent applied (Wacom's X: logical
+// 0..44800 -> 0..22.4 cm). hidUnitToSi converts length and angle units to metres and radians. A logical
+// value outside the logical range (a null state, 6.2.2.5) is passed on as it is; HidValue::in_range says so.
 struct HidValue {
   std::uint32_t usage = 0;  // page << 16 | id; for an array element, the usage its index selects (0: none)
   std::int64_t logical = 0;

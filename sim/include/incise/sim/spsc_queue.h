@@ -6,10 +6,7 @@
 // (plain data: poses, timestamps, buttons) so that both ends stay real-time safe.
 // Threads: exactly one producer thread calls tryPush(); exactly one consumer thread calls tryPop() and
 // drainLatest(); sizeApprox() and capacity() may be called from any thread. The two ends may be different
-// threads or the same one. Head and tail live on separate cache lines, each end caching the other's index,
-// so the ends touch each other's line only when the queue looks full (producer) or empty (consumer).
-// Memory order: the producer's release store of the tail publishes the slot it wrote; the consumer's release
-// store of the head hands the slots it read back to the producer.
+// threads or the same one.
 // Cost: O(1) per push or pop (one slot copy); drainLatest is O(1) whatever the backlog (only the newest slot
 // is copied). Never blocks, never allocates after construction.
 // Failure: tryPush returns false when full, the pops return false / nullopt / 0 when empty; nothing throws.
@@ -24,6 +21,10 @@
 
 namespace incise::sim {
 
+// Head and tail live on separate cache lines, each end caching the other's index, so the ends touch each
+// other's line only when the queue looks full (producer) or empty (consumer). Memory order: the producer's
+// release store of the tail publishes the slot it wrote; the consumer's release store of the head hands the
+// slots it read back to the producer.
 template <typename T, std::size_t Capacity>
 class SpscQueue {
   static_assert(Capacity >= 1, "SpscQueue needs at least one slot");
