@@ -1,6 +1,10 @@
 // Recorded pose traces as CSV text: the format, a reader that is a PoseSource, and a writer that
 // survives being killed. The format is also described, with an example, in devices/TRACE_FORMAT.md;
 // here above kTraceHeader.
+//
+// Units: seconds, metres. Threads: a reader or a writer belongs to one thread at a time; keep the writer off
+// the sim thread (a flush may block on the disk). Cost: O(line length) per sample. Failure: the reader
+// throws TraceError with path, line and column; the writer std::invalid_argument or std::system_error.
 #pragma once
 
 #include <array>
