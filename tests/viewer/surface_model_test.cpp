@@ -25,7 +25,7 @@ TEST_CASE("surface_model: updated after every pull, it ends as a model built fro
   sim::copyGeometry(*run->world, 0, copy);
   REQUIRE(fresh.update(copy));
   CHECK(fresh.dirty().all);
-  CHECK(updates_with_changes > 100);
+  CHECK(updates_with_changes > 50);            // many frames, each with a few changes
   CHECK(max_dirty < fresh.vertexCount() / 4);  // only what changed, never the whole mesh
   REQUIRE(followed.vertexCount() == fresh.vertexCount());
   REQUIRE(followed.faceCount() == fresh.faceCount());

@@ -30,6 +30,7 @@ void validate(const IncisionOptions& o) {
   requirePositive(o.beta_m, "beta_m");
   requirePositive(o.spacing_m, "spacing_m");
   requirePositive(o.retraction_time_s, "retraction_time_s");
+  requirePositive(o.taper_m, "taper_m");
   requirePositive(o.max_step_m, "max_step_m");
   if (!(std::isfinite(o.epsilon) && o.epsilon > 0.0 && o.epsilon < 1e-3))
     refuse("epsilon = " + core::formatNumber(o.epsilon) + " must be in (0, 1e-3)");
@@ -316,9 +317,23 @@ double Incision::startV() const noexcept { return (options_.order - 1) + 0.5 * o
 
 double Incision::lastStationV() const noexcept { return startV() + (stationCount() - 1); }
 
+// The stations at each end of the cut whose columns' support reaches beyond it open not at all, the next
+// `order` ramp up: so D is 0 on both sides of u = 1/2 beyond the cut (no face the cut does not split is
+// torn) and the wound closes towards its ends. Beyond the cut means before startV() and, while the stroke
+// goes on, from finalEndV() (the last `order` final stations wait: the wound opens that far behind the
+// blade), once finished from lastStationV(). A station's ramp only grows as stations are added.
+double Incision::stationRamp(int station, bool settled_end) const noexcept {
+  const int o = options_.order, closed = (o + 1) / 2;
+  const int last_open = stationCount() - 1 - (finished_ || settled_end ? closed : o);
+  // Over taper_m the opening rises as a smoothstep: its curvature along the cut is what a face beside the
+  // seam must withstand without folding (a long, gentle taper keeps it small).
+  const double stations = std::max(1.0, std::ceil(options_.taper_m / options_.spacing_m));
+  const double x = std::clamp(std::min(station - closed + 1, last_open - station + 1) / stations, 0.0, 1.0);
+  return x * x * (3.0 - 2.0 * x);
+}
+
 double Incision::stationOpening(int station, double t_s) const noexcept {
-  const double ramp = std::min(1.0, double(station + 1) / options_.order);
-  return 0.5 * options_.opening_m * ramp *
+  return 0.5 * options_.opening_m * stationRamp(station, false) *
          retraction((t_s - stations_[static_cast<size_t>(station)].time_s) / options_.retraction_time_s);
 }
 
@@ -342,8 +357,10 @@ void Incision::updateOpening(double t_s, std::vector<int>& changed_columns) {
       setDisplacementColumn(column, opening_m);
       changed_columns.push_back(column);
     }
-    // Station times do not decrease: once one has settled, every one before it has.
-    if (s == first_unsettled_ && t_s - stations_[static_cast<size_t>(s)].time_s >= options_.retraction_time_s)
+    // Station times do not decrease and ramps grow towards the start: once one has settled (its time
+    // response done, its ramp as it will stay), every one before it has.
+    if (s == first_unsettled_ && t_s - stations_[static_cast<size_t>(s)].time_s >= options_.retraction_time_s &&
+        stationRamp(s, false) == stationRamp(s, true))
       ++first_unsettled_;
   }
 }

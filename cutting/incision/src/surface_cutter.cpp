@@ -152,6 +152,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   column_started_ = false;
   last_query_units_ = 0;
   refining_ = false;
+  seam_capped_ = false;
   time_s_ = first.time_s;
   std::fill(cell_first_.begin(), cell_first_.end(), -1);
   std::fill(cell_last_.begin(), cell_last_.end(), -1);
@@ -253,8 +254,12 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
       promoteInterior(step);
     }
     step.deadline_hit = budget.deadlineHit();
-    // A seam vertex whose faces waited for a later column's vertices (sidesKnown) is opened at the end.
-    if (allColumnsDone()) promoteInterior(step);
+    // A seam vertex whose faces waited for a later column's vertices (sidesKnown) is opened at the end,
+    // once the seam reaches the cut's ends.
+    if (allColumnsDone()) {
+      capSeamEnds(step);
+      promoteInterior(step);
+    }
     redeform(step);
   } catch (const std::exception& e) {  // allocation failure or a broken invariant: stop, never throw
     fail(std::string("SurfaceCutter: ") + e.what());
@@ -264,12 +269,6 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
   if ((failed_ || allColumnsDone()) && !stats_.figures.back().done) diagnose();
   step.failed = failed_;
   return step;
-}
-
-double SurfaceCutter::grooveLength() const noexcept {
-  double length_m = 0.0;
-  for (size_t i = 1; i < chain_.size(); ++i) length_m += (data(chain_[i]).rest_m - data(chain_[i - 1]).rest_m).norm();
-  return length_m;
 }
 
 void SurfaceCutter::fail(const std::string& message) {
@@ -472,61 +471,8 @@ void SurfaceCutter::splitCrossings(const std::vector<VH>& fresh, CutStep& step) 
       ++stats_.figures.back().crossings_outside;
       continue;
     }
-    const Eigen::Vector3d rest_m = (1.0 - lambda) * da.rest_m + lambda * db.rest_m;
-    const bool wall = !m.is_boundary(h) && !m.is_boundary(m.opposite_halfedge_handle(h)) &&
-                      mesh_.kind(m.face_handle(h)) == mesh::FaceKind::Wall &&
-                      mesh_.kind(m.face_handle(m.opposite_halfedge_handle(h))) == mesh::FaceKind::Wall;
-    const VH v = addBoundVertex(rest_m, uvw, 0, mesh::VertexKind::Seam);
-    m.split(e, v);
-    for (auto f = m.vf_iter(v); f.is_valid(); ++f) {  // the two faces split and the two new ones
-      mesh_.setKind(*f, wall ? mesh::FaceKind::Wall : mesh::FaceKind::Split);
-      faceChanged(*f);
-    }
-    data(v).seam = true;
-    pushReserved(seam_created_, v);
-    ++stats_.figures.back().seam_vertices;
+    pushReserved(seam_created_, splitAtCut(e));
     ++step.edges_split;
-    ++stats_.edges_split;
-  }
-}
-
-void SurfaceCutter::walkChain() {
-  mesh::TriMesh& m = mesh_.mesh();
-  if (chain_.empty()) {
-    if (seam_created_.empty()) return;
-    if (!chain_.pushBack(seam_created_.front())) ++stats_.reserve_overflows;
-    data(chain_.front()).chained = true;
-  }
-  // Extend at the tip (larger v preferred) and at the start (smaller v preferred).
-  for (const bool at_tip : {true, false}) {
-    while (true) {
-      const VH end = at_tip ? chain_.back() : chain_.front();
-      VH next;
-      for (auto n = m.vv_iter(end); n.is_valid(); ++n) {
-        if (!bound(*n) || !data(*n).seam || data(*n).chained) continue;
-        if (!next.is_valid() || (at_tip ? data(*n).uvw[1] > data(next).uvw[1] : data(*n).uvw[1] < data(next).uvw[1]))
-          next = *n;
-      }
-      if (!next.is_valid()) break;
-      data(next).chained = true;
-      if (!(at_tip ? chain_.pushBack(next) : chain_.pushFront(next))) ++stats_.reserve_overflows;
-    }
-  }
-}
-
-void SurfaceCutter::promoteInterior(CutStep& step) {
-  for (size_t i = 1; i + 1 < chain_.size() && !failed_; ++i) {
-    const VH c = chain_[i];
-    if (data(c).doubled) continue;
-    if (!allColumnsDone() && !sidesKnown(c)) break;  // its neighbours' sides come with a later column
-    const VH prev = chain_[i - 1], next = chain_[i + 1];
-    deleteStrip(prev, c);
-    deleteStrip(c, next);
-    if (!duplicate(c)) return;
-    buildWallColumn(c);
-    ++step.vertices_duplicated;
-    ++stats_.vertices_duplicated;
-    if (!buildStrip(prev, c, step) || !buildStrip(c, next, step)) return;
   }
 }
 
@@ -542,8 +488,11 @@ void SurfaceCutter::setStencil(VH v) {
     stencil_basis_.resize(stencil_basis_.size() + 2 * static_cast<size_t>(size));
   }
   const size_t s = static_cast<size_t>(d.stencil);
+  // A seam vertex not (yet) duplicated lies on the cut between its two sides: it moves with their mean, as
+  // the bottom of the walls and the tets' crack front do.
+  const int side = d.side == 0 ? 2 : d.side;
   stencil_count_[s] = static_cast<std::uint8_t>(
-      incision_->stencil(d.uvw, d.side, &stencil_first_[2 * s], &stencil_basis_[2 * s * static_cast<size_t>(size)]));
+      incision_->stencil(d.uvw, side, &stencil_first_[2 * s], &stencil_basis_[2 * s * static_cast<size_t>(size)]));
 }
 
 // Moves the vertices of the columns process() found changed (updateOpening) and those bound in this call.

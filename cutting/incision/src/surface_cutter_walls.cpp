@@ -4,6 +4,7 @@
 // two-manifold. The incision's other steps are in surface_cutter.cpp.
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <vector>
 
 #include "incise/incision/surface_cutter.h"
@@ -15,23 +16,38 @@ using detail::deleteFace;
 using detail::FH;
 using detail::VH;
 
-bool SurfaceCutter::duplicate(VH c) {
+bool SurfaceCutter::duplicate(VH c, VH prev, VH next) {
   mesh::TriMesh& m = mesh_.mesh();
-  // The faces around c in counter-clockwise order with their side (from their other vertices).
-  around_.clear();
-  for (auto f = m.vf_ccwiter(c); f.is_valid(); ++f) {
-    int side = 0;
-    for (auto v = m.fv_iter(*f); v.is_valid(); ++v)
-      if (*v != c && sideOf(*v) != 0) side = sideOf(*v);
-    pushReserved(around_, Around{*f, side});
+  // The seam edges to its neighbours on the chain part the faces around c in two fans: those from the edge
+  // to prev round (counter-clockwise) to the edge to next, and the others. Which fan is the u >= 1/2 side
+  // the bound vertices of its faces say (a vertex beyond the lattice, or one guessed near the cut, never
+  // decides alone).
+  const auto to_prev = m.find_halfedge(c, prev), to_next = m.find_halfedge(c, next);
+  if (!to_prev.is_valid() || !to_next.is_valid()) {
+    fail("seam vertex " + std::to_string(c.idx()) + " is not joined to its neighbours on the seam");
+    return false;
   }
-  const auto minus = std::find_if(around_.begin(), around_.end(), [](const Around& a) { return a.side == -1; });
-  if (minus == around_.end() ||
-      std::none_of(around_.begin(), around_.end(), [](const Around& a) { return a.side == 1; })) {
+  around_.clear();
+  int votes = 0;  // + for the first fan on the u >= 1/2 side
+  auto h = to_prev;
+  int fan = 0;
+  do {
+    if (h == to_next) fan = 1;
+    const FH f = m.face_handle(h);
+    if (f.is_valid()) {
+      for (auto v = m.fv_iter(f); v.is_valid(); ++v)
+        if (*v != c && bound(*v) && !data(*v).seam && std::abs(data(*v).side) == 1)
+          votes += (fan == 0 ? 1 : -1) * data(*v).side;
+      pushReserved(around_, Around{f, fan});
+    }
+    h = m.ccw_rotated_halfedge_handle(h);
+  } while (h != to_prev);
+  if (votes == 0 || fan == 0) {
     fail("seam vertex " + std::to_string(c.idx()) + " does not separate two sides");
     return false;
   }
-  std::rotate(around_.begin(), minus, around_.end());  // the + faces now form one run
+  const int plus_fan = votes > 0 ? 0 : 1;
+  for (Around& a : around_) a.side = a.side == plus_fan ? 1 : -1;
   plus_.clear();
   for (const Around& a : around_) {
     if (a.side != 1) continue;
@@ -137,10 +153,12 @@ bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>
   const bool forward = m.is_boundary(h);
   if (!forward && !m.is_boundary(m.opposite_halfedge_handle(h)))
     return fail("lip edge " + std::to_string(a[0].idx()) + "-" + std::to_string(b[0].idx()) + " is not open"), false;
-  const std::vector<VH>& x = forward ? a : b;
-  const std::vector<VH>& y = forward ? b : a;
-  for (size_t r = 1; r < x.size(); ++r) {
-    const std::array<std::array<VH, 3>, 2> tri = {{{x[r - 1], y[r - 1], y[r]}, {x[r - 1], y[r], x[r]}}};
+  // Both sides split each quad along the same diagonal, a[r - 1] - b[r], only their orientation differs:
+  // where the opening is small the two walls are nearly one surface, and crossing diagonals would cross.
+  for (size_t r = 1; r < a.size(); ++r) {
+    const std::array<std::array<VH, 3>, 2> tri =
+        forward ? std::array<std::array<VH, 3>, 2>{{{a[r - 1], b[r - 1], b[r]}, {a[r - 1], b[r], a[r]}}}
+                : std::array<std::array<VH, 3>, 2>{{{a[r - 1], b[r], b[r - 1]}, {a[r - 1], a[r], b[r]}}};
     for (const auto& t : tri) {
       if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
       const FH f = mesh_.mesh().add_face(t[0], t[1], t[2]);

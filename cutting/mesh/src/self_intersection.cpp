@@ -13,18 +13,25 @@
 
 namespace incise::mesh {
 
-std::optional<std::pair<int, int>> findSelfIntersection(const TriMesh& mesh) {
+std::vector<std::pair<int, int>> findSelfIntersections(const TriMesh& mesh) {
   std::vector<int> face_handles;
-  const detail::CgalMesh cgal = detail::toCgal(mesh, "findSelfIntersection", &face_handles);
+  const detail::CgalMesh cgal = detail::toCgal(mesh, "findSelfIntersections", &face_handles);
   std::vector<std::pair<detail::CgalMesh::Face_index, detail::CgalMesh::Face_index>> pairs;
   CGAL::Polygon_mesh_processing::self_intersections(cgal, std::back_inserter(pairs));
-  std::optional<std::pair<int, int>> first;
+  std::vector<std::pair<int, int>> out;
+  out.reserve(pairs.size());
   for (const auto& [f, g] : pairs) {
     const int a = face_handles[static_cast<size_t>(f.idx())], b = face_handles[static_cast<size_t>(g.idx())];
-    const std::pair<int, int> pair{std::min(a, b), std::max(a, b)};
-    if (!first || pair < *first) first = pair;
+    out.emplace_back(std::min(a, b), std::max(a, b));
   }
-  return first;
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::optional<std::pair<int, int>> findSelfIntersection(const TriMesh& mesh) {
+  const std::vector<std::pair<int, int>> pairs = findSelfIntersections(mesh);
+  if (pairs.empty()) return std::nullopt;
+  return pairs.front();
 }
 
 }  // namespace incise::mesh

@@ -3,7 +3,8 @@
 // coarse closed model, cut unrefined) and a seeded property test over icospheres, skin pads at several grid
 // resolutions (a 4 mm one and a coarse icosphere cut through local refinement),
 // a torus and the bunny, with random starts, directions, lengths, bends and depths. After every cut: a
-// closed two-manifold with its Euler characteristic, no zero-area or sliver face, no NaN, walls facing out
+// closed two-manifold with its Euler characteristic, no two faces crossing, no zero-area or sliver face,
+// no NaN, walls facing out
 // of the tissue (the volume drops by the wound, stays positive), the groove as deep as the blade within 5%,
 // vertices beyond the lattice's reach bit for bit unchanged, and a groove about as long as the stroke, or
 // a shortfall that says why.
@@ -20,6 +21,7 @@
 #include <string>
 
 #include "incise/incision/stroke_path.h"
+#include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
 #include "stroke_fixture.h"
 
@@ -120,6 +122,11 @@ bool cutAndCheck(const Case& c) {
   REQUIRE(after.closed_two_manifold);
   REQUIRE(after.euler_characteristic == before.euler_characteristic);
   REQUIRE(after.degenerate_faces == 0);
+  // No two faces cross other than along what they share: a valid solid for TetGen, a Boolean or a printer.
+  const auto crossing = mesh::findSelfIntersections(mesh.mesh());
+  INFO(crossing.size() << " pairs of faces cross, the first " << (crossing.empty() ? -1 : crossing[0].first) << " and "
+                       << (crossing.empty() ? -1 : crossing[0].second));
+  REQUIRE(crossing.empty());
   // No sliver, at rest: no skin face worse than 1/20 of the input's worst (the snap keeps a tenth of every
   // split edge); wall faces no thinner than the fans at a groove's ends, which span a seam gap (>= a tenth
   // of an edge) against the blade's depth: quality >= 1e-3.

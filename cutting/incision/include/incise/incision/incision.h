@@ -30,6 +30,8 @@ struct IncisionOptions {
   double beta_m = 0.002;            // paper's beta: spacing of control rows along the normal
   double spacing_m = 0.0005;        // stroke resampling step: one lattice column per spacing
   double retraction_time_s = 0.05;  // time for the opening to reach its full width
+  double taper_m = 0.004;           // from each end of the cut, the length over which the wound opens to
+                                    // its full width (a smoothstep; at least one spacing)
   double max_step_m = 0.005;        // a sample farther than this from the previous one is skipped
   int order = 4;                    // B-spline order o in u, v and w
   int across_controls = 5;          // l: control planes across the cut before insertion (odd, >= order)
@@ -87,7 +89,9 @@ class Incision {
   // above the surface, falling linearly to 0 at the blade's depth (the blade's V shape); opening_j: half the
   // wound's width times the time response r((t - t_j) / retraction_time_s), r(x) = 1 - (1 - x)^3 on [0, 1]
   // (the opening grows from 0 to its full width as the tissue retracts, and settles exactly), times a ramp
-  // over the first `order` stations. A deformed point is x + D(u, v, w): F = F0 + D with F0(uvw) = x
+  // that is 0 for the stations whose columns reach beyond the cut's ends and rises over taper_m (a
+  // smoothstep): D is 0 on both sides of u = 1/2 beyond the cut, so no face the cut leaves whole is torn,
+  // and the wound closes towards its ends. A deformed point is x + D(u, v, w): F = F0 + D with F0(uvw) = x
   // exactly, so points where D is 0 are never moved by inversion error.
   //
   // Sets the displacement lattice for time t_s (>= every sample's time for a meaningful response) and
@@ -180,6 +184,9 @@ class Incision {
   void setRestColumn(int column);
   void refreshRestColumns(int first_column);
   int extrapolatedEnd() const noexcept;
+  // The share of the full opening station `station` may have (0 at the cut's ends, 1 inside); with
+  // `settled_end` as it will be once the stroke is finished.
+  double stationRamp(int station, bool settled_end) const noexcept;
   double stationOpening(int station, double t_s) const noexcept;
   void setDisplacementColumn(int column, double opening_m);
 

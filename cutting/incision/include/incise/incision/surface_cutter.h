@@ -250,8 +250,20 @@ class SurfaceCutter {
   mesh::TriMesh::VertexHandle addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side,
                                              mesh::VertexKind kind);
   void walkChain();
+  // Once every column is cut: the seam's first and last vertices are the last crossings inside the cut,
+  // where the opening is not yet 0; each end is carried one face further, to where the cut's plane leaves
+  // the face beside it (crossBeyond), where the opening is 0 on both sides: the lips close where the seam
+  // ends, and no face beyond it is torn.
+  void capSeamEnds(CutStep& step);
+  // Whether the wound opens at parameter v along the cut (its seam vertices there are duplicated).
+  bool opensAt(double v) const noexcept;
+  // The seam vertex where the cut's plane leaves a face of `end` (its far edge split there, or an end
+  // point of that edge snapped onto the cut); invalid when no face of `end` is crossed.
+  mesh::TriMesh::VertexHandle crossBeyond(mesh::TriMesh::VertexHandle end);
+  // Splits edge `e`, whose end points lie on the two sides, where it crosses u = 1/2: a new seam vertex.
+  mesh::TriMesh::VertexHandle splitAtCut(mesh::TriMesh::EdgeHandle e);
   void promoteInterior(CutStep& step);
-  bool duplicate(mesh::TriMesh::VertexHandle c);
+  bool duplicate(mesh::TriMesh::VertexHandle c, mesh::TriMesh::VertexHandle prev, mesh::TriMesh::VertexHandle next);
   void buildWallColumn(mesh::TriMesh::VertexHandle c);
   void deleteStrip(mesh::TriMesh::VertexHandle a, mesh::TriMesh::VertexHandle b);
   bool buildStrip(mesh::TriMesh::VertexHandle a, mesh::TriMesh::VertexHandle b, CutStep& step);
@@ -283,6 +295,7 @@ class SurfaceCutter {
   std::unique_ptr<Incision> spare_;  // made at construction, restarted by begin(): no allocation there
   int incision_index_ = -1;
   int next_column_ = 0;
+  bool seam_capped_ = false;     // capSeamEnds() has run for the current incision
   bool column_started_ = false;  // next_column_'s step is under way: candidates_ and fresh_ are live
   // A column's grid query is charged to the budget: one unit per kCandidatesPerUnit vertices found (about
   // 60 ns each on the 940k bunny, memory latency; a unit is a Newton inversion, about 3.5 us).

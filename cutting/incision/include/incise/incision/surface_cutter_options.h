@@ -104,6 +104,7 @@ struct IncisionFigures {
   int inversions_failed = 0;     // vertices in their own slab whose inversion did not converge
   int seam_vertices = 0;         // seam vertices made (edges split and vertices snapped)
   int crossings_outside = 0;     // crossing edges outside the blade's window (not split)
+  int uncapped_ends = 0;         // ends of the seam that no face beside them could carry to the cut's end
   int refined_vertices = 0;      // vertices the local refinement added ahead of the cut (one an edge bisected)
   int refined_faces = 0;         // faces it added (two an edge bisected on a closed mesh)
   // Set when the work is done:

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "incise/mesh/surface_mesh.h"
 
@@ -16,5 +17,9 @@ namespace incise::mesh {
 // cannot be represented as a CGAL::Surface_mesh (not a two-manifold). Cost O(F log F + pairs of
 // overlapping boxes).
 std::optional<std::pair<int, int>> findSelfIntersection(const TriMesh& mesh);
+
+// Every such pair (lower index first), in ascending order: where a cut surface crosses itself, for checks
+// and reports. Same test and cost as findSelfIntersection.
+std::vector<std::pair<int, int>> findSelfIntersections(const TriMesh& mesh);
 
 }  // namespace incise::mesh
