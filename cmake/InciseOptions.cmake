@@ -63,6 +63,13 @@ function(incise_add_module name)
   endforeach()
   target_compile_features(${target} PUBLIC cxx_std_20)
   incise_target_options(${target})
+  # A native build's public types hold Eigen values laid out for this CPU's vectors (AVX: 32-byte
+  # alignment), so code that shares them (a user of the installed package) is compiled for the same CPU;
+  # a program built without them crashes on a misaligned Eigen member. -DINCISE_NATIVE=OFF for a package
+  # that other CPUs and other flags can use.
+  if(INCISE_NATIVE AND NOT INCISE_SANITIZE AND NOT INCISE_TSAN)
+    target_compile_options(${target} INTERFACE -march=native -mno-avx512f)
+  endif()
   install(TARGETS ${target} EXPORT inciseTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
