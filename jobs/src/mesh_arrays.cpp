@@ -1,6 +1,7 @@
 #include "incise/jobs/mesh_arrays.h"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,15 +62,19 @@ mesh::SurfaceMesh meshFromArrays(std::span<const double> xyz_m, std::span<const 
   return surface;
 }
 
+// Tight loops over the status flags and the half-edges (not OpenMesh's skipping iterators and circulators):
+// these run at memory speed on meshes of millions of elements.
 std::size_t liveVertices(const TriMesh& mesh) noexcept {
   std::size_t n = 0;
-  for ([[maybe_unused]] const auto v : mesh.vertices()) ++n;
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    n += !mesh.status(TriMesh::VertexHandle(static_cast<int>(v))).deleted();
   return n;
 }
 
 std::size_t liveFaces(const TriMesh& mesh) noexcept {
   std::size_t n = 0;
-  for ([[maybe_unused]] const auto f : mesh.faces()) ++n;
+  for (std::size_t f = 0; f < mesh.n_faces(); ++f)
+    n += !mesh.status(TriMesh::FaceHandle(static_cast<int>(f))).deleted();
   return n;
 }
 
@@ -77,7 +82,13 @@ bool verticesContiguous(const TriMesh& mesh) noexcept { return liveVertices(mesh
 
 void copyVertices(const mesh::SurfaceMesh& surface, std::span<double> xyz_m) {
   const TriMesh& m = surface.mesh();
-  if (xyz_m.size() != 3 * liveVertices(m)) throw std::invalid_argument("copyVertices: wrong output size");
+  const std::size_t n = liveVertices(m);
+  if (xyz_m.size() != 3 * n) throw std::invalid_argument("copyVertices: wrong output size");
+  static_assert(sizeof(TriMesh::Point) == 3 * sizeof(double));
+  if (n == m.n_vertices()) {
+    if (n > 0) std::memcpy(xyz_m.data(), m.points(), n * sizeof(TriMesh::Point));
+    return;
+  }
   std::size_t i = 0;
   for (const auto v : m.vertices()) {
     const TriMesh::Point& p = m.point(v);
@@ -93,9 +104,16 @@ void copyFaces(const mesh::SurfaceMesh& surface, std::span<std::int64_t> triangl
   const bool contiguous = verticesContiguous(m);
   const std::vector<std::int64_t> index = contiguous ? std::vector<std::int64_t>{} : compactIndex(m);
   std::size_t i = 0, k = 0;
-  for (const auto f : m.faces()) {
-    for (const auto v : m.fv_range(f)) triangles[i++] = contiguous ? v.idx() : index[static_cast<std::size_t>(v.idx())];
-    if (!kinds.empty()) kinds[k++] = static_cast<std::uint8_t>(surface.kind(f));
+  for (std::size_t f = 0; f < m.n_faces(); ++f) {
+    const TriMesh::FaceHandle face(static_cast<int>(f));
+    if (m.status(face).deleted()) continue;
+    // A face's vertices as its circulator gives them (cfv_iter: the face's half-edge, then its next ones).
+    TriMesh::HalfedgeHandle h = m.halfedge_handle(face);
+    for (int corner = 0; corner < 3; ++corner, h = m.next_halfedge_handle(h)) {
+      const int v = m.to_vertex_handle(h).idx();
+      triangles[i++] = contiguous ? v : index[static_cast<std::size_t>(v)];
+    }
+    if (!kinds.empty()) kinds[k++] = static_cast<std::uint8_t>(surface.kind(face));
   }
 }
 

@@ -31,7 +31,7 @@ class MeshView {
 
   const mesh::SurfaceMesh& mesh() const noexcept { return *mesh_; }
   // Live vertices x 3 doubles: the mesh's own storage when no vertex is deleted (the cutter never deletes
-  // one), else a compact copy made once.
+  // one), else a compact copy made once. The count is taken once (O(V)): the mesh does not change.
   const double* vertices() const;
   std::size_t vertexCount() const;
   const std::vector<std::int64_t>& faces() const;  // live faces x 3, made once
@@ -39,12 +39,14 @@ class MeshView {
 
  private:
   void gatherFaces() const;
+  void countVertices() const;
   std::shared_ptr<const void> owner_;
   const mesh::SurfaceMesh* mesh_;
   mutable std::vector<double> compact_vertices_;
   mutable std::vector<std::int64_t> faces_;
   mutable std::vector<std::uint8_t> face_kinds_;
-  mutable bool gathered_ = false, compacted_ = false;
+  mutable std::size_t vertex_count_ = 0;
+  mutable bool counted_ = false, contiguous_ = false, gathered_ = false, compacted_ = false;
 };
 
 // A read-only numpy view of `count` x `columns` elements at `data`, kept alive by `base`.

@@ -20,17 +20,28 @@ MeshView MeshView::owning(mesh::SurfaceMesh mesh) {
   return MeshView(std::move(owned), raw);
 }
 
+void MeshView::countVertices() const {
+  if (counted_) return;
+  vertex_count_ = jobs::liveVertices(mesh_->mesh());
+  contiguous_ = vertex_count_ == mesh_->mesh().n_vertices();
+  counted_ = true;
+}
+
 const double* MeshView::vertices() const {
-  if (jobs::verticesContiguous(mesh_->mesh())) return mesh_->mesh().points()->data();
+  countVertices();
+  if (contiguous_) return mesh_->mesh().points()->data();
   if (!compacted_) {
-    compact_vertices_.resize(3 * jobs::liveVertices(mesh_->mesh()));
+    compact_vertices_.resize(3 * vertex_count_);
     jobs::copyVertices(*mesh_, compact_vertices_);
     compacted_ = true;
   }
   return compact_vertices_.data();
 }
 
-std::size_t MeshView::vertexCount() const { return jobs::liveVertices(mesh_->mesh()); }
+std::size_t MeshView::vertexCount() const {
+  countVertices();
+  return vertex_count_;
+}
 
 void MeshView::gatherFaces() const {
   if (gathered_) return;
