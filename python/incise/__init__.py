@@ -76,7 +76,20 @@ def shipped(name):
     return str(data_dir() / name)
 
 
-class Cut:
+class _MeshResult:
+    """What a cut and a replay share: their mesh's arrays (see incise.Mesh) and its OBJ file."""
+
+    vertices = property(lambda self: self.mesh.vertices, doc="N x 3 float64, metres (a read-only view).")
+    faces = property(lambda self: self.mesh.faces, doc="M x 3 int64 (a read-only view).")
+    face_kinds = property(lambda self: self.mesh.face_kinds, doc="M uint8: 0 skin, 1 split, 2 wall (a view).")
+    wall = property(lambda self: self.mesh.wall, doc="M bool: wall faces of the wound (a copy).")
+
+    def save_obj(self, path):
+        """The mesh as OBJ: the bytes the CLI writes to cut.obj (walls in the group `wall`)."""
+        self.mesh.save_obj(_arguments.path(path, "path"))
+
+
+class Cut(_MeshResult):
     """A stroke cut across a mesh (incise.cut): the cut mesh and summary.json's document.
 
     mesh      the cut mesh (an incise.Mesh: its arrays are read-only views)
@@ -92,15 +105,6 @@ class Cut:
         self.summary = summary
         self.ok = ok
         self.failure = failure
-
-    vertices = property(lambda self: self.mesh.vertices, doc="N x 3 float64, metres (a read-only view).")
-    faces = property(lambda self: self.mesh.faces, doc="M x 3 int64 (a read-only view).")
-    face_kinds = property(lambda self: self.mesh.face_kinds, doc="M uint8: 0 skin, 1 split, 2 wall (a view).")
-    wall = property(lambda self: self.mesh.wall, doc="M bool: wall faces of the wound (a copy).")
-
-    def save_obj(self, path):
-        """The cut mesh as OBJ: the bytes `incise cut` writes to cut.obj."""
-        self.mesh.save_obj(_arguments.path(path, "path"))
 
     def __repr__(self):
         return f"<incise.Cut: {self.mesh!r}, {'ok' if self.ok else 'failed: ' + self.failure}>"
@@ -163,7 +167,7 @@ def _document_cut_defaults():
 _document_cut_defaults()
 
 
-class Replay:
+class Replay(_MeshResult):
     """A scenario replayed (incise.replay): the cut tissue and report.json's document.
 
     mesh           the tissue as the replay left it (an incise.Mesh, read-only views)
@@ -178,14 +182,6 @@ class Replay:
         self.report = report
 
     geometry_hash = property(lambda self: self.report["geometry_hash"], doc="16 hex digits (report.json's).")
-    vertices = property(lambda self: self.mesh.vertices, doc="N x 3 float64, metres (a read-only view).")
-    faces = property(lambda self: self.mesh.faces, doc="M x 3 int64 (a read-only view).")
-    face_kinds = property(lambda self: self.mesh.face_kinds, doc="M uint8: 0 skin, 1 split, 2 wall (a view).")
-    wall = property(lambda self: self.mesh.wall, doc="M bool: wall faces of the wound (a copy).")
-
-    def save_obj(self, path):
-        """The cut tissue as OBJ: the bytes `incise replay` writes to cut.obj."""
-        self.mesh.save_obj(_arguments.path(path, "path"))
 
     def __repr__(self):
         return f"<incise.Replay {self.report['scenario']}: {self.report['incisions']} incision(s), {self.geometry_hash}>"

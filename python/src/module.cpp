@@ -18,6 +18,9 @@ PYBIND11_MODULE(_incise, m) {
   m.attr("__version__") = INCISE_PROJECT_VERSION_STRING;
   // A file, mesh, scenario or trace incise refused: the message says what and where (file:line, element).
   static py::exception<std::runtime_error> input_error(m, "InputError", PyExc_ValueError);
+  input_error.attr("__doc__") =
+      "A file, mesh, scenario or trace incise refused (a ValueError): the message says what and where "
+      "(file:line, key path, element index).";
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
       if (thrown) std::rethrow_exception(thrown);

@@ -376,7 +376,8 @@ typedef struct incise_score {
 INCISE_API incise_status incise_score_trace(const char* scenario_path, const char* trace_path, incise_score* score,
                                             char* json, uint32_t json_capacity, uint32_t* json_length);
 
-/** The same for poses in memory (a session the caller recorded), named "poses" in the JSON line. */
+/** The same for poses in memory (a session the caller recorded, `pose_count` > 0, in time order), named
+ *  "poses" in the JSON line. Threads: any. */
 INCISE_API incise_status incise_score_poses(const char* scenario_path, const incise_pose* poses, uint32_t pose_count,
                                             incise_score* score, char* json, uint32_t json_capacity,
                                             uint32_t* json_length);
