@@ -4,6 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace incise::jobs {
@@ -34,6 +35,23 @@ void checkArrays(std::span<const double> xyz_m, std::span<const std::int64_t> tr
   }
 }
 
+// Each directed edge once: a second use is a face turned the wrong way or an edge of more than two faces
+// (found here, with both faces named, before OpenMesh refuses the face with a message of its own).
+void checkOrientation(std::span<const std::int64_t> triangles) {
+  std::unordered_map<std::uint64_t, std::size_t> directed;
+  directed.reserve(triangles.size());
+  for (std::size_t f = 0; f < triangles.size(); f += 3)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto from = static_cast<std::uint64_t>(triangles[f + k]);
+      const auto to = static_cast<std::uint64_t>(triangles[f + (k + 1) % 3]);
+      const auto [where, fresh] = directed.emplace(from << 32 | to, f / 3);
+      if (!fresh)
+        throw MeshError("face " + std::to_string(f / 3) + ": edge (" + std::to_string(from) + ", " +
+                        std::to_string(to) + ") runs the same way in face " + std::to_string(where->second) +
+                        " (a face turned inside out, or an edge of more than two faces)");
+    }
+}
+
 // The new index of every vertex past the deleted ones (-1 for a deleted one).
 std::vector<std::int64_t> compactIndex(const TriMesh& mesh) {
   std::vector<std::int64_t> index(mesh.n_vertices(), -1);
@@ -46,6 +64,7 @@ std::vector<std::int64_t> compactIndex(const TriMesh& mesh) {
 
 mesh::SurfaceMesh meshFromArrays(std::span<const double> xyz_m, std::span<const std::int64_t> triangles) {
   checkArrays(xyz_m, triangles);
+  checkOrientation(triangles);
   mesh::SurfaceMesh surface;
   TriMesh& m = surface.mesh();
   m.reserve(xyz_m.size() / 3, triangles.size() / 2, triangles.size() / 3);
