@@ -103,53 +103,47 @@ INCISE_API incise_status incise_world_destroy(incise_world_id world) {
 
 INCISE_API incise_status incise_world_step(incise_world_id world, const incise_pose* poses, uint32_t pose_count,
                                            double dt_s, double t_s, incise_step_result* result) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
     if (pose_count > 0 && !poses) return capi::nullArgument(__func__, "poses");
     if (!(std::isfinite(dt_s) && dt_s > 0.0) || !std::isfinite(t_s))
       return fail(__func__, INCISE_INVALID_PARAMETER,
                   "dt_s = " + std::to_string(dt_s) + ", t_s = " + std::to_string(t_s) +
                       ": dt_s must be finite and > 0, t_s finite");
-    w->poses.resize(pose_count);  // allocates only when a step brings more poses than any before
-    for (uint32_t i = 0; i < pose_count; ++i) w->poses[i] = capi::toPose(poses[i]);
-    const sim::StepResult r = w->world->step(std::span(w->poses.data(), pose_count), dt_s, t_s);
-    if (w->stream) w->stream->publish(*w->world, w->steps);
-    ++w->steps;
-    if (result) capi::fillResult(r, *w->world, *result);
+    w.poses.resize(pose_count);  // allocates only when a step brings more poses than any before
+    for (uint32_t i = 0; i < pose_count; ++i) w.poses[i] = capi::toPose(poses[i]);
+    const sim::StepResult r = w.world->step(std::span(w.poses.data(), pose_count), dt_s, t_s);
+    if (w.stream) w.stream->publish(*w.world, w.steps);
+    ++w.steps;
+    if (result) capi::fillResult(r, *w.world, *result);
     return INCISE_SUCCESS;
   });
 }
 
 INCISE_API incise_status incise_world_get_info(incise_world_id world, incise_world_info* info) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    const capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
     if (!info) return capi::nullArgument(__func__, "info");
-    const mesh::TriMesh& m = w->world->tissue().mesh();
+    const mesh::TriMesh& m = w.world->tissue().mesh();
     info->vertex_count = static_cast<uint32_t>(m.n_vertices());
     info->face_count = static_cast<uint32_t>(m.n_faces());
-    info->incisions = w->world->incisions();
-    info->pending = w->world->pending() ? 1 : 0;
-    info->period_s = w->period_s;
-    info->settle_s = w->settle_s;
-    info->scenario_pose_count = static_cast<uint32_t>(w->scenario_poses.size());
-    info->has_tets = w->world->tets() ? 1 : 0;
+    info->incisions = w.world->incisions();
+    info->pending = w.world->pending() ? 1 : 0;
+    info->period_s = w.period_s;
+    info->settle_s = w.settle_s;
+    info->scenario_pose_count = static_cast<uint32_t>(w.scenario_poses.size());
+    info->has_tets = w.world->tets() ? 1 : 0;
     return INCISE_SUCCESS;
   });
 }
 
 INCISE_API incise_status incise_world_scenario_poses(incise_world_id world, incise_pose* poses, uint32_t capacity,
                                                      uint32_t* count) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    const capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
     incise_status status;
-    if (!capi::bufferFits(__func__, poses, capacity, w->scenario_poses.size(), count, &status)) return status;
-    for (std::size_t i = 0; i < w->scenario_poses.size(); ++i) poses[i] = capi::fromPose(w->scenario_poses[i]);
+    if (!capi::bufferFits(__func__, poses, capacity, w.scenario_poses.size(), count, &status)) return status;
+    for (std::size_t i = 0; i < w.scenario_poses.size(); ++i) poses[i] = capi::fromPose(w.scenario_poses[i]);
     return INCISE_SUCCESS;
   });
 }

@@ -78,11 +78,9 @@ extern "C" {
 
 INCISE_API incise_status incise_world_get_vertices(incise_world_id world, double* xyz_m, uint32_t capacity,
                                                    uint32_t* count) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    const capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
-    const mesh::TriMesh& m = w->world->tissue().mesh();
+    const mesh::TriMesh& m = w.world->tissue().mesh();
     incise_status status;
     if (!capi::bufferFits(__func__, xyz_m, capacity, m.n_vertices(), count, &status)) return status;
     static_assert(sizeof(mesh::TriMesh::Point) == 3 * sizeof(double));
@@ -93,11 +91,9 @@ INCISE_API incise_status incise_world_get_vertices(incise_world_id world, double
 
 INCISE_API incise_status incise_world_get_faces(incise_world_id world, uint32_t* triangles, uint8_t* kinds,
                                                 uint32_t capacity, uint32_t* count) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    const capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
-    const mesh::SurfaceMesh& tissue = w->world->tissue();
+    const mesh::SurfaceMesh& tissue = w.world->tissue();
     const mesh::TriMesh& m = tissue.mesh();
     incise_status status;
     if (!capi::bufferFits(__func__, triangles, capacity, m.n_faces(), count, &status)) return status;
@@ -119,21 +115,17 @@ INCISE_API incise_status incise_world_get_faces(incise_world_id world, uint32_t*
 }
 
 INCISE_API incise_status incise_world_geometry_hash(incise_world_id world, uint64_t* hash) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
-    const incise::capi::WorldState* w = incise::capi::findWorld(world);
-    if (!w) return incise::capi::noWorld(__func__, world);
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     if (!hash) return incise::capi::nullArgument(__func__, "hash");
-    *hash = incise::mesh::geometryHash(w->world->tissue());
+    *hash = incise::mesh::geometryHash(w.world->tissue());
     return INCISE_SUCCESS;
   });
 }
 
 INCISE_API incise_status incise_world_enable_updates(incise_world_id world, uint32_t per_step, int32_t send_all) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
-    if (w->stream) return fail(__func__, INCISE_INVALID_PARAMETER, "the world's updates are on already");
+    if (w.stream) return fail(__func__, INCISE_INVALID_PARAMETER, "the world's updates are on already");
     if (per_step == 0) per_step = capi::kDefaultUpdatesPerStep;
     if (per_step > capi::kMostUpdatesPerStep)
       return fail(__func__, INCISE_INVALID_PARAMETER,
@@ -142,31 +134,29 @@ INCISE_API incise_status incise_world_enable_updates(incise_world_id world, uint
     options.records_per_frame = static_cast<int>(per_step);
     options.ring_records = std::max<std::size_t>(std::size_t{1} << 16, capi::pow2AtLeast(4 * std::size_t{per_step}));
     auto stream = std::make_unique<sim::GeometryStream>(options);
-    stream->attach(*w->world);
+    stream->attach(*w.world);
     if (send_all) {
       stream->requestReset();
     } else {
       sim::GeometryMirror scratch;  // the reader reads the mesh whole now: the stream starts in sync
-      stream->seed(*w->world, scratch);
+      stream->seed(*w.world, scratch);
     }
-    w->stream = std::move(stream);
+    w.stream = std::move(stream);
     return INCISE_SUCCESS;
   });
 }
 
 INCISE_API incise_status incise_world_read_updates(incise_world_id world, incise_mesh_update* updates,
                                                    uint32_t capacity, uint32_t* count) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
     if (!updates) return capi::nullArgument(__func__, "updates");
     if (!count) return capi::nullArgument(__func__, "count");
-    if (!w->stream)
+    if (!w.stream)
       return fail(__func__, INCISE_INVALID_PARAMETER, "the world's updates are off (incise_world_enable_updates)");
     uint32_t written = 0;
     while (written < capacity) {
-      const std::size_t read = w->stream->read(
+      const std::size_t read = w.stream->read(
           [&](const sim::GeometryRecord& r) {
             if (capi::toUpdate(r, updates[written])) ++written;
           },
@@ -180,11 +170,9 @@ INCISE_API incise_status incise_world_read_updates(incise_world_id world, incise
 
 INCISE_API incise_status incise_world_get_incisions(incise_world_id world, incise_incision_figures* figures,
                                                     uint32_t capacity, uint32_t* count) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    const capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
-    const std::vector<incision::IncisionFigures>& all = w->world->cutter().stats().figures;
+    const std::vector<incision::IncisionFigures>& all = w.world->cutter().stats().figures;
     incise_status status;
     if (!capi::bufferFits(__func__, figures, capacity, all.size(), count, &status)) return status;
     for (std::size_t i = 0; i < all.size(); ++i) figures[i] = capi::figuresOf(all[i]);
@@ -194,11 +182,9 @@ INCISE_API incise_status incise_world_get_incisions(incise_world_id world, incis
 
 INCISE_API incise_status incise_world_get_incision_text(incise_world_id world, uint32_t incision, char* text,
                                                         uint32_t capacity, uint32_t* length) {
-  return guarded(__func__, InvalidArgument::Parameter, [&]() -> incise_status {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
     using namespace incise;
-    const capi::WorldState* w = capi::findWorld(world);
-    if (!w) return capi::noWorld(__func__, world);
-    const std::vector<incision::IncisionFigures>& all = w->world->cutter().stats().figures;
+    const std::vector<incision::IncisionFigures>& all = w.world->cutter().stats().figures;
     if (incision >= all.size())
       return fail(__func__, INCISE_INVALID_PARAMETER,
                   "incision " + std::to_string(incision) + " of " + std::to_string(all.size()));

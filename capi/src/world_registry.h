@@ -10,6 +10,8 @@
 #include <memory>
 #include <vector>
 
+#include "capi_convert.h"
+#include "capi_status.h"
 #include "incise/devices/pose_sample.h"
 #include "incise/incise.h"
 #include "incise/sim/geometry_stream.h"
@@ -32,5 +34,16 @@ incise_world_id addWorld(std::unique_ptr<WorldState> state);
 WorldState* findWorld(incise_world_id id) noexcept;
 // Destroys the world of `id`; false when there is none.
 bool removeWorld(incise_world_id id) noexcept;
+
+// A C API function's body on the world of `id` (guarded: exceptions become statuses; a stale id fails with
+// INCISE_INVALID_HANDLE before body(WorldState&) runs).
+template <typename Body>
+incise_status onWorld(const char* function, incise_world_id id, Body&& body) noexcept {
+  return guarded(function, InvalidArgument::Parameter, [&]() -> incise_status {
+    WorldState* w = findWorld(id);
+    if (!w) return noWorld(function, id);
+    return body(*w);
+  });
+}
 
 }  // namespace incise::capi

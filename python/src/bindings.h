@@ -16,6 +16,7 @@
 #include <pybind11/pybind11.h>
 
 #include "incise/devices/pose_sample.h"
+#include "incise/incision/surface_cutter_options.h"
 #include "incise/mesh/surface_mesh.h"
 
 namespace incise::python {
@@ -63,6 +64,9 @@ py::array readOnlyView(const T* data, std::size_t count, std::size_t columns, py
 // Copies of a live mesh's arrays (for a world, whose mesh changes on).
 py::array_t<double> copyVertices(const mesh::SurfaceMesh& mesh);
 py::tuple copyFaces(const mesh::SurfaceMesh& mesh);  // (faces M x 3 int64, kinds M uint8)
+
+// "linear", "pn" or "off" (the CLI's --refine names); std::invalid_argument for another.
+incision::CutterOptions::Refine refineMode(const std::string& name);
 
 inline constexpr int kPoseColumns = 10;
 // Poses from an N x 10 (or 10) float64 array into `out` (cleared first). Throws std::invalid_argument for

@@ -26,13 +26,6 @@ Eigen::Vector3d vector3(const py::handle& value, const char* name) {
   return {v[0], v[1], v[2]};
 }
 
-incision::CutterOptions::Refine refineMode(const std::string& name) {
-  if (name == "off") return incision::CutterOptions::Refine::Off;
-  if (name == "linear") return incision::CutterOptions::Refine::Linear;
-  if (name == "pn") return incision::CutterOptions::Refine::PnTriangles;
-  throw std::invalid_argument("refine: '" + name + "' is not one of linear, pn, off");
-}
-
 // The options dict (the CLI's option names, without the dashes) over jobs::CutJobOptions's defaults.
 jobs::CutJobOptions cutOptions(const std::string& mesh_path, const py::dict& given) {
   jobs::CutJobOptions o;
@@ -164,6 +157,13 @@ py::array_t<double> readJigsaws(const std::filesystem::path& path, const std::st
 }
 
 }  // namespace
+
+incision::CutterOptions::Refine refineMode(const std::string& name) {
+  if (name == "off") return incision::CutterOptions::Refine::Off;
+  if (name == "linear") return incision::CutterOptions::Refine::Linear;
+  if (name == "pn") return incision::CutterOptions::Refine::PnTriangles;
+  throw std::invalid_argument("refine: '" + name + "' is not one of linear, pn, off");
+}
 
 void bindJobs(py::module_& m) {
   m.def("_cut", &runCut, py::arg("mesh_path"), py::arg("options"),

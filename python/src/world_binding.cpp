@@ -2,6 +2,7 @@
 // — or run over a whole trace in C++ as `incise replay --fast` runs it; the tissue read as copies.
 #include <atomic>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include <pybind11/stl.h>
@@ -38,53 +39,31 @@ py::array_t<double> vector3(const Eigen::Vector3d& v) {
 sim::WorldOptions worldOptions(const py::dict& given) {
   sim::WorldOptions o;
   incision::IncisionOptions& i = o.cutter.incision;
+  const std::map<std::string, double*> numbers = {{"depth_m", &i.depth_m},
+                                                  {"opening_m", &i.opening_m},
+                                                  {"alpha_m", &i.alpha_m},
+                                                  {"beta_m", &i.beta_m},
+                                                  {"spacing_m", &i.spacing_m},
+                                                  {"retraction_time_s", &i.retraction_time_s},
+                                                  {"refine_edge_m", &o.cutter.refine_edge_m},
+                                                  {"blade_length_m", &o.tool.blade_length_m},
+                                                  {"stiffness_N_per_m", &o.tissue.stiffness_N_per_m},
+                                                  {"damping_N_s_per_m", &o.tissue.damping_N_s_per_m},
+                                                  {"cutting_resistance_N", &o.tissue.cutting_resistance_N},
+                                                  {"max_force_N", &o.tissue.max_force_N},
+                                                  {"cut_budget_us", &o.cut_budget_us}};
+  const std::map<std::string, int*> integers = {
+      {"order", &i.order}, {"wall_rows", &o.cutter.wall_rows}, {"cut_button", &o.tool.cut_button}};
   for (const auto& [key_handle, value] : given) {
     const std::string key = py::str(key_handle);
-    if (key == "depth_m")
-      i.depth_m = value.cast<double>();
-    else if (key == "opening_m")
-      i.opening_m = value.cast<double>();
-    else if (key == "alpha_m")
-      i.alpha_m = value.cast<double>();
-    else if (key == "beta_m")
-      i.beta_m = value.cast<double>();
-    else if (key == "spacing_m")
-      i.spacing_m = value.cast<double>();
-    else if (key == "retraction_time_s")
-      i.retraction_time_s = value.cast<double>();
-    else if (key == "order")
-      i.order = value.cast<int>();
-    else if (key == "wall_rows")
-      o.cutter.wall_rows = value.cast<int>();
-    else if (key == "refine_edge_m")
-      o.cutter.refine_edge_m = value.cast<double>();
-    else if (key == "blade_length_m")
-      o.tool.blade_length_m = value.cast<double>();
-    else if (key == "cut_button")
-      o.tool.cut_button = value.cast<int>();
-    else if (key == "stiffness_N_per_m")
-      o.tissue.stiffness_N_per_m = value.cast<double>();
-    else if (key == "damping_N_s_per_m")
-      o.tissue.damping_N_s_per_m = value.cast<double>();
-    else if (key == "cutting_resistance_N")
-      o.tissue.cutting_resistance_N = value.cast<double>();
-    else if (key == "max_force_N")
-      o.tissue.max_force_N = value.cast<double>();
-    else if (key == "cut_budget_us")
-      o.cut_budget_us = value.cast<double>();
-    else if (key == "refine") {
-      const std::string mode = value.cast<std::string>();
-      if (mode == "off")
-        o.cutter.refine = incision::CutterOptions::Refine::Off;
-      else if (mode == "linear")
-        o.cutter.refine = incision::CutterOptions::Refine::Linear;
-      else if (mode == "pn")
-        o.cutter.refine = incision::CutterOptions::Refine::PnTriangles;
-      else
-        throw std::invalid_argument("refine: '" + mode + "' is not one of linear, pn, off");
-    } else {
+    if (const auto n = numbers.find(key); n != numbers.end())
+      *n->second = value.cast<double>();
+    else if (const auto k = integers.find(key); k != integers.end())
+      *k->second = value.cast<int>();
+    else if (key == "refine")
+      o.cutter.refine = refineMode(value.cast<std::string>());
+    else
       throw std::invalid_argument("World: unknown option '" + key + "'");
-    }
   }
   return o;
 }
