@@ -32,6 +32,11 @@ function(incise_target_options target)
   # No silent fusing of a*b+c: whether GCC fuses depends on the inlining context, which would make the
   # same point evaluate to different bits on different paths. Eigen's explicit FMA kernels still apply.
   target_compile_options(${target} PRIVATE -ffp-contract=off)
+  # Position-independent code (CMAKE_POSITION_INDEPENDENT_CODE) without GCC's assumption that a global
+  # function may be replaced at load time: calls within incise stay direct and inlinable, as in -fPIE.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -fno-semantic-interposition)
+  endif()
   if(INCISE_NATIVE AND NOT INCISE_SANITIZE AND NOT INCISE_TSAN)
     # AVX-512 is left off: GCC 12 warns falsely inside Eigen's 512-bit kernels, and the 256-bit
     # kernels are as fast for 3-vectors.
@@ -58,6 +63,13 @@ function(incise_add_module name)
   endforeach()
   target_compile_features(${target} PUBLIC cxx_std_20)
   incise_target_options(${target})
+  # A native build's public types hold Eigen values laid out for this CPU's vectors (AVX: 32-byte
+  # alignment), so code that shares them (a user of the installed package) is compiled for the same CPU;
+  # a program built without them crashes on a misaligned Eigen member. -DINCISE_NATIVE=OFF for a package
+  # that other CPUs and other flags can use.
+  if(INCISE_NATIVE AND NOT INCISE_SANITIZE AND NOT INCISE_TSAN)
+    target_compile_options(${target} INTERFACE -march=native -mno-avx512f)
+  endif()
   install(TARGETS ${target} EXPORT inciseTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})

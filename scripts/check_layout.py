@@ -18,6 +18,9 @@ ALLOWED = {
     'cutting/tets': {'core', 'bspline', 'mesh', 'incision'},
     'devices': set(),
     'sim': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices'},
+    'jobs': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim'},
+    'capi': {'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim', 'jobs'},
+    'python': {'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim', 'jobs'},
     'viewer': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim'},
 }
 MAX_FILES = 25

@@ -2,7 +2,9 @@
 # Installs the Debian 12 packages incise builds and tests with (oneTBB for the global DFFD's mapping; the viewer:
 # GLFW, libepoxy, Dear ImGui, libpng; its pictures: Xvfb and Mesa's llvmpipe through GLX or EGL, no GPU needed;
 # the fuzz harnesses: clang 14 and its runtime libraries (libFuzzer, the sanitizers: libclang-rt-14-dev is
-# only recommended by clang-14), llvm-14's llvm-symbolizer for the sanitizers' stacks). Idempotent: only what is missing is installed.
+# only recommended by clang-14), llvm-14's llvm-symbolizer for the sanitizers' stacks; the Python module:
+# pybind11, Python's headers, numpy, pytest for its tests, matplotlib for its examples; Doxygen for the API
+# reference). Idempotent: only what is missing is installed.
 # Nothing is fetched from anywhere but Debian's package archive.
 set -euo pipefail
 
@@ -15,6 +17,7 @@ packages=(
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl1
   gnuplot-nox parallel xdotool
   clang-14 libclang-rt-14-dev llvm-14
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib doxygen
 )
 
 missing=()

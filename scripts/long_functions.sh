@@ -13,7 +13,8 @@ fi
 max_function=${1:-80}
 max_file=${2:-600}
 files=$(git ls-files 'measure/*.cpp' 'measure/*.h' 'cutting/*.cpp' 'cutting/*.h' 'devices/*.cpp' 'devices/*.h' 'sim/*.cpp' 'sim/*.h' \
-  'viewer/*.cpp' 'viewer/*.h' 'apps/*.cpp' 'apps/*.h')
+  'viewer/*.cpp' 'viewer/*.h' 'apps/*.cpp' 'apps/*.h' 'jobs/*.cpp' 'jobs/*.h' 'capi/*.cpp' 'capi/*.h' \
+  'python/*.cpp' 'python/*.h')
 status=0
 for f in $files; do
   lines=$(wc -l < "$f")

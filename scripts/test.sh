@@ -2,7 +2,9 @@
 # The whole test suite, from a fresh clone on Debian 12: installs what is missing, builds (Release),
 # runs every test, then builds again with AddressSanitizer + UndefinedBehaviorSanitizer and runs the
 # suite under them, then builds the libFuzzer harnesses (clang 14) and runs each for 30 s. Exits non-zero if
-# anything fails. Benchmarks are built but not run.
+# anything fails. Benchmarks are built but not run. The Release pass includes the C API's C program, the
+# Python module's pytest suite, the examples built and run against an installed prefix, and the API
+# reference (Doxygen, any warning an error); the C API's program runs again under the sanitizers.
 #   scripts/test.sh            everything
 #   scripts/test.sh --quick    the Release pass only, without [slow] cases
 set -euo pipefail

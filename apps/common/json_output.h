@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "incise/incision/surface_cutter_options.h"
+#include "incise/jobs/run_report.h"
 
 namespace incise::apps {
 
@@ -30,19 +30,11 @@ void writeThroughTemporary(const std::filesystem::path& path, Write&& write) {
   }
 }
 
-// Per incision, in order: {"stroke_length_m", "groove_length_m"} (incision::IncisionFigures).
-// Also where the groove runs along the stroke, the lattice columns that held no vertex, and the shortfall
-// with its sentence ("why", empty when the groove is as long as the stroke).
-nlohmann::json incisionFiguresJson(const std::vector<incision::IncisionFigures>& figures);
-// What went wrong with the cut, for a report's failure field: the cutter's internal failure, else the first
-// incision whose groove fell short of its stroke ("incision 2 of 3: a groove of ..."), else "".
-std::string cutFailure(const incision::CutStats& stats);
-
-// Sums over the incisions of their groove and stroke lengths (metres).
-double totalGroove_m(const std::vector<incision::IncisionFigures>& figures);
-double totalStroke_m(const std::vector<incision::IncisionFigures>& figures);
-
-// p50, p99, max and mean of a list of durations in microseconds (nearest rank).
-nlohmann::json timingSummary(std::vector<double> values_us);
+// The run's documents' pieces (incise::jobs's, shared with the C API and the Python module).
+using jobs::cutFailure;
+using jobs::incisionFiguresJson;
+using jobs::timingSummary;
+using jobs::totalGroove_m;
+using jobs::totalStroke_m;
 
 }  // namespace incise::apps

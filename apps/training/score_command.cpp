@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "incise/devices/trace_csv.h"
+#include "incise/jobs/score_traces.h"
 #include "incise/mesh/surface_mesh.h"
 #include "incise/sim/plan.h"
 #include "incise/sim/score.h"
@@ -41,49 +41,19 @@ struct Session {
 };
 
 // Reads every trace and checks it against the scenario's tissue (exit 2 on the first bad one).
-std::vector<Session> readTraces(const ScoreArgs& a, const std::string& tissue_hash, const std::string& scenario) {
+std::vector<Session> readTraces(const ScoreArgs& a, const jobs::ScoringScenario& scoring) {
+  const jobs::Warn warn = [](const std::string& text) {
+    std::fprintf(stderr, "incise score: warning: %s\n", text.c_str());
+  };
   std::vector<Session> sessions;
   for (const std::string& file : a.traces) {
-    Session s{file, {}};
     try {
-      devices::TraceReader reader(file);
-      while (auto pose = reader.next()) s.poses.push_back(*pose);
-      const std::string recorded = traceTissueHash(reader.comments());
-      if (!recorded.empty() && recorded != tissue_hash)
-        failWith("score", file + ": recorded on another tissue (its comment says tissue " + recorded + ", " + scenario +
-                              "'s tissue is " + tissue_hash + ")");
-      if (recorded.empty())
-        std::fprintf(stderr, "incise score: warning: %s carries no tissue hash; scored on %s's tissue\n", file.c_str(),
-                     scenario.c_str());
+      sessions.push_back({file, jobs::readScoreTrace(file, scoring, warn)});
     } catch (const std::exception& e) {
       failWith("score", e.what());
     }
-    if (s.poses.empty()) failWith("score", file + ": the trace is empty (no pose to score)");
-    sessions.push_back(std::move(s));
   }
   return sessions;
-}
-
-// Means over the traces of the headline figures.
-nlohmann::ordered_json summaryJson(const std::vector<nlohmann::ordered_json>& lines) {
-  static const char* keys[] = {"time_s",      "path_length_in_contact_m", "economy", "strokes_count", "idle_time_s",
-                               "peak_force_N"};
-  static const char* plan_keys[] = {"lateral_mean_abs_m", "share_within_lateral_tolerance", "share_uncut",
-                                    "depth_mean_abs_error_m", "share_within_depth_tolerance"};
-  nlohmann::ordered_json mean;
-  const auto average = [&](const char* key, const char* block) {
-    double sum = 0.0;
-    int n = 0;
-    for (const auto& l : lines) {
-      const nlohmann::ordered_json& v = block ? l[block][key] : l[key];
-      if (v.is_number()) sum += v.get<double>(), ++n;
-    }
-    if (n > 0) mean[std::string(block ? std::string(block) + "." : "") + key] = sum / n;
-  };
-  for (const char* k : keys) average(k, nullptr);
-  if (!lines.empty() && lines.front()["plan"].is_object())
-    for (const char* k : plan_keys) average(k, "plan");
-  return {{"summary", {{"traces", lines.size()}, {"mean", mean}}}};
 }
 
 std::filesystem::path plotPath(const ScoreArgs& a, const std::string& trace, const char* suffix) {
@@ -132,22 +102,21 @@ nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const m
       writePicture("score", run, score.frames - 1, plotPath(a, s.file, "-top").string(), picture);
     }
   }
-  return nlohmann::ordered_json::parse(scoreLine(s.file, score));
+  return nlohmann::ordered_json::parse(jobs::scoreLine(s.file, score));
 }
 
 int runScore(const ScoreArgs& a) {
   checkOutputs(a);
-  LoadedScenario run;
-  mesh::SurfaceMesh tissue;
+  jobs::ScoringScenario scoring;
   try {
-    run.scenario = sim::loadScenario(a.scenario);
-    tissue = sim::loadTissue(run.scenario);
-    if (run.scenario.plan.given)  // bad plans are refused before any trace is read
-      sim::projectPlan(run.scenario.plan, tissue, run.scenario.world.cutter.incision.spacing_m, run.scenario.file);
+    scoring = jobs::loadScoringScenario(a.scenario);
   } catch (const std::exception& e) {
     failWith("score", e.what());
   }
-  std::vector<Session> sessions = readTraces(a, tissueHashText(tissue), run.scenario.name);
+  LoadedScenario run;
+  run.scenario = scoring.scenario;
+  const mesh::SurfaceMesh& tissue = scoring.tissue;
+  std::vector<Session> sessions = readTraces(a, scoring);
   std::vector<nlohmann::ordered_json> lines;
   Progress progress("score " + run.scenario.name, static_cast<double>(sessions.size()));
   try {
@@ -161,7 +130,7 @@ int runScore(const ScoreArgs& a) {
   progress.finish();
   std::string all;
   for (const auto& line : lines) all += line.dump() + "\n";
-  all += summaryJson(lines).dump() + "\n";
+  all += jobs::scoreSummary(lines).dump() + "\n";
   std::fputs(all.c_str(), stdout);
   if (!a.out.empty()) {
     try {

@@ -1,7 +1,5 @@
 #include "score_plots.h"
 
-#include <nlohmann/json.hpp>
-
 #include <spawn.h>
 #include <sys/wait.h>
 
@@ -115,12 +113,6 @@ void writeScorePlot(const sim::Score& score, const std::filesystem::path& png) {
     throw;
   }
   cleanUp();
-}
-
-std::string scoreLine(const std::string& trace_file, const sim::Score& score) {
-  nlohmann::ordered_json line = {{"trace", trace_file}};
-  line.update(nlohmann::ordered_json::parse(sim::scoreJson(score)));
-  return line.dump();
 }
 
 }  // namespace incise::apps::training

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "incise/jobs/score_traces.h"
 #include "incise/sim/score.h"
 
 namespace incise::apps::training {
@@ -17,8 +18,7 @@ namespace incise::apps::training {
 // True when a `gnuplot` is on the PATH (checked before any work: exit 2 without one).
 bool gnuplotAvailable();
 void writeScorePlot(const sim::Score& score, const std::filesystem::path& png);
-// A trace's line as `incise score` prints it (and `incise train` writes it): {"trace": FILE} then
-// sim::scoreJson's keys; no newline. Same score and name -> same bytes.
-std::string scoreLine(const std::string& trace_file, const sim::Score& score);
+// A trace's line as `incise score` prints it (and `incise train` writes it): incise::jobs's.
+using jobs::scoreLine;
 
 }  // namespace incise::apps::training
