@@ -20,7 +20,6 @@ bool SurfaceCutter::opensAt(double v) const noexcept {
   return v > incision_->startV() + kClosedV && (!incision_->finished() || v < incision_->lastStationV() - kClosedV);
 }
 
-
 void SurfaceCutter::capSeamEnds(CutStep& step) {
   if (chain_.empty() || seam_capped_) return;
   seam_capped_ = true;
@@ -38,7 +37,6 @@ void SurfaceCutter::capSeamEnds(CutStep& step) {
     if (!(at_tip ? chain_.pushBack(cap) : chain_.pushFront(cap))) ++stats_.reserve_overflows;
   }
 }
-
 
 VH SurfaceCutter::crossBeyond(VH end) {
   mesh::TriMesh& m = mesh_.mesh();
@@ -64,7 +62,6 @@ VH SurfaceCutter::crossBeyond(VH end) {
   return VH();
 }
 
-
 VH SurfaceCutter::splitAtCut(mesh::TriMesh::EdgeHandle e) {
   mesh::TriMesh& m = mesh_.mesh();
   const auto h = m.halfedge_handle(e, 0);
@@ -88,7 +85,6 @@ VH SurfaceCutter::splitAtCut(mesh::TriMesh::EdgeHandle e) {
   ++stats_.edges_split;
   return v;
 }
-
 
 void SurfaceCutter::walkChain() {
   mesh::TriMesh& m = mesh_.mesh();
@@ -114,12 +110,11 @@ void SurfaceCutter::walkChain() {
   }
 }
 
-
 void SurfaceCutter::promoteInterior(CutStep& step) {
   for (size_t i = 1; i + 1 < chain_.size() && !failed_; ++i) {
     const VH c = chain_[i];
     if (data(c).doubled || !opensAt(data(c).uvw[1])) continue;  // the lips stay closed at the cut's ends
-    if (!allColumnsDone() && !sidesKnown(c)) break;  // its neighbours' sides come with a later column
+    if (!allColumnsDone() && !sidesKnown(c)) break;             // its neighbours' sides come with a later column
     const VH prev = chain_[i - 1], next = chain_[i + 1];
     deleteStrip(prev, c);
     deleteStrip(c, next);
@@ -130,7 +125,6 @@ void SurfaceCutter::promoteInterior(CutStep& step) {
     if (!buildStrip(prev, c, step) || !buildStrip(c, next, step)) return;
   }
 }
-
 
 double SurfaceCutter::grooveLength() const noexcept {
   // The chain within the cut's ends (a cap reaches a little beyond them, where the lips stay shut).
@@ -146,6 +140,5 @@ double SurfaceCutter::grooveLength() const noexcept {
   }
   return length_m;
 }
-
 
 }  // namespace incise::incision
