@@ -32,6 +32,7 @@ void readIncision(const Reader& r, incision::CutterOptions& c) {
   i.beta_m = r.number("beta_m", i.beta_m, 1e-6, 1.0);
   i.spacing_m = r.number("spacing_m", i.spacing_m, 1e-6, 1.0);
   i.retraction_time_s = r.number("retraction_time_s", i.retraction_time_s, 1e-6, 100.0);
+  i.taper_m = r.number("taper_m", i.taper_m, 1e-6, 1.0);
   i.order = r.integer("order", i.order, 2, 8);
   i.across_controls = r.integer("across_controls", i.across_controls, 2, 63);
   i.normal_controls = r.integer("normal_controls", i.normal_controls, 2, 63);

@@ -33,6 +33,7 @@ constexpr std::string_view kReplayKeys[] = {
     "incision.beta_m",
     "incision.spacing_m",
     "incision.retraction_time_s",
+    "incision.taper_m",
     "incision.order",
     "incision.across_controls",
     "incision.normal_controls",
