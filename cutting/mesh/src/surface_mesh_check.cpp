@@ -1,5 +1,6 @@
 // The checks of surface meshes (surface_mesh.h): the loader's checks of a triangle list read from a file
 // (surface_mesh_internal.h), checkManifold of an OpenMesh mesh, and the summary built on it.
+#include "incise/mesh/self_intersection.h"
 #include "incise/mesh/surface_mesh.h"
 
 #include <algorithm>
@@ -341,6 +342,7 @@ MeshSummary summarize(const SurfaceMesh& surface) {
   s.boundary_edges = report.boundary_edges;
   s.euler_characteristic = report.euler_characteristic;
   s.closed_two_manifold = report.closed_two_manifold;
+  s.self_intersections = report.closed_two_manifold ? static_cast<int>(findSelfIntersections(mesh).size()) : -1;
   return s;
 }
 
@@ -355,6 +357,7 @@ std::string toJson(const MeshSummary& s) {
   j["boundary_edges"] = s.boundary_edges;
   j["euler_characteristic"] = s.euler_characteristic;
   j["closed_two_manifold"] = s.closed_two_manifold;
+  j["self_intersections"] = s.self_intersections;
   return j.dump(2);
 }
 

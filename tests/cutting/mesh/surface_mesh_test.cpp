@@ -2,6 +2,8 @@
 // its error messages, the closed-two-manifold check, OBJ/PLY saving, kinds, the JSON summary and Loop
 // subdivision of the bunny.
 #include "incise/mesh/surface_mesh.h"
+#include "incise/mesh/self_intersection.h"
+#include "incise/mesh/shapes.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -550,10 +552,24 @@ TEST_CASE("surface_mesh: summarize counts kinds and toJson writes every field", 
   REQUIRE(s.boundary_edges == 0);
   REQUIRE(s.euler_characteristic == 2);
   REQUIRE(s.closed_two_manifold);
+  REQUIRE(s.self_intersections == 0);
   REQUIRE(toJson(s) ==
           "{\n  \"vertices\": 4,\n  \"faces\": 4,\n  \"wall_faces\": 1,\n  \"split_faces\": 2,\n"
           "  \"seam_vertices\": 1,\n  \"wall_vertices\": 1,\n  \"boundary_edges\": 0,\n"
-          "  \"euler_characteristic\": 2,\n  \"closed_two_manifold\": true\n}");
+          "  \"euler_characteristic\": 2,\n  \"closed_two_manifold\": true,\n  \"self_intersections\": 0\n}");
+}
+
+TEST_CASE("surface_mesh: summarize counts the pairs of faces that cross", "[cutting]") {
+  // Two closed boxes, one through the other: every crossing pair is counted; apart, none.
+  const SurfaceMesh box = makeBox(Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()), 1);
+  const SurfaceMesh two =
+      merge({box, makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(0.5, 0.25, 0.25), Eigen::Vector3d(1.5, 0.75, 0.75)), 1)});
+  const SurfaceMesh apart =
+      merge({box, makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(3, 1, 1)), 1)});
+  REQUIRE(summarize(two).closed_two_manifold);
+  CHECK(summarize(two).self_intersections > 0);
+  CHECK(summarize(two).self_intersections == static_cast<int>(findSelfIntersections(two.mesh()).size()));
+  CHECK(summarize(apart).self_intersections == 0);
 }
 
 }  // namespace

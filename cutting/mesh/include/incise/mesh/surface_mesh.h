@@ -166,6 +166,7 @@ struct MeshSummary {
   int wall_faces, split_faces, seam_vertices, wall_vertices;
   int boundary_edges, euler_characteristic;
   bool closed_two_manifold;
+  int self_intersections;  // pairs of faces that cross other than along what they share (findSelfIntersections)
 };
 
 // The mean and longest length of the non-deleted edges (metres; 0 and 0 without edges). Cost O(E).
@@ -175,7 +176,9 @@ struct EdgeLengths {
 };
 EdgeLengths edgeLengths(const TriMesh& mesh);
 
-// Counts over non-deleted elements; manifold fields from checkManifold. Cost as checkManifold.
+// Counts over non-deleted elements; manifold fields from checkManifold, self_intersections from
+// findSelfIntersections on a closed two-manifold (-1 on any other mesh). Cost as both: O(F log F + pairs of
+// overlapping boxes); allocates (not for the sim thread).
 MeshSummary summarize(const SurfaceMesh& mesh);
 // A JSON object with the field names as keys, pretty-printed with indent 2.
 std::string toJson(const MeshSummary& summary);
