@@ -30,6 +30,8 @@ nlohmann::json incisionFiguresJson(const std::vector<incision::IncisionFigures>&
                     {"seam_vertices", f.seam_vertices},
                     {"refined_vertices", f.refined_vertices},
                     {"refined_faces", f.refined_faces},
+                    {"thickness_limited_samples", f.thickness_limited_samples},
+                    {"depth_clamped_samples", f.depth_clamped_samples},
                     {"shortfall", incision::toString(f.shortfall)},
                     {"why", incision::describeShortfall(f)}});
   return list;

@@ -27,6 +27,7 @@ using Reader = detail::JsonReader;
 void readIncision(const Reader& r, incision::CutterOptions& c) {
   incision::IncisionOptions& i = c.incision;
   i.depth_m = r.number("depth_m", i.depth_m, 1e-6, 1.0);
+  i.min_depth_m = r.number("min_depth_m", i.min_depth_m, 1e-6, 1.0);
   i.opening_m = r.number("opening_m", i.opening_m, 1e-6, 1.0);
   i.alpha_m = r.number("alpha_m", i.alpha_m, 1e-6, 1.0);
   i.beta_m = r.number("beta_m", i.beta_m, 1e-6, 1.0);
@@ -67,6 +68,8 @@ std::vector<StrokeSpec> readStrokes(const Reader& source) {
     spec.wave_m = s.number("wave_m", spec.wave_m, -10.0, 10.0);
     spec.speed_m_per_s = s.number("speed_m_per_s", spec.speed_m_per_s, 1e-4, 10.0);
     spec.pause_s = s.number("pause_s", spec.pause_s, 0.0, 100.0);
+    spec.depth_m = s.number("depth_m", spec.depth_m, 0.0, 1.0);
+    spec.depth_end_m = s.number("depth_end_m", spec.depth_end_m, 0.0, 1.0);
     if (spec.direction.norm() == 0.0) s.fail("must not be zero", "direction");
     strokes.push_back(spec);
   }
@@ -145,6 +148,12 @@ Scenario readScenario(const Reader& root, const std::filesystem::path& file) {
   } catch (const std::invalid_argument& e) {
     root.fail(e.what(), "incision");
   }
+  if (s.world.cutter.incision.depth_m > s.world.tool.blade_length_m)
+    root.child("incision")
+        .fail("= " + core::formatNumber(s.world.cutter.incision.depth_m) +
+                  " m is deeper than the blade is long (tool.blade_length_m = " +
+                  core::formatNumber(s.world.tool.blade_length_m) + " m)",
+              "depth_m");
 
   s.rate_hz = root.number("rate_hz", s.rate_hz, 10.0, 100000.0);
   s.settle_s = root.number("settle_s", s.settle_s, 0.0, 100.0);

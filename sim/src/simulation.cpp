@@ -111,6 +111,7 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   s.columns_done = cutter.columnsDone();
   s.edges_split = cutter.stats().edges_split;
   s.seam_vertices_opened = cutter.stats().vertices_duplicated;
+  s.groove_depth_m = cutter.active() ? cutter.incision()->frontDepthM() : 0.0;
   s.profile.haptic_us = microseconds(start, haptic_end);
   s.profile.cut_us = microseconds(haptic_end, cut_end);
   s.profile.poses = count;

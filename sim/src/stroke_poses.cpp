@@ -62,8 +62,11 @@ std::vector<devices::PoseSample> posesForStrokes(const mesh::SurfaceMesh& tissue
                                                  double rate_hz) {
   std::vector<devices::PoseSample> poses;
   Timeline timeline(rate_hz);
-  const double tip_depth_m = 0.9 * world.cutter.incision.depth_m;
   for (const StrokeSpec& spec : strokes) {
+    // The tip's depth: the stroke's own (constant, or a straight ramp to depth_end_m), else the deepest the
+    // incision cuts.
+    const double depth0_m = spec.depth_m >= 0.0 ? spec.depth_m : world.cutter.incision.depth_m;
+    const double depth1_m = spec.depth_end_m >= 0.0 ? spec.depth_end_m : depth0_m;
     if (!(std::isfinite(spec.pause_s) && spec.pause_s >= 0.0))
       throw std::invalid_argument("posesForStrokes: pause_s = " + core::formatNumber(spec.pause_s) +
                                   " must be finite and >= 0");
@@ -79,12 +82,15 @@ std::vector<devices::PoseSample> posesForStrokes(const mesh::SurfaceMesh& tissue
     const Eigen::Vector3d n0 = stroke.first.normal;
     const Eigen::Quaterniond q0 = bladeOrientation(n0, stroke.blade_direction);
     const Eigen::Vector3d above = stroke.first.point_m + kHoverM * n0;
-    const Eigen::Vector3d in = stroke.first.point_m - tip_depth_m * n0;
+    const Eigen::Vector3d in = stroke.first.point_m - depth0_m * n0;
     timeline.move(poses, above, above, q0, spec.pause_s, Blade::Up);
     timeline.move(poses, above, in, q0, kDescentS, Blade::Cutting);
     Eigen::Vector3d tip = in;
     Eigen::Quaterniond q = q0;
+    double tip_depth_m = depth0_m;
     for (size_t k = 0; k < stroke.samples.size(); ++k) {
+      const double f = stroke.samples.size() > 1 ? double(k) / double(stroke.samples.size() - 1) : 0.0;
+      tip_depth_m = depth0_m + f * (depth1_m - depth0_m);
       const incision::StrokeSample& s = stroke.samples[k];
       const Eigen::Vector3d travel = k + 1 < stroke.samples.size()
                                          ? Eigen::Vector3d(stroke.samples[k + 1].point_m - s.point_m)

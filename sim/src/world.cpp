@@ -119,7 +119,10 @@ bool World::buttonDown(const devices::PoseSample& pose) const noexcept {
 World::Contact World::exactContact(const devices::PoseSample& pose) const noexcept {
   std::optional<mesh::SurfacePoint> hit;
   try {
-    hit = cutter_->intersect(handleOf(pose), pose.tip_m);
+    // The whole blade: where it enters the skin however deep the tip is (its depth is clamped, not lost).
+    const Eigen::Vector3d handle =
+        pose.tip_m - options_.tool.blade_length_m * (pose.orientation * Eigen::Vector3d(0.0, 0.0, -1.0));
+    hit = cutter_->intersect(handle, pose.tip_m);
   } catch (...) {  // allocation in the grid query: treat as no contact this pose
     hit.reset();
   }
@@ -206,8 +209,9 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
 void World::cutPose(const devices::PoseSample& pose) noexcept {
   last_cut_pose_s_ = pose.time_s;
   const Contact c = exactContact(pose);
-  if (c.cutting) {
-    const incision::StrokeSample sample{c.point_m, c.normal, pose.time_s};
+  // A blade that only scratches the skin (less than min_depth_m in) makes no groove.
+  if (c.cutting && c.penetration_m >= options_.cutter.incision.min_depth_m) {
+    const incision::StrokeSample sample{c.point_m, c.normal, pose.time_s, c.penetration_m};
     if (!cutter_->active()) {  // a new incision: it begins once the previous one's work is done
       begin_waiting_ = true;
       begin_sample_ = sample;

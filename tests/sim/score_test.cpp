@@ -4,6 +4,7 @@
 #include "incise/sim/score.h"
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include <catch2/catch.hpp>
@@ -66,15 +67,15 @@ TEST_CASE("score: a straight stroke 1 mm beside the plan: mean lateral 1 mm, all
 
 TEST_CASE("score: a cut 3 mm deep against a 4 mm target is 1 mm short all along", "[score]") {
   Scenario scenario = padScenario();
-  scenario.world.cutter.incision.depth_m = 0.003;  // the simulation cuts to the lattice's depth
+  scenario.world.cutter.incision.depth_m = 0.003;  // the deepest the simulation cuts, and the tip's default
   scenario.plan.depth_tolerance_m = 0.0005;
   const Score s = scoreStrokes(scenario, {stroke(-0.025, 0.05)});
   CHECK(s.plan.depth_mean_abs_error_m == Approx(0.001).margin(5e-5));
   CHECK(s.plan.depth_max_overshoot_m <= 0.0);
   CHECK(s.plan.share_within_depth_tolerance < 0.02);
   CHECK(s.plan.share_within_lateral_tolerance >= 0.98);  // on the line, only too shallow
-  // The generator holds the tip at 0.9 x the lattice's depth: 2.7 mm, 1.3 mm short of the target.
-  CHECK(s.plan.blade_depth_mean_abs_error_m == Approx(0.0013).margin(5e-5));
+  // The generator holds the tip at the incision's depth: 3 mm, 1 mm short of the target.
+  CHECK(s.plan.blade_depth_mean_abs_error_m == Approx(0.001).margin(5e-5));
   CHECK(s.plan.blade_depth_max_overshoot_m <= 0.0);
 
   scenario.plan.depth_m = 0.003;  // against a 3 mm target the same cut is right
@@ -198,4 +199,61 @@ TEST_CASE("smoothness: a bell-shaped speed profile is smoother than the same wit
   CHECK(incise::sim::spectralArcLength(bell, dt) == Approx(-1.5).margin(0.2));
   CHECK(std::isnan(incise::sim::spectralArcLength(std::vector<double>(100, 0.0), dt)));  // no movement
   CHECK(std::isnan(incise::sim::logDimensionlessJerk(std::vector<double>{1.0, 2.0}, dt)));
+}
+
+namespace {
+
+// The groove's floor (each cut bin's deepest wall vertex) against `want(s_m)` at every 2 mm along the plan
+// from from_s_m to to_s_m (away from the cut's tapered ends).
+void requireFloorFollows(const Score& s, double from_s_m, double to_s_m, double tolerance_m,
+                         const std::function<double(double)>& want_m) {
+  int checked = 0;
+  double next_m = from_s_m;
+  for (const incise::sim::PlanBin& bin : s.plan.bins) {
+    if (bin.s_m < next_m || bin.s_m > to_s_m) continue;
+    next_m += 0.002;
+    INFO("at " << bin.s_m * 1e3 << " mm along the plan: floor " << bin.depth_m * 1e3 << " mm, tip "
+               << want_m(bin.s_m) * 1e3 << " mm");
+    REQUIRE(bin.cut);
+    CHECK(std::abs(bin.depth_m - want_m(bin.s_m)) <= tolerance_m);
+    ++checked;
+  }
+  REQUIRE(checked >= static_cast<int>((to_s_m - from_s_m) / 0.002));
+}
+
+}  // namespace
+
+TEST_CASE("depth: strokes 1, 2.5 and 4 mm deep cut floors within 0.25 mm of the tip all along", "[score][depth]") {
+  for (const double depth_m : {0.001, 0.0025, 0.004}) {
+    INFO("tip " << depth_m * 1e3 << " mm below the skin");
+    StrokeSpec spec = stroke(-0.025, 0.05);
+    spec.depth_m = depth_m;
+    const Score s = scoreStrokes(padScenario(), {spec});
+    requireFloorFollows(s, 0.005, 0.045, 0.00025, [&](double) { return depth_m; });
+    CHECK(s.plan.depth_mean_abs_error_m == Approx(0.004 - depth_m).margin(0.00025));  // the target: 4 mm
+  }
+}
+
+TEST_CASE("depth: a tip ramped from 1 to 5 mm cuts a sloped floor within 0.5 mm at every 2 mm", "[score][depth]") {
+  Scenario scenario = padScenario();
+  scenario.world.cutter.incision.depth_m = 0.006;  // the clamp above the ramp's end
+  scenario.world.cutter.incision.beta_m = 0.0025;  // lattice enough below the surface for it
+  StrokeSpec spec = stroke(-0.02, 0.04);
+  spec.depth_m = 0.001;
+  spec.depth_end_m = 0.005;
+  const Score s = scoreStrokes(scenario, {spec});  // the plan from x = -25 mm: the stroke spans s = 5 to 45 mm
+  requireFloorFollows(s, 0.01, 0.04, 0.0005, [](double s_m) { return 0.001 + 0.004 * (s_m - 0.005) / 0.04; });
+}
+
+TEST_CASE("depth: a tip deeper than incision.depth_m cuts that deep; one that scratches cuts nothing",
+          "[score][depth]") {
+  StrokeSpec deep = stroke(-0.025, 0.05);
+  deep.depth_m = 0.009;  // the pad's clamp: 4 mm
+  const Score s = scoreStrokes(padScenario(), {deep});
+  requireFloorFollows(s, 0.005, 0.045, 0.00025, [](double) { return 0.004; });
+
+  StrokeSpec scratch = stroke(-0.025, 0.05);
+  scratch.depth_m = 0.0001;  // below incision.min_depth_m (0.2 mm)
+  const Score none = scoreStrokes(padScenario(), {scratch});
+  CHECK(none.plan.share_uncut == 1.0);
 }

@@ -61,7 +61,7 @@ TEST_CASE("stroke_poses: idle above the start, a 30 ms descent, the stroke with 
   const mesh::SurfaceMesh tissue = slab();
   sim::WorldOptions world;
   world.cutter.incision.depth_m = 0.003;
-  const double tip_depth = 0.9 * 0.003;
+  const double tip_depth = 0.003;  // a stroke without its own depth: the incision's
   const double rate_hz = 1000.0;
   const sim::StrokeSpec spec = straightStroke();
   const incision::Stroke path = pathOf(tissue, spec, rate_hz);
@@ -91,14 +91,14 @@ TEST_CASE("stroke_poses: idle above the start, a 30 ms descent, the stroke with 
     REQUIRE(poses[k].buttons == 0);
     requireBlade(poses[k], Vector3d::UnitY(), Vector3d::UnitX());
   }
-  // The descent, 30 periods from above to 0.9 x depth below the surface, the cut button held.
+  // The descent, 30 periods from above to the depth below the surface, the cut button held.
   for (std::size_t j = 0; j < descent; ++j, ++k) {
     INFO("descent pose " << j);
     requireNear(poses[k].tip_m, above + (in - above) * (static_cast<double>(j) / 30.0));
     REQUIRE(poses[k].buttons == 1);
     requireBlade(poses[k], Vector3d::UnitY(), Vector3d::UnitX());
   }
-  // The stroke: each of strokeAlongPath's samples with the tip 0.9 x depth below it, the button held.
+  // The stroke: each of strokeAlongPath's samples with the tip the depth below it, the button held.
   for (std::size_t j = 0; j < stroke; ++j, ++k) {
     INFO("stroke pose " << j);
     const incision::StrokeSample& s = path.samples[j];
@@ -143,10 +143,10 @@ TEST_CASE("stroke_poses: strokes follow each other on one timeline, at any rate"
   REQUIRE(poses.back().tip_m.y() == Approx(0.005).margin(1e-12));
 }
 
-TEST_CASE("stroke_poses: on the bunny the tip is 0.9 x depth below each sample along its normal", "[sim]") {
+TEST_CASE("stroke_poses: on the bunny the tip is the incision's depth below each sample along its normal", "[sim]") {
   const mesh::SurfaceMesh tissue = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
   sim::WorldOptions world;
-  const double tip_depth = 0.9 * world.cutter.incision.depth_m;
+  const double tip_depth = world.cutter.incision.depth_m;
   sim::StrokeSpec spec;
   spec.start_m = Vector3d(-0.012, 0.0, 0.015);  // across the back, as in the shipped strokes
   spec.length_m = 0.03;

@@ -240,8 +240,8 @@ void ViewerWindow::Impl::cutWithMouse() {
   input.cursor.clear();
 }
 
-// The trainee's numbers: the wheel's depth, the blade's depth in the tissue, the lateral error against the
-// plan where the blade enters, the force and the session's time.
+// The trainee's numbers: the wheel's depth, the blade's depth in the tissue, the groove's floor where it cuts
+// now, the lateral error against the plan where the blade enters, the force and the session's time.
 std::string ViewerWindow::Impl::trainingLine() const {
   if (!feed.scalpel && !feed.plan) return {};
   char line[256];
@@ -252,9 +252,10 @@ std::string ViewerWindow::Impl::trainingLine() const {
     std::snprintf(value, sizeof value, "%+.1f mm", 1e3 * sim::locate(*feed.plan, s.contact_m).lateral_m);
     lateral = value;
   }
-  std::snprintf(
-      line, sizeof line, "blade depth (wheel) %.1f mm, in tissue %.1f mm | lateral %s | force %.2f N | t %.1f s",
-      1e3 * scalpel.depthM(), s.contact ? 1e3 * s.penetration_m : 0.0, lateral.c_str(), s.force_N.norm(), snapshot.t_s);
+  std::snprintf(line, sizeof line,
+                "blade depth (wheel) %.1f mm, in tissue %.1f mm, groove %.1f mm | lateral %s | force %.2f N | t %.1f s",
+                1e3 * scalpel.depthM(), s.contact ? 1e3 * s.penetration_m : 0.0, 1e3 * snapshot.groove_depth_m,
+                lateral.c_str(), s.force_N.norm(), snapshot.t_s);
   return line;
 }
 

@@ -25,6 +25,10 @@ void requirePositive(double value, const char* name) {
 
 void validate(const IncisionOptions& o) {
   requirePositive(o.depth_m, "depth_m");
+  requirePositive(o.min_depth_m, "min_depth_m");
+  if (o.min_depth_m > o.depth_m)
+    refuse("min_depth_m = " + core::formatNumber(o.min_depth_m) +
+           " must be <= depth_m = " + core::formatNumber(o.depth_m));
   requirePositive(o.opening_m, "opening_m");
   requirePositive(o.alpha_m, "alpha_m");
   requirePositive(o.beta_m, "beta_m");
@@ -194,10 +198,15 @@ void Incision::checkStart(const StrokeSample& first, const Eigen::Vector3d& blad
     refuse("blade_direction must be finite, non-zero and not parallel to the surface normal");
 }
 
+double Incision::sampleDepth(const StrokeSample& sample) const noexcept {
+  if (!(sample.depth_m >= 0.0)) return options_.depth_m;  // none given (or NaN)
+  return std::clamp(sample.depth_m, options_.min_depth_m, options_.depth_m);
+}
+
 void Incision::startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction) {
   blade_direction_ = blade_direction.normalized();
   last_sample_ = first;
-  addStation({first.point_m, first.normal.normalized(), first.time_s});
+  addStation({first.point_m, first.normal.normalized(), first.time_s, sampleDepth(first)});
   to_next_station_m_ = options_.spacing_m;
 }
 
@@ -240,7 +249,8 @@ SampleStatus Incision::extend(const StrokeSample& sample) noexcept {
     const Eigen::Vector3d normal = ((1.0 - f) * last_sample_.normal.normalized() + f * sample.normal.normalized());
     addStation({last_sample_.point_m + f * step,
                 normal.norm() > 1e-12 ? normal.normalized() : sample.normal.normalized(),
-                last_sample_.time_s + f * (sample.time_s - last_sample_.time_s)});
+                last_sample_.time_s + f * (sample.time_s - last_sample_.time_s),
+                (1.0 - f) * sampleDepth(last_sample_) + f * sampleDepth(sample)});
     along_m += options_.spacing_m;
   }
   to_next_station_m_ = along_m - length_m;
@@ -278,6 +288,7 @@ Incision::Frame Incision::columnFrame(int column) const noexcept {
   Frame frame;
   const Station& st = stations_[static_cast<size_t>(s)];
   frame.n = st.normal;
+  frame.depth_m = st.depth_m;
   frame.t = (t - t.dot(frame.n) * frame.n).normalized();  // tangent in the surface's plane
   frame.s = frame.t.cross(frame.n);
   // Columns beyond the stations continue along the tangent, one spacing each.
@@ -289,11 +300,14 @@ void Incision::setRestColumn(int column) {
   const Frame f = columnFrame(column);
   frames_[static_cast<size_t>(column)] = f;
   const int n = options_.normal_controls;
+  // Eq. (2)'s rows along the normal scaled with the column's depth: the blade's depth is always at w =
+  // bottomW(), so the floor follows the tip column by column (and the walls reach it).
+  const double beta_m = options_.beta_m * f.depth_m / options_.depth_m;
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < static_cast<int>(across_offsets_.size()); ++i)
-      rest_.setControl(i, column, k,
-                       f.g + across_offsets_[static_cast<size_t>(i)] * options_.alpha_m * f.s +
-                           double(n / 2 - k) * options_.beta_m * f.n);
+      rest_.setControl(
+          i, column, k,
+          f.g + across_offsets_[static_cast<size_t>(i)] * options_.alpha_m * f.s + double(n / 2 - k) * beta_m * f.n);
 }
 
 int Incision::extrapolatedEnd() const noexcept {

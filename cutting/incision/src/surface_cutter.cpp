@@ -176,8 +176,30 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   if (no_contact_) {
     step.left_surface = true;
     incision_->finish();
+  } else if (StrokeSample limited = first; limitToThickness(limited)) {
+    incision_->restart(limited, blade_direction);  // checked above: cannot throw
   }
   return process(step);
+}
+
+bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
+  const IncisionOptions& o = options_.incision;
+  if (sample.depth_m > o.depth_m) ++stats_.figures.back().depth_clamped_samples;
+  const double want_m = sample.depth_m >= 0.0 ? std::clamp(sample.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
+  const Eigen::Vector3d n = sample.normal.normalized();
+  // The tissue's far side below the sample, at rest: the first skin crossing of the segment inwards.
+  std::optional<mesh::SurfacePoint> far;
+  try {
+    far = intersect(sample.point_m - kSkinM * n, sample.point_m - (want_m / kFloorOfThickness + kSkinM) * n);
+  } catch (...) {  // allocation in the grid query: leave the depth as it is
+    return false;
+  }
+  if (!far) return false;
+  const double thickness_m = (sample.point_m - far->point_m).dot(n);
+  if (!(want_m > kFloorOfThickness * thickness_m)) return false;
+  sample.depth_m = std::max(o.min_depth_m, kFloorOfThickness * thickness_m);
+  ++stats_.figures.back().thickness_limited_samples;
+  return true;
 }
 
 CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return extend(std::span(&sample, 1)); }
@@ -204,7 +226,9 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin o
       incision_->finish();
       break;
     }
-    step.sample = incision_->extend(sample);
+    StrokeSample limited = sample;
+    limitToThickness(limited);
+    step.sample = incision_->extend(limited);
     if (step.sample == SampleStatus::Accepted) {
       time_s_ = std::max(time_s_, sample.time_s);
       stats_.figures.back().stroke_length_m += (sample.point_m - last_accepted_m_).norm();

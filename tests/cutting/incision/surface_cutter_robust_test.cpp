@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -99,7 +100,31 @@ struct Case {
   const mesh::SurfaceMesh* tissue;
   StrokePathOptions path;
   CutterOptions options;
+  // The blade tip's depth along the stroke: a straight ramp from depth0_m to depth1_m (< 0: the samples carry
+  // none, the incision's depth_m); the tissue's thickness below the stroke (a thin tissue: the groove stops at
+  // SurfaceCutter's 0.8 of it).
+  double depth0_m = -1.0, depth1_m = -1.0;
+  double thickness_m = std::numeric_limits<double>::infinity();
 };
+
+// The floor's depth a sample asks for: its depth clamped to the incision's [min_depth_m, depth_m], at most
+// 0.8 of the tissue's thickness.
+double expectedDepth(const Case& c, const StrokeSample& s) {
+  const IncisionOptions& o = c.options.incision;
+  const double want_m = s.depth_m >= 0.0 ? std::clamp(s.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
+  return std::min(want_m, std::max(o.min_depth_m, 0.8 * c.thickness_m));
+}
+
+// The stroke along the case's path, its samples carrying the case's depth ramp.
+Stroke caseStroke(const mesh::SurfaceMesh& mesh, const Case& c) {
+  Stroke stroke = strokeAlongPath(mesh, c.path);
+  if (c.depth0_m < 0.0) return stroke;
+  const size_t n = stroke.samples.size();
+  stroke.first.depth_m = c.depth0_m;
+  for (size_t k = 0; k < n; ++k)
+    stroke.samples[k].depth_m = c.depth0_m + (c.depth1_m - c.depth0_m) * double(k + 1) / double(std::max<size_t>(n, 1));
+  return stroke;
+}
 
 // Cuts the case's stroke on a copy of its tissue and checks everything the header lists. Returns whether
 // it opened a groove as long as its stroke (no shortfall).
@@ -109,7 +134,7 @@ bool cutAndCheck(const Case& c) {
   mesh::SurfaceMesh mesh = original;
   const mesh::ManifoldReport before = mesh::checkManifold(original.mesh());
   const double quality_before = minFaceQuality(original), volume_before = signedVolume(original.mesh());
-  const Stroke stroke = strokeAlongPath(mesh, c.path);
+  const Stroke stroke = caseStroke(mesh, c);
   SurfaceCutter cutter(mesh, c.options);
   cutter.begin(stroke.first, stroke.blade_direction);
   for (const StrokeSample& s : stroke.samples) cutter.extend(s);
@@ -161,14 +186,17 @@ bool cutAndCheck(const Case& c) {
     for (const auto& s : stroke.samples) nearest_m = std::min(nearest_m, (s.point_m - p).norm());
     if (nearest_m > reach_m) REQUIRE(mesh.mesh().point(v) == original.mesh().point(v));
   }
-  // Depth below the blade's track (not the closest surface: near a pad's edge that is its side).
+  // Depth below the blade's track (not the closest surface: near a pad's edge that is its side): the depth
+  // the nearest sample asked for.
   for (const auto v : mesh.mesh().vertices()) {
     const auto b = cutter.binding(v);
     if (!b || b->side != 2) continue;
     const Eigen::Vector3d p = mesh::toEigen(mesh.mesh().point(v));
-    double depth_m = (stroke.first.point_m - p).norm();
-    for (const auto& s : stroke.samples) depth_m = std::min(depth_m, (s.point_m - p).norm());
-    REQUIRE(depth_m == Approx(o.depth_m).epsilon(0.05));
+    const StrokeSample* nearest = &stroke.first;
+    for (const auto& s : stroke.samples)
+      if ((s.point_m - p).norm() < (nearest->point_m - p).norm()) nearest = &s;
+    INFO("floor vertex " << v.idx() << ": the nearest sample's tip " << nearest->depth_m);
+    REQUIRE((nearest->point_m - p).norm() == Approx(expectedDepth(c, *nearest)).epsilon(0.05));
   }
   return true;
 }
@@ -182,6 +210,10 @@ struct Tissues {
   // Coarse next to the lattice (6 mm across): cut through local refinement.
   mesh::SurfaceMesh coarse_sphere = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);  // 4-7 mm edges
   mesh::SurfaceMesh coarse_pad = mesh::makeSkinPad(Eigen::Vector3d(0.1, 0.02, 0.1), 0.004);
+  // Thinner than the blade goes: a 3 mm slab and a 5 mm thick cylinder (along x, its top at y = 2.5 mm).
+  mesh::SurfaceMesh slab = mesh::makeSkinPad(Eigen::Vector3d(0.06, 0.003, 0.06), 0.001);
+  mesh::SurfaceMesh rod =
+      mesh::makeCylinder(Eigen::Vector3d(-0.03, 0.0, 0.0), Eigen::Vector3d(0.06, 0.0, 0.0), 0.0025, 64, 120, 3);
 };
 
 const Tissues& tissues() {
@@ -196,7 +228,7 @@ Case randomCase(std::mt19937& rng, int index) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const auto between = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
   Case c;
-  const int kind = index % 7;
+  const int kind = index % 9;
   const double angle = between(0.0, 2.0 * M_PI);
   c.path.direction = Eigen::Vector3d(std::cos(angle), 0.0, std::sin(angle));
   c.path.length_m = between(0.004, 0.03);
@@ -225,10 +257,24 @@ Case randomCase(std::mt19937& rng, int index) {
     case 5:
       c.tissue = &t.coarse_sphere, c.what = "coarse icosphere (3 subdivisions, r 5 cm), refined", radius_m = 0.01;
       break;
-    default:
+    case 6:
       c.tissue = &t.coarse_pad, c.what = "skin pad, 4 mm grid, refined", radius_m = 0.025;
       if (index % 2) c.path.direction = Eigen::Vector3d::UnitX();
       break;
+    case 7:
+      c.tissue = &t.slab, c.what = "slab 3 mm thick", radius_m = 0.015, c.thickness_m = 0.003;
+      break;
+    default:
+      c.tissue = &t.rod, c.what = "rod 5 mm thick", centre = {-0.012, 0.0}, radius_m = 0.0005;
+      c.thickness_m = 0.005, c.path.bend_m = 0.0, c.path.length_m = std::min(c.path.length_m, 0.02);
+      c.path.direction = Eigen::Vector3d(1.0, 0.0, 0.15 * (angle - M_PI) / M_PI).normalized();  // along the rod
+      break;
+  }
+  // Half the strokes carry the tip's depth, a ramp within the blade's clamp or beyond it (clamped).
+  if (index % 2 == 0) {
+    c.depth0_m = between(0.0003, 1.2 * c.options.incision.depth_m);
+    c.depth1_m =
+        std::clamp(c.depth0_m + between(-0.1, 0.1) * c.path.length_m, 0.0003, 1.2 * c.options.incision.depth_m);
   }
   Eigen::Vector2d start = centre + radius_m * Eigen::Vector2d(between(-1, 1), between(-1, 1));
   if (kind == 1 && index % 3 == 0) start = {std::round(1e3 * between(-0.02, 0.0)) * 1e-3, 0.0};  // a grid line
@@ -238,7 +284,7 @@ Case randomCase(std::mt19937& rng, int index) {
   std::ostringstream what;
   what << c.what << ", case " << index << ": start (" << start.x() << ", " << start.y() << "), direction ("
        << c.path.direction.x() << ", " << c.path.direction.z() << "), length " << c.path.length_m << ", bend "
-       << c.path.bend_m << ", depth " << c.options.incision.depth_m;
+       << c.path.bend_m << ", depth " << c.options.incision.depth_m << ", tip " << c.depth0_m << " to " << c.depth1_m;
   c.what = what.str();
   return c;
 }

@@ -31,7 +31,9 @@ struct StrokeSpec {
   double bend_m = 0.0;
   double wave_m = 0.0;  // an S sideways (incision::StrokePathOptions::wave_m)
   double speed_m_per_s = 0.05;
-  double pause_s = 0.1;  // tool idle above the surface before the stroke
+  double pause_s = 0.1;       // tool idle above the surface before the stroke
+  double depth_m = -1.0;      // the blade tip's depth below the surface at the start; < 0: incision.depth_m
+  double depth_end_m = -1.0;  // ... at the end, in a straight ramp along the stroke; < 0: depth_m
 };
 
 // A hid-recorder recording replayed through the HID parser and profile (devices/hid_recording_poses.h),

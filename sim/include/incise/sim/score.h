@@ -91,7 +91,7 @@ struct PlanScore {
   double share_within_lateral_tolerance = 0.0, share_uncut = 1.0, length_cut_outside_band_m = 0.0;
   double depth_mean_abs_error_m = 0.0, depth_max_overshoot_m = 0.0, share_within_depth_tolerance = 0.0;
   // The blade's own depth (HapticState::penetration_m) where it cut, against the target: what the hand did,
-  // beside what the lattice cut (the groove's depth is the scenario's incision.depth_m wherever it cuts).
+  // beside the groove it cut (the blade's depth clamped to incision.depth_m, none below min_depth_m).
   double blade_depth_mean_abs_error_m = 0.0, blade_depth_max_overshoot_m = 0.0;
   std::vector<PlanBin> bins;
 };

@@ -64,6 +64,7 @@ struct Snapshot {
   int columns_done = 0;   // ... and that are cut: the cut is visible up to here
   int edges_split = 0;    // totals over all incisions
   int seam_vertices_opened = 0;
+  double groove_depth_m = 0.0;  // the groove's floor where the current incision cuts now (0: none cutting)
   StepProfile profile;
   std::int64_t deadline_misses = 0;  // frames so far that missed their deadline
   std::int64_t frame_start_ns = 0;   // steady_clock time this frame began (a reader's latency on screen)

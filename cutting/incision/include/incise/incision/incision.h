@@ -24,7 +24,10 @@
 namespace incise::incision {
 
 struct IncisionOptions {
-  double depth_m = 0.004;           // blade depth below the surface (d)
+  double depth_m = 0.004;           // the deepest groove (d): samples deeper are cut at this depth, and it is
+                                    // the depth of samples that carry none
+  double min_depth_m = 0.0002;      // a blade less deep only scratches the skin: no groove (the caller's rule;
+                                    // a shallower sample given here is cut this deep)
   double opening_m = 0.002;         // full distance between the lips once the wound has retracted
   double alpha_m = 0.0015;          // paper's alpha: spacing of control planes across the cut (along S)
   double beta_m = 0.002;            // paper's beta: spacing of control rows along the normal
@@ -45,6 +48,7 @@ struct StrokeSample {
   Eigen::Vector3d point_m;
   Eigen::Vector3d normal;
   double time_s = 0.0;
+  double depth_m = -1.0;  // the blade tip's depth below point_m along -normal (at rest); < 0: options' depth_m
 };
 
 enum class SampleStatus : std::uint8_t {
@@ -103,8 +107,10 @@ class Incision {
   // into stations G_s with normal N_s, tangent T_s (central differences) and side S_s = T_s x N_s. Station s
   // is lattice column j = s + P (P = order - 1 columns of padding before the start, extrapolated along -T_0;
   // columns after the last station are extrapolated along +T). Control points follow the paper's Eq. (2):
-  //   P_ijk = G_j + (floor(l/2) - i) alpha S_j + (floor(n/2) - k) beta N_j,
-  // with clamped uniform knots in u (across the cut, l controls) and w (along the normal, n controls) on
+  //   P_ijk = G_j + (floor(l/2) - i) alpha S_j + (floor(n/2) - k) beta_j N_j,   beta_j = beta d_j / depth_m
+  // (d_j the blade's depth at station j, from its samples, clamped to [min_depth_m, depth_m]: the rows along
+  // the normal follow the hand's depth column by column, so the blade's depth is always at w = bottomW()
+  // and the floor slopes as the tip goes deeper or shallower), with clamped uniform knots in u (across the cut, l controls) and w (along the normal, n controls) on
   // [0, 1], and uniform unit-spaced knots in v (one span per column), so that appending a column never
   // changes the basis of the columns before it. Then u = 1/2 is raised to multiplicity `order` (Boehm, §3.1):
   // the two coincident planes i_minus, i_plus = i_minus + 1 are the potential C^-1 discontinuity
@@ -133,7 +139,10 @@ class Incision {
   // v of the stroke's first station, and of its last one (the cut's end once finished).
   double startV() const noexcept;
   double lastStationV() const noexcept;
-  // w of the surface (1/2) and of the blade's depth below it.
+  // The groove's floor below the newest station (m; the blade's depth there, clamped), 0 before the first.
+  double frontDepthM() const noexcept { return stations_.empty() ? 0.0 : stations_.back().depth_m; }
+  // w of the surface (1/2) and of the blade's depth below it (the same w at every column: the rows scale
+  // with each column's depth).
   double surfaceW() const noexcept { return 0.5; }
   double bottomW() const noexcept { return bottom_w_; }
   // Axis-aligned box holding F0 of the parameter slab v in [j, j + 1) (the convex hull of the controls
@@ -164,10 +173,12 @@ class Incision {
   struct Station {
     Eigen::Vector3d point, normal;
     double time_s;
+    double depth_m;  // clamped to [min_depth_m, depth_m]
   };
   struct Frame {  // zero until the column is first written, the same in a new and a restarted incision
     Eigen::Vector3d g = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
                     s = Eigen::Vector3d::Zero();
+    double depth_m = 0.0;
   };
   // What the options fix: the u knots with 1/2 at full multiplicity, Eq. (2)'s offsets after the
   // insertion, the kernel per u-plane and the last plane of the u < 1/2 side.
@@ -179,6 +190,7 @@ class Incision {
 
   void checkStart(const StrokeSample& first, const Eigen::Vector3d& blade_direction) const;  // throws
   void startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction);           // the first station
+  double sampleDepth(const StrokeSample& sample) const noexcept;  // its depth_m, or the default, clamped
   void addStation(const Station& station);
   Frame columnFrame(int column) const noexcept;
   void setRestColumn(int column);

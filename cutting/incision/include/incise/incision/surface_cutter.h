@@ -250,6 +250,11 @@ class SurfaceCutter {
   mesh::TriMesh::VertexHandle addBoundVertex(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, int side,
                                              mesh::VertexKind kind);
   void walkChain();
+  // Where the tissue below a sample is thinner than the blade's depth there (its far side within
+  // depth / kFloorOfThickness along -normal, at rest), the depth becomes kFloorOfThickness of the
+  // thickness: the walls end inside the tissue instead of passing through its far side. Counted in the
+  // incision's figures (thickness_limited_samples). True if it changed the sample. One contact query.
+  bool limitToThickness(StrokeSample& sample) noexcept;
   // Once every column is cut: the seam's first and last vertices are the last crossings inside the cut,
   // where the opening is not yet 0; each end is carried one face further, to where the cut's plane leaves
   // the face beside it (crossBeyond), where the opening is 0 on both sides: the lips close where the seam
@@ -305,6 +310,10 @@ class SurfaceCutter {
   static constexpr int kMovesPerUnit = 64;
   // A column's crossings and seam walk: one unit per kFreshPerUnit vertices bound in it.
   static constexpr std::size_t kFreshPerUnit = 16;
+  // limitToThickness(): the floor at most this share of the tissue's thickness; the segment starts this far
+  // inside the skin (so it does not meet the skin it starts on).
+  static constexpr double kFloorOfThickness = 0.8;
+  static constexpr double kSkinM = 1e-5;
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<mesh::TriMesh::VertexHandle> fresh_;

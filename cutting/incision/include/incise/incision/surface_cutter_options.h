@@ -98,15 +98,17 @@ const char* toString(Shortfall shortfall) noexcept;
 // incision's; the last fields are set once its work is done (the shortfall test: the groove is shorter
 // than the stroke by more than max(4 spacing_m, 20 %), or is 0 while the stroke is not).
 struct IncisionFigures {
-  double stroke_length_m = 0.0;  // arc length of the stroke in contact: the incision's accepted samples
-  double groove_length_m = 0.0;  // arc length, at rest, of the seam opened: the chain of seam vertices from
-                                 // its start to its tip once one of them is duplicated; 0 while none is
-  int inversions_failed = 0;     // vertices in their own slab whose inversion did not converge
-  int seam_vertices = 0;         // seam vertices made (edges split and vertices snapped)
-  int crossings_outside = 0;     // crossing edges outside the blade's window (not split)
-  int uncapped_ends = 0;         // ends of the seam that no face beside them could carry to the cut's end
-  int refined_vertices = 0;      // vertices the local refinement added ahead of the cut (one an edge bisected)
-  int refined_faces = 0;         // faces it added (two an edge bisected on a closed mesh)
+  double stroke_length_m = 0.0;       // arc length of the stroke in contact: the incision's accepted samples
+  double groove_length_m = 0.0;       // arc length, at rest, of the seam opened: the chain of seam vertices from
+                                      // its start to its tip once one of them is duplicated; 0 while none is
+  int inversions_failed = 0;          // vertices in their own slab whose inversion did not converge
+  int seam_vertices = 0;              // seam vertices made (edges split and vertices snapped)
+  int crossings_outside = 0;          // crossing edges outside the blade's window (not split)
+  int uncapped_ends = 0;              // ends of the seam that no face beside them could carry to the cut's end
+  int thickness_limited_samples = 0;  // samples cut shallower than the blade went: the tissue below was thinner
+  int depth_clamped_samples = 0;      // samples deeper than incision.depth_m, cut that deep
+  int refined_vertices = 0;           // vertices the local refinement added ahead of the cut (one an edge bisected)
+  int refined_faces = 0;              // faces it added (two an edge bisected on a closed mesh)
   // Set when the work is done:
   bool done = false;
   int columns = 0;                // lattice columns from the stroke's first station to its last
