@@ -252,8 +252,7 @@ std::string ViewerWindow::Impl::trainingLine() const {
     std::snprintf(value, sizeof value, "%+.1f mm", 1e3 * sim::locate(*feed.plan, s.contact_m).lateral_m);
     lateral = value;
   }
-  std::snprintf(line, sizeof line,
-                "blade depth (wheel) %.1f mm, in tissue %.1f mm, groove %.1f mm | lateral %s | force %.2f N | t %.1f s",
+  std::snprintf(line, sizeof line, "depth: wheel %.1f, blade %.1f, groove %.1f mm | lateral %s | %.2f N | t %.1f s",
                 1e3 * scalpel.depthM(), s.contact ? 1e3 * s.penetration_m : 0.0, 1e3 * snapshot.groove_depth_m,
                 lateral.c_str(), s.force_N.norm(), snapshot.t_s);
   return line;
