@@ -184,7 +184,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
 
 bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
   const IncisionOptions& o = options_.incision;
-  if (sample.depth_m > o.depth_m) ++stats_.figures.back().depth_clamped_samples;
+  if (sample.depth_m > kClampedOver * o.depth_m) ++stats_.figures.back().depth_clamped_samples;
   const double want_m = sample.depth_m >= 0.0 ? std::clamp(sample.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
   const Eigen::Vector3d n = sample.normal.normalized();
   // The tissue's far side below the sample, at rest: the first skin crossing of the segment inwards.

@@ -173,7 +173,14 @@ bool cutAndCheck(const Case& c) {
     return false;  // said why; the mesh checks above still hold
   }
   if (f.groove_length_m == 0.0) return false;  // nothing to open (no stroke in contact)
-  REQUIRE(volume_after < volume_before);       // the walls face out of the tissue: the wound removes volume
+  // Samples asked deeper than the clamp, or than the thin tissue allows, are counted.
+  const IncisionOptions& io = c.options.incision;
+  if (std::min(c.depth0_m, c.depth1_m) > 1.06 * io.depth_m) REQUIRE(f.depth_clamped_samples > 0);
+  if (std::max(c.depth0_m, c.depth1_m) < io.depth_m) REQUIRE(f.depth_clamped_samples == 0);
+  const double asked_m = c.depth0_m < 0.0 ? io.depth_m : std::min({c.depth0_m, c.depth1_m, io.depth_m});
+  if (asked_m > 0.85 * c.thickness_m) REQUIRE(f.thickness_limited_samples > 0);
+  if (std::isinf(c.thickness_m)) REQUIRE(f.thickness_limited_samples == 0);
+  REQUIRE(volume_after < volume_before);  // the walls face out of the tissue: the wound removes volume
 
   // Vertices beyond the lattice's reach are bit for bit where they were; the groove's bottom is the
   // blade's depth below the original surface.

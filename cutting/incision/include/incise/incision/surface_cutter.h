@@ -314,6 +314,9 @@ class SurfaceCutter {
   // inside the skin (so it does not meet the skin it starts on).
   static constexpr double kFloorOfThickness = 0.8;
   static constexpr double kSkinM = 1e-5;
+  // A sample deeper than this many times incision.depth_m is counted as clamped (a tip held at the clamp
+  // measures a hair over it where the contact's normal differs from the stroke's).
+  static constexpr double kClampedOver = 1.05;
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<mesh::TriMesh::VertexHandle> fresh_;

@@ -106,7 +106,7 @@ struct IncisionFigures {
   int crossings_outside = 0;          // crossing edges outside the blade's window (not split)
   int uncapped_ends = 0;              // ends of the seam that no face beside them could carry to the cut's end
   int thickness_limited_samples = 0;  // samples cut shallower than the blade went: the tissue below was thinner
-  int depth_clamped_samples = 0;      // samples deeper than incision.depth_m, cut that deep
+  int depth_clamped_samples = 0;      // samples over 5% deeper than incision.depth_m, cut that deep
   int refined_vertices = 0;           // vertices the local refinement added ahead of the cut (one an edge bisected)
   int refined_faces = 0;              // faces it added (two an edge bisected on a closed mesh)
   // Set when the work is done:
