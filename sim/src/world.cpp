@@ -204,7 +204,6 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
 }
 
 void World::cutPose(const devices::PoseSample& pose) noexcept {
-  last_cut_pose_s_ = pose.time_s;
   const Contact c = exactContact(pose);
   if (c.cutting) {
     const incision::StrokeSample sample{c.point_m, c.normal, pose.time_s};
@@ -293,8 +292,6 @@ incision::CutStep World::cut(double t_s, core::WorkBudget::Clock::time_point dea
 
 bool World::pending() const noexcept { return queued_->sizeApprox() > 0 || begin_waiting_ || cutter_->pending(); }
 
-double World::cutLagS() const noexcept {
-  return queued_->sizeApprox() > 0 || begin_waiting_ ? last_pose_.time_s - last_cut_pose_s_ : 0.0;
-}
+std::size_t World::queuedPoses() const noexcept { return queued_->sizeApprox(); }
 
 }  // namespace incise::sim
