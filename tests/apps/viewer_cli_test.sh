@@ -83,6 +83,9 @@ check "... and none of them wrote anything" bash -c "! ls '$work' | grep -q '^ba
 check "view --size is checked too" expect_exit 2 "\-\-size 'big'" -- "$incise" view "$straight" --size big --out "$work/bad-view"
 check "view without a display names incise render and xvfb-run" \
   expect_exit 2 "incise render.*xvfb-run" -- env -u DISPLAY -u WAYLAND_DISPLAY "$incise" view "$straight" --out "$work/nodisplay"
+check "view on a display no server answers: exit 2, naming the display" \
+  expect_exit 2 "cannot open the display DISPLAY=:987 .*no server answers there" -- env DISPLAY=:987 "$incise" view "$straight" --out "$work/deaddisplay"
+check "... and no file written" test -z "$(ls -A "$work/deaddisplay" 2> /dev/null)"
 check "an old OpenGL is refused with what the driver offers" \
   expect_exit 2 "OpenGL 3.3 core profile is not available.*offers OpenGL 3.0" -- env MESA_GL_VERSION_OVERRIDE=3.0 "$incise" render "$straight" --out "$work/old.png"
 check "... through EGL too" \
