@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
+  } catch (const std::exception& e) {  // a failure no command caught (out of memory, a file system error)
+    std::fprintf(stderr, "incise: %s\n", e.what());
+    return 2;
   }
   return 0;  // the chosen command's callback has run; it exits with its own code on failure
 }

@@ -18,6 +18,7 @@
 
 #include "geometry_commands.h"
 #include "incise/core/atomic_file.h"
+#include "incise/core/format.h"
 #include "incise/global_dffd/global_dffd.h"
 #include "incise/sim/wrap_scenario.h"
 #include "json_output.h"
@@ -95,7 +96,7 @@ int runWrap(const std::string& scenario, const std::string& out_dir) {
   if (error) fail("cannot create output directory " + out_dir + ": " + error.message());
   const std::filesystem::path out(out_dir);
   std::string lines;
-  bool ok = true;
+  std::string failed;  // the first frame that failed a check, and why
   double worst = 0.0;
   Progress progress("wrap " + s.name, s.frames + 1);
   for (int f = 0; f <= s.frames; ++f) {
@@ -110,8 +111,14 @@ int runWrap(const std::string& scenario, const std::string& out_dir) {
     }
     const double penetration = frame.line["worst_penetration_m"].get<double>();
     worst = std::max(worst, penetration);
-    ok = ok && penetration <= s.tolerance_m &&
-         (s.treatment == global_dffd::OpeningTreatment::Open || frame.line["boundary_loops"].get<int>() == 0);
+    const int loops = frame.line["boundary_loops"].get<int>();
+    if (failed.empty() && penetration > s.tolerance_m)
+      failed = "frame " + std::to_string(f) + " penetrates obstacle " + frame.line["deepest_obstacle"].dump() + " by " +
+               core::formatNumber(penetration) + " m, over penetration_tolerance_m " +
+               core::formatNumber(s.tolerance_m);
+    if (failed.empty() && s.treatment != global_dffd::OpeningTreatment::Open && loops > 0)
+      failed = "frame " + std::to_string(f) + " is not closed: " + std::to_string(loops) + " boundary loop(s) left " +
+               sim::treatmentName(s.treatment);
     lines += frame.line.dump() + "\n";
     progress.update(f + 1);
   }
@@ -124,7 +131,8 @@ int runWrap(const std::string& scenario, const std::string& out_dir) {
   std::printf("incise wrap %s (%s): %d frames, %zu obstacles, min det J %.3g, worst penetration %.3g m; wrote %s\n",
               s.name.c_str(), sim::treatmentName(s.treatment), s.frames + 1, s.obstacles.size(), dffd->minJacobian(1),
               worst, out_dir.c_str());
-  return ok ? 0 : 1;
+  if (!failed.empty()) std::fprintf(stderr, "incise wrap: check failed: %s\n", failed.c_str());
+  return failed.empty() ? 0 : 1;
 }
 
 }  // namespace

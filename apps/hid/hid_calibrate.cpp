@@ -4,7 +4,7 @@
 // onto the rectangle the scenario's pen block names (the defaults without --scenario); the result is the whole
 // "pen" block, as JSON on stdout, to paste into the scenario's pose_source. Prompts and what was measured go to
 // stderr. A pen without pressure needs the two corner presses only.
-// Exit: 0 with the block; 2 for bad input (no such device, not a pen: what it lacks and where); 1 when the
+// Exit: 0 with the block; 2 for bad input (no such device, not a pen: what it lacks and where), and when the
 // presses did not come within --timeout (or Ctrl-C) or could not make an area (nothing is printed on stdout).
 #include <chrono>
 #include <cstdio>
@@ -116,14 +116,14 @@ int runHidCalibrate(const HidCalibrateArgs& a) {
   if (presses.size() < wanted) {
     std::fprintf(stderr, "incise hid calibrate: %zu of %zu presses from %s in %g s; nothing printed\n", presses.size(),
                  wanted, source.describe().c_str(), a.timeout_s);
-    return 1;
+    return 2;  // the input did not come
   }
   devices::PenCalibration c;
   try {
     c = devices::calibratePen(target, presses[0], presses[1], wanted == 3 ? &presses[2] : nullptr);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "incise hid calibrate: %s; nothing printed\n", e.what());
-    return 1;
+    return 2;  // presses that make no rectangle
   }
   std::fprintf(stderr, "area: X %.3f..%.3f, Y %.3f..%.3f of the tablet onto the scenario's rectangle\n", c.x0, c.x1,
                c.y0, c.y1);

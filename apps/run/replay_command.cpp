@@ -97,17 +97,18 @@ int writeReplayOutputs(const char* command, const LoadedScenario& run, const sim
     failWith(command, e.what());
   }
   const bool closed = json["mesh"]["closed_two_manifold"].get<bool>();
+  const std::string note = json["note"].get<std::string>().empty() ? "" : "; " + json["note"].get<std::string>();
   std::printf(
       "incise %s %s (%s): %lld frames, %lld poses, %d incision(s), %d seam vertices opened, grooves of "
       "%.1f mm along %.1f mm of strokes in contact; "
       "frame p99 %.1f us, haptic p99 %.1f us, pose-to-visible p99 %.0f frames, %lld deadline misses; "
-      "closed two-manifold: %s; geometry %s%s; wrote %s\n",
+      "closed two-manifold: %s; geometry %s%s%s; wrote %s\n",
       command, run.scenario.name.c_str(), options.pace == sim::ReplayPace::RealTime ? "realtime" : "fast",
       static_cast<long long>(report.frames), static_cast<long long>(report.poses), report.incisions,
       stats.vertices_duplicated, 1e3 * totalGroove_m(stats.figures), 1e3 * totalStroke_m(stats.figures),
       report.latency.frame_us.p99, report.latency.haptic_us.p99, report.latency.pose_to_visible_frames.p99,
       static_cast<long long>(report.latency.deadline_misses), closed ? "yes" : "NO",
-      json["geometry_hash"].get<std::string>().c_str(), tets_note.c_str(), out_dir.c_str());
+      json["geometry_hash"].get<std::string>().c_str(), tets_note.c_str(), note.c_str(), out_dir.c_str());
   const std::string failure = json["cut_failure"].get<std::string>();
   if (!failure.empty()) std::fprintf(stderr, "incise %s: the cut failed: %s\n", command, failure.c_str());
   return closed && failure.empty() && tets_ok ? 0 : 1;

@@ -6,8 +6,11 @@
 // seen from above through the headless renderer, the plan and its lateral band drawn over it (in 2D, after
 // rendering: not part of the 3D scene).
 // Every trace is read and checked before any is scored: an empty trace, one recorded on another tissue (its
-// "# tissue:" comment against the scenario's tissue hash), a plan that does not project -> a message naming
-// the file, exit 2, nothing written.
+// "# tissue:" comment against the scenario's tissue hash), a plan that does not project, a bad --pass-mark
+// -> a message naming the file or mark, exit 2, nothing written. --pass-mark KEY>=VALUE / KEY<=VALUE
+// (pass_mark.h, repeatable): each trace's line is checked against every mark; a trace that misses one is
+// named on stderr with the figure, the summary line counts the traces that passed and failed, and the exit
+// code is 1. Without marks (or with all met) 0.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +20,7 @@
 #include "incise/sim/plan.h"
 #include "incise/sim/score.h"
 #include "json_output.h"
+#include "pass_mark.h"
 #include "picture_output.h"
 #include "progress.h"
 #include "scenario_run.h"
@@ -33,6 +37,7 @@ struct ScoreArgs {
   std::string out;
   std::string plots;
   bool picture = false;
+  std::vector<std::string> pass_marks;
 };
 
 struct Session {
@@ -105,11 +110,32 @@ nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const m
   return nlohmann::ordered_json::parse(jobs::scoreLine(s.file, score));
 }
 
+// The traces that miss a pass mark, each named on stderr with the marks it missed; the summary's count.
+int checkPassMarks(const std::vector<PassMark>& marks, const std::vector<Session>& sessions,
+                   const std::vector<nlohmann::ordered_json>& lines, nlohmann::ordered_json& summary) {
+  int failed = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::vector<std::string> missed = missedPassMarks(marks, lines[i]);
+    for (const std::string& m : missed)
+      std::fprintf(stderr, "incise score: %s: %s\n", sessions[i].file.c_str(), m.c_str());
+    failed += missed.empty() ? 0 : 1;
+  }
+  nlohmann::ordered_json texts = nlohmann::ordered_json::array();
+  for (const PassMark& m : marks) texts.push_back(m.text);
+  summary["summary"]["pass_marks"] = texts;
+  summary["summary"]["passed"] = static_cast<int>(lines.size()) - failed;
+  summary["summary"]["failed"] = failed;
+  return failed;
+}
+
 int runScore(const ScoreArgs& a) {
   checkOutputs(a);
   jobs::ScoringScenario scoring;
+  std::vector<PassMark> marks;
   try {
     scoring = jobs::loadScoringScenario(a.scenario);
+    marks = parsePassMarks(a.pass_marks);
+    checkPassMarkKeys(marks, scoring.scenario);
   } catch (const std::exception& e) {
     failWith("score", e.what());
   }
@@ -128,9 +154,11 @@ int runScore(const ScoreArgs& a) {
     failWith("score", e.what());
   }
   progress.finish();
+  nlohmann::ordered_json summary = jobs::scoreSummary(lines);
+  const int failed = marks.empty() ? 0 : checkPassMarks(marks, sessions, lines, summary);
   std::string all;
   for (const auto& line : lines) all += line.dump() + "\n";
-  all += jobs::scoreSummary(lines).dump() + "\n";
+  all += summary.dump() + "\n";
   std::fputs(all.c_str(), stdout);
   if (!a.out.empty()) {
     try {
@@ -143,7 +171,7 @@ int runScore(const ScoreArgs& a) {
       failWith("score", a.out + ": " + e.what());
     }
   }
-  return 0;
+  return failed > 0 ? 1 : 0;
 }
 
 }  // namespace
@@ -157,6 +185,9 @@ void addScoreCommand(CLI::App& app) {
   cmd->add_option("--out", args->out, "also write the JSON lines (one per trace, then the summary) to this file");
   cmd->add_option("--plots", args->plots, "write DIR/<trace>.png (gnuplot) per trace");
   cmd->add_flag("--picture", args->picture, "with --plots: also DIR/<trace>-top.png, the cut seen from above");
+  cmd->add_option("--pass-mark", args->pass_marks,
+                  "KEY>=VALUE or KEY<=VALUE on a figure of the score line (repeatable): exit 1 when a trace misses one")
+      ->allow_extra_args(false);
   cmd->callback([args] {
     const int code = runScore(*args);
     if (code != 0) std::exit(code);

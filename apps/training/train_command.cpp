@@ -11,7 +11,10 @@
 // scored by sim::scoreSession: the line `incise score SCENARIO DIR/trace.csv` prints) and, with gnuplot,
 // DIR/score.png. Once the camera is framed it prints where the plan's start and end are in the window
 // ("plan start at pixel X Y, end at pixel X Y"), for scripts that drive the mouse.
-// Exit 2 for bad options, a bad scenario or no display; 1 when the session cut nothing along the plan.
+// --pass-mark KEY>=VALUE / KEY<=VALUE (pass_mark.h, repeatable): the session's score line checked against
+// each. Exit 2 for bad options (a bad pass mark among them), a bad scenario or no display; 1 when the cut
+// failed a check (as replay's) or the score missed a pass mark; else 0, also for a session that cut nothing
+// or had no pose at all (the summary says so; nothing is scored without a pose).
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -29,6 +32,7 @@
 #include "incise/viewer/gl_context.h"
 #include "incise/viewer/viewer_window.h"
 #include "json_output.h"
+#include "pass_mark.h"
 #include "replay_outputs.h"
 #include "scenario_run.h"
 #include "score_plots.h"
@@ -45,6 +49,8 @@ struct TrainArgs {
   std::string out = "out/train";
   std::string size = "1280x800";
   std::string camera;
+  std::vector<std::string> pass_marks;
+  std::vector<PassMark> marks;  // parsed and checked before the window opens
 };
 
 // The window's poses into the session, each one also into the trace file (the main thread's; a write error
@@ -208,7 +214,12 @@ bool runSession(viewer::ViewerWindow& window, Session& s, const TrainArgs& a, De
 // What the session leaves in DIR once the window has closed.
 int writeTrainOutputs(const TrainArgs& a, Session& s) {
   if (!s.record_error.empty()) failWith("train", "recording " + a.out + "/trace.csv failed: " + s.record_error);
-  if (s.live->poses().empty()) failWith("train", "the session has no poses: the scalpel never met the tissue");
+  if (s.live->poses().empty()) {
+    std::printf("incise train: the session has no poses (the scalpel never met the tissue): nothing to score\n");
+    if (a.marks.empty()) return 0;
+    std::fprintf(stderr, "incise train: no score, so the pass marks are missed\n");
+    return 1;
+  }
   sim::ReplayOptions options;
   options.pace = sim::ReplayPace::RealTime;
   options.period_us = s.run.scenario.periodUs();
@@ -226,8 +237,9 @@ int writeTrainOutputs(const TrainArgs& a, Session& s) {
   if (gnuplotAvailable()) writeScorePlot(score, std::filesystem::path(a.out) / "score.png");
   std::printf("incise train: wrote %s/trace.csv, cut.obj, report.json, score.json%s\n%s\n", a.out.c_str(),
               gnuplotAvailable() ? ", score.png" : "", line.c_str());
-  const bool cut_something = score.has_plan ? score.plan.share_uncut < 1.0 : score.incisions > 0;
-  return code != 0 ? code : cut_something ? 0 : 1;
+  const std::vector<std::string> missed = missedPassMarks(a.marks, nlohmann::ordered_json::parse(line));
+  for (const std::string& m : missed) std::fprintf(stderr, "incise train: %s\n", m.c_str());
+  return code != 0 || !missed.empty() ? 1 : 0;
 }
 
 // The transport, the selector (any device for plain "hid") and the scenario's mapping; exit 2 when any is bad.
@@ -254,7 +266,7 @@ DeviceInput deviceInput(const TrainArgs& a, const LoadedScenario& run) {
   return d;
 }
 
-int runTrain(const TrainArgs& a) {
+int runTrain(TrainArgs& a) {
   const bool hid = a.input == "hid" || a.input.rfind("hid:", 0) == 0;
   if (a.input != "mouse" && !hid)
     failWith("train", "--input '" + a.input + "': expected mouse, hid or hid:VID:PID[:serial]");
@@ -273,6 +285,8 @@ int runTrain(const TrainArgs& a) {
   auto session = std::make_unique<Session>();
   try {
     session->run = loadScenarioRun(a.scenario);
+    a.marks = parsePassMarks(a.pass_marks);
+    checkPassMarkKeys(a.marks, session->run.scenario);
   } catch (const std::exception& e) {
     failWith("train", e.what());
   }
@@ -314,6 +328,10 @@ void addTrainCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--size", args->size, "window WIDTHxHEIGHT in pixels")->capture_default_str();
   cmd->add_option("--camera", args->camera, "AZ,EL[,DIST] (default: frame the plan)");
+  cmd->add_option(
+         "--pass-mark", args->pass_marks,
+         "KEY>=VALUE or KEY<=VALUE on a figure of the score line (repeatable): exit 1 when the session misses one")
+      ->allow_extra_args(false);
   cmd->callback([args] {
     const int code = runTrain(*args);
     if (code != 0) std::exit(code);

@@ -150,11 +150,12 @@ int runView(const ViewArgs& a) {
     if (show(*window, *run, run->loaded.scenario.name, a.until_end, a.speed)) continue;
     const viewer::HudFigures h = window->figures();
     std::printf(
-        "incise view %s: %lld display frames, %.1f fps; on screen %.1f ms p50, %.1f ms max after the "
-        "pose's frame (%.2f display frames); sim frame p99 %.1f us in the last 5 s; %s\n",
+        "incise view %s: %lld display frames, %.1f fps; on screen %.1f ms p50, %.1f ms max (%.2f display frames) "
+        "from a snapshot's sim frame to the first display frame showing it, over %lld snapshots; sim frame p99 "
+        "%.1f us in the last 5 s; %s\n",
         run->loaded.scenario.name.c_str(), static_cast<long long>(window->displayFrames()), h.display_fps,
-        h.screen_latency_ms_p50, h.screen_latency_ms_max, h.screen_latency_display_frames_max, h.frame_us.p99,
-        window->glDescription().c_str());
+        h.run_screen_latency_ms_p50, h.run_screen_latency_ms_max, h.run_screen_latency_display_frames_max,
+        static_cast<long long>(h.snapshots_shown), h.frame_us.p99, window->glDescription().c_str());
     window.reset();  // the window closes before the outputs are written
     return run::writeReplayOutputs("view", run->loaded, run->options, run->report, a.out);
   }

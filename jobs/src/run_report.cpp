@@ -46,11 +46,10 @@ std::string cutFailure(const incision::CutStats& stats) {
   return "";
 }
 
-std::string replayFailure(const incision::CutStats& stats, const sim::ReplayReport& report) {
-  if (report.incisions == 0 && report.poses > 0)
-    return "no contact: none of the " + std::to_string(report.poses) +
-           " poses touched the tissue with the blade (the tip stayed above the surface or the cut button was up)";
-  return cutFailure(stats);
+std::string noIncision(const sim::ReplayReport& report) {
+  if (report.incisions > 0 || report.poses == 0) return "";
+  return "no incision: none of the " + std::to_string(report.poses) +
+         " poses cut the tissue (the blade's tip stayed above the surface or the cut button was up)";
 }
 
 double totalGroove_m(const std::vector<incision::IncisionFigures>& figures) {
@@ -121,7 +120,8 @@ nlohmann::json replayReport(const ScenarioRun& run, const sim::ReplayOptions& op
       {"refined_vertices", stats.refined_vertices},
       {"refined_faces", stats.refined_faces},
       {"reserve_overflows", stats.reserve_overflows},
-      {"cut_failure", replayFailure(stats, report)},
+      {"cut_failure", cutFailure(stats)},
+      {"note", noIncision(report)},
       {"incision_figures", incisionFiguresJson(stats.figures)},
       {"geometry_hash", hexText(mesh::geometryHash(tissue))},
       {"mesh", nlohmann::json::parse(mesh::toJson(mesh::summarize(tissue)))},

@@ -11,9 +11,9 @@ namespace incise::sim {
 
 namespace {
 
-constexpr std::size_t kQuantities = 7;
+constexpr std::size_t kQuantities = 6;
 
-// The value of quantity q in a frame, or false when the frame has none (no new cut visible).
+// The value of quantity q in a frame, or false when the frame has none (no CPU time read).
 bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
   switch (q) {
     case 0:
@@ -29,9 +29,6 @@ bool quantity(const FrameTiming& t, std::size_t q, double& value) noexcept {
       value = t.period_error_us;
       return true;
     case 4:
-      value = static_cast<double>(t.pose_to_visible_frames);
-      return t.pose_to_visible_frames >= 0;
-    case 5:
       value = t.geometry_us;
       return true;
     default:
@@ -44,9 +41,25 @@ void putSummary(nlohmann::ordered_json& j, const char* name, const SampleSummary
   j[name] = {{"count", s.count}, {"p50", s.p50}, {"p99", s.p99}, {"p999", s.p999}, {"max", s.max}, {"mean", s.mean}};
 }
 
+// count, percentiles and mean of `values` (sorted here); max is the caller's (it covers unstored samples too).
+void summarize(std::vector<double>& values, SampleSummary& s) {
+  s.count = values.size();
+  if (values.empty()) return;
+  double sum = 0.0;
+  for (const double v : values) sum += v;
+  s.mean = sum / static_cast<double>(values.size());
+  std::sort(values.begin(), values.end());
+  s.p50 = measure::nearestRank(values, 1, 2);
+  s.p99 = measure::nearestRank(values, 99, 100);
+  s.p999 = measure::nearestRank(values, 999, 1000);
+}
+
 }  // namespace
 
-LatencyStats::LatencyStats(std::size_t capacity_frames) : capacity_(capacity_frames) { samples_.reserve(capacity_); }
+LatencyStats::LatencyStats(std::size_t capacity_frames) : capacity_(capacity_frames) {
+  samples_.reserve(capacity_);
+  pose_to_visible_.reserve(capacity_);
+}
 
 void LatencyStats::record(const FrameTiming& timing) noexcept {
   ++frames_;
@@ -62,8 +75,17 @@ void LatencyStats::record(const FrameTiming& timing) noexcept {
   if (samples_.size() < capacity_) samples_.push_back(timing);
 }
 
+void LatencyStats::recordPoseToVisible(int frames) noexcept {
+  pose_to_visible_max_ = pose_to_visible_count_ == 0 ? frames : std::max(pose_to_visible_max_, frames);
+  ++pose_to_visible_count_;
+  if (pose_to_visible_.size() < capacity_) pose_to_visible_.push_back(frames);
+}
+
 void LatencyStats::clear() noexcept {
   samples_.clear();
+  pose_to_visible_.clear();
+  pose_to_visible_max_ = 0;
+  pose_to_visible_count_ = 0;
   frames_ = 0;
   deadline_misses_ = overrun_misses_ = preempted_misses_ = 0;
   for (std::size_t q = 0; q < kQuantities; ++q) {
@@ -86,30 +108,22 @@ LatencySummary LatencyStats::summary() const {
   out.overrun_misses = overrun_misses_;
   out.preempted_misses = preempted_misses_;
   out.late_wakeup_misses = deadline_misses_ - overrun_misses_ - preempted_misses_;
-  const std::array<SampleSummary*, kQuantities> targets = {
-      &out.haptic_us,   &out.cut_us,       &out.frame_us, &out.period_error_us, &out.pose_to_visible_frames,
-      &out.geometry_us, &out.haptic_cpu_us};
+  const std::array<SampleSummary*, kQuantities> targets = {&out.haptic_us,       &out.cut_us,      &out.frame_us,
+                                                           &out.period_error_us, &out.geometry_us, &out.haptic_cpu_us};
   std::vector<double> values;
-  values.reserve(samples_.size());
+  values.reserve(std::max(samples_.size(), pose_to_visible_.size()));
   for (std::size_t q = 0; q < kQuantities; ++q) {
     values.clear();
-    double sum = 0.0;
     for (const FrameTiming& t : samples_) {
       double value = 0.0;
-      if (!quantity(t, q, value)) continue;
-      values.push_back(value);
-      sum += value;
+      if (quantity(t, q, value)) values.push_back(value);
     }
-    SampleSummary& s = *targets[q];
-    s.max = max_[q];
-    s.count = values.size();
-    if (values.empty()) continue;
-    std::sort(values.begin(), values.end());
-    s.p50 = measure::nearestRank(values, 1, 2);
-    s.p99 = measure::nearestRank(values, 99, 100);
-    s.p999 = measure::nearestRank(values, 999, 1000);
-    s.mean = sum / static_cast<double>(values.size());
+    summarize(values, *targets[q]);
+    targets[q]->max = max_[q];
   }
+  values.assign(pose_to_visible_.begin(), pose_to_visible_.end());
+  summarize(values, out.pose_to_visible_frames);
+  out.pose_to_visible_frames.max = static_cast<double>(pose_to_visible_max_);
   return out;
 }
 

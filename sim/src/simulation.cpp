@@ -39,7 +39,8 @@ Simulation::Simulation(World& world, ForceSink* sink, std::int64_t period_us, do
       period_us_(static_cast<double>(period_us)),
       t0_s_(t0_s),
       own_stats_(stats ? 1 : LatencyStats::kDefaultCapacity),
-      stats_(stats ? stats : &own_stats_) {
+      stats_(stats ? stats : &own_stats_),
+      arrivals_(World::kQueuedPoses + 2) {
   if (period_us <= 0) throw std::invalid_argument("Simulation: period_us must be > 0");
 }
 
@@ -56,17 +57,55 @@ void Simulation::resetOnNewIncision() noexcept {
   pending_size_ = 0;
 }
 
+// Each pending batch of columns once, in the frame it is cut; the frame's largest latency is returned (-1:
+// none became visible).
 int Simulation::poseToVisible(std::int64_t frame) noexcept {
   const incision::SurfaceCutter& cutter = world_.cutter();
   resetOnNewIncision();
   int latency = -1;
   const int done = cutter.columnsDone();
   while (pending_size_ > 0 && pending_[pending_head_].column <= done) {
-    latency = std::max(latency, static_cast<int>(frame - pending_[pending_head_].frame));
+    const int frames = static_cast<int>(frame - pending_[pending_head_].frame);
+    stats_->recordPoseToVisible(frames);
+    latency = std::max(latency, frames);
     pending_head_ = (pending_head_ + 1) % pending_.size();
     --pending_size_;
   }
   return latency;
+}
+
+void Simulation::noteArrivals(int accepted, std::int64_t frame) noexcept {
+  if (accepted <= 0) return;
+  accepted_ += accepted;
+  if (arrivals_size_ == arrivals_.size()) {  // cannot happen within the world's queue; keep the newest
+    arrivals_head_ = (arrivals_head_ + 1) % arrivals_.size();
+    --arrivals_size_;
+  }
+  arrivals_[(arrivals_head_ + arrivals_size_++) % arrivals_.size()] = {accepted_, frame};
+}
+
+// The frame pose number `pose` arrived in (`frame` when unknown); forgets the frames before it.
+std::int64_t Simulation::arrivalFrame(std::int64_t pose, std::int64_t frame) noexcept {
+  while (arrivals_size_ > 0 && arrivals_[arrivals_head_].accepted_through <= pose) {
+    arrivals_head_ = (arrivals_head_ + 1) % arrivals_.size();
+    --arrivals_size_;
+  }
+  return arrivals_size_ > 0 ? arrivals_[arrivals_head_].frame : frame;
+}
+
+// After the cut phase: the columns it made final, with the frame the oldest pose it handled came in.
+void Simulation::notePending(std::int64_t frame) noexcept {
+  resetOnNewIncision();
+  const std::int64_t handled_before = handled_;
+  handled_ = accepted_ - static_cast<std::int64_t>(world_.queuedPoses());
+  // The oldest pose handled in this frame; with none (columns made final by work alone), the newest handled.
+  const std::int64_t oldest = handled_ > handled_before ? handled_before : handled_ - 1;
+  const int final_columns = world_.cutter().columnsFinal();
+  if (final_columns > last_final_ && pending_size_ < pending_.size()) {
+    last_final_ = final_columns;
+    pending_[(pending_head_ + pending_size_++) % pending_.size()] = {last_final_, arrivalFrame(oldest, frame)};
+  }
+  arrivalFrame(handled_ - 1, frame);  // forget the frames whose poses are all handled
 }
 
 void Simulation::frame(const FrameInfo& info) noexcept {
@@ -79,25 +118,21 @@ void Simulation::frame(const FrameInfo& info) noexcept {
 
   const HapticState haptic =
       world_.updateTool(std::span(frame_poses_.data(), static_cast<std::size_t>(count)), info.dt_s);
+  noteArrivals(haptic.poses, info.frame);
   if (sink_) sink_->apply(haptic.force_N, t_s);
   const auto haptic_end = Clock::now();
   const std::int64_t cpu_haptic_ns = cpu_start_ns >= 0 ? threadCpuNs() : -1;  // after the force is out
 
-  // The cut phase takes the poses and makes lattice columns final; remember when their poses came (this
-  // frame, less however long they waited in the world's queue), to measure when the columns are cut.
+  // The cut phase takes the poses and makes lattice columns final; remember when the oldest pose it handled
+  // came (poses numbered in arrival order), to measure when the columns are cut.
   const incision::SurfaceCutter& cutter = world_.cutter();
-  const auto lag_frames = static_cast<std::int64_t>(std::llround(world_.cutLagS() / dt_s_));  // before: the most
   // Against the clock the surface's budgeted work also stops at its share of cut_budget_us (work_budget.h).
   const auto cut_deadline = info.against_clock
                                 ? haptic_end + std::chrono::nanoseconds(std::llround(1e3 * world_.surfaceCutBudgetUs()))
                                 : core::WorkBudget::Clock::time_point::max();
   world_.cut(t_s, cut_deadline);
   const auto cut_end = Clock::now();
-  resetOnNewIncision();
-  if (cutter.columnsFinal() > last_final_ && pending_size_ < pending_.size()) {
-    last_final_ = cutter.columnsFinal();
-    pending_[(pending_head_ + pending_size_++) % pending_.size()] = {last_final_, info.frame - lag_frames};
-  }
+  notePending(info.frame);
   const int visible = poseToVisible(info.frame);
   if (geometry_) geometry_->publish(world_, info.frame);
   const auto geometry_end = Clock::now();
@@ -134,7 +169,6 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   timing.geometry_us = last_geometry_us_ = geometry_ ? microseconds(cut_end, geometry_end) : 0.0;
   timing.frame_us = last_frame_us_ = microseconds(start, end);
   timing.period_error_us = info.period_error_us;
-  timing.pose_to_visible_frames = visible;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
   timing.overrun = timing.frame_us > period_us_;
   if (timing.overrun && cpu_start_ns >= 0) {

@@ -207,7 +207,6 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
 }
 
 void World::cutPose(const devices::PoseSample& pose) noexcept {
-  last_cut_pose_s_ = pose.time_s;
   const Contact c = exactContact(pose);
   // A blade that only scratches the skin (less than min_depth_m in) makes no groove.
   if (c.cutting && c.penetration_m >= options_.cutter.incision.min_depth_m) {
@@ -297,8 +296,6 @@ incision::CutStep World::cut(double t_s, core::WorkBudget::Clock::time_point dea
 
 bool World::pending() const noexcept { return queued_->sizeApprox() > 0 || begin_waiting_ || cutter_->pending(); }
 
-double World::cutLagS() const noexcept {
-  return queued_->sizeApprox() > 0 || begin_waiting_ ? last_pose_.time_s - last_cut_pose_s_ : 0.0;
-}
+std::size_t World::queuedPoses() const noexcept { return queued_->sizeApprox(); }
 
 }  // namespace incise::sim

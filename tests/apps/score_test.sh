@@ -25,6 +25,18 @@ check "--plots writes the gnuplot PNG" "$incise" score "$scenarios/pad-straight.
 check "... a PNG file" bash -c "head -c 8 '$work/plots/pad-straight.png' | od -An -c | grep -q 'P   N   G'"
 check "... and no temporary file" bash -c "! ls '$work/plots' | grep -q tmp"
 
+# Pass marks: exit 1 only when a trace misses a mark the user gave, naming the trace and the figure.
+pad=$scenarios/pad-straight.json
+check "marks the trace meets: exit 0, the summary counts it as passed" bash -c "'$incise' score '$pad' '$scenarios/traces/pad-straight.csv' --pass-mark 'plan.share_within_lateral_tolerance>=0.9' --pass-mark 'plan.share_uncut<=0.1' | tail -1 | python3 -c \"
+import json, sys; s = json.loads(sys.stdin.read())['summary']
+assert s['passed'] == 1 and s['failed'] == 0 and s['pass_marks'] == ['plan.share_within_lateral_tolerance>=0.9', 'plan.share_uncut<=0.1'], s\""
+check "a mark one trace misses: exit 1, that trace and its figure named, the scores still written" bash -c "'$incise' score '$pad' '$scenarios/traces/pad-straight.csv' '$scenarios/traces/pad-s-curve.csv' --pass-mark 'plan.share_within_lateral_tolerance>=0.9' --out '$work/marks.jsonl' > /dev/null 2> '$work/marks.err'; [ \$? -eq 1 ] && grep -q 'pad-s-curve.csv: plan.share_within_lateral_tolerance is 0.16, below the pass mark >= 0.9' '$work/marks.err' && ! grep -q 'pad-straight.csv' '$work/marks.err' && tail -1 '$work/marks.jsonl' | grep -q '\"passed\":1,\"failed\":1'"
+check "without marks the same traces exit 0" "$incise" score "$pad" "$scenarios/traces/pad-straight.csv" "$scenarios/traces/pad-s-curve.csv" --out "$work/nomarks.jsonl"
+check "a mark without >= or <= is refused: exit 2, nothing written" expect_exit 2 "\-\-pass-mark 'economy=0.5': no >= or <=" -- "$incise" score "$pad" "$scenarios/traces/pad-straight.csv" --pass-mark economy=0.5 --out "$work/badmark1.jsonl"
+check "a mark on a figure the score has not is refused, naming it" expect_exit 2 "the score has no figure 'plan.share_cut'" -- "$incise" score "$pad" "$scenarios/traces/pad-straight.csv" --pass-mark 'plan.share_cut>=0.5' --out "$work/badmark2.jsonl"
+check "a plan mark on a scenario without a plan is refused" expect_exit 2 "has no plan, so the score has no 'plan.share_uncut'" -- "$incise" score "$scenarios/bunny-straight.json" "$scenarios/traces/bunny-straight.csv" --pass-mark 'plan.share_uncut<=0.1' --out "$work/badmark3.jsonl"
+check "... and none of them wrote anything" bash -c "! ls '$work' | grep -q badmark"
+
 # A JIGSAWS-like trace on a scenario without a plan: the motion measures only.
 check "a scenario without a plan scores the motion only" bash -c "'$incise' score '$scenarios/bunny-straight.json' '$scenarios/traces/bunny-straight.csv' | head -1 | python3 -c \"
 import json, sys; d = json.loads(sys.stdin.read())

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # incise train end to end under xvfb-run: a real session in the window, the mouse moved and clicked along
 # the plan with xdotool (the start and end pixels are the ones train prints), then the window closed with
-# Esc. Then a pen's recorded session played through the HID profile as a live device. The trace, the cut,
-# the report, the score and its plot come out; the score is the line `incise score`
-# prints for the recorded trace, byte for byte; the cut lies along the plan. Bad input: exit 2, a message.
+# Esc. Then a pen's recorded session played through the HID profile as a live device, with a pass mark it
+# cannot meet (exit 1). The trace, the cut, the report, the score and its plot come out; the score is the
+# line `incise score` prints for the recorded trace, byte for byte; the cut lies along the plan. Bad input:
+# exit 2, a message.
 #   train_test.sh INCISE_BINARY SCENARIOS_DIR
 set -u
 incise=$1
@@ -26,7 +27,7 @@ pad=$scenarios/pad-straight.json
 out=$work/session
 
 # A session: press at the plan's start, drag to its end in 60 steps (about 3 s), release, close.
-"$incise" train "$pad" --out "$out" --size 1280x800 > "$work/train.txt" 2> "$work/train.err" &
+"$incise" train "$pad" --out "$out" --size 1280x800 --pass-mark 'plan.share_uncut<=0.2' > "$work/train.txt" 2> "$work/train.err" &
 pid=$!
 for _ in $(seq 1 300); do grep -q "plan start at pixel" "$work/train.txt" 2>/dev/null && break; sleep 0.1; done
 check "train prints where the plan is in the window" grep -q "plan start at pixel" "$work/train.txt"
@@ -40,7 +41,7 @@ done
 xdotool mouseup 1; sleep 0.5
 xdotool key --window "$wid" Escape
 wait "$pid"; code=$?; pid=
-check "the session ends with exit 0 (it cut along the plan)" test "$code" -eq 0
+check "the session ends with exit 0 (it cut along the plan and met its pass mark)" test "$code" -eq 0
 [ "$code" -eq 0 ] || { echo "  stdout: $(cat "$work/train.txt")"; echo "  stderr: $(tail -5 "$work/train.err")"; }
 for f in trace.csv cut.obj report.json score.json score.png; do check "... and wrote $f" test -s "$out/$f"; done
 check "... the trace carries the tissue's hash" grep -q "^# tissue: " "$out/trace.csv"
@@ -56,8 +57,9 @@ check "... one incision" grep -q '"incisions":1' "$out/score.json"
 # The pen: a recorded Wacom pen session played as a live device (--transport replay) through the HID profile,
 # the session's clock on its poses. The cut is the recording's (replay --fast of the scenario), to the hash.
 pen=$scenarios/pad-pen-wacom.json
+# A pass mark no session can meet (a share over 1): the session runs and writes everything, and exits 1.
 "$incise" train "$pen" --input hid --transport "replay:$scenarios/hid/pad-pen-wacom.hid" --out "$work/pen" \
-  --size 1280x800 > "$work/pen.txt" 2> "$work/pen.err" &
+  --size 1280x800 --pass-mark 'plan.share_within_lateral_tolerance>=1.01' > "$work/pen.txt" 2> "$work/pen.err" &
 pid=$!
 wid=$(xdotool search --sync --name "incise train" | head -1)
 last=-1
@@ -69,8 +71,9 @@ for _ in $(seq 1 100); do  # until the recording has played out: the trace stops
 done
 xdotool key --window "$wid" Escape
 wait "$pid"; code=$?; pid=
-check "a pen session through the HID profile ends with exit 0" test "$code" -eq 0
-[ "$code" -eq 0 ] || { echo "  stdout: $(cat "$work/pen.txt")"; echo "  stderr: $(tail -5 "$work/pen.err")"; }
+check "a pen session through the HID profile missing its pass mark ends with exit 1, naming the figure" bash -c \
+  "[ $code -eq 1 ] && grep -q 'plan.share_within_lateral_tolerance is .*, below the pass mark >= 1.01' '$work/pen.err'"
+[ "$code" -eq 1 ] || { echo "  stdout: $(cat "$work/pen.txt")"; echo "  stderr: $(tail -5 "$work/pen.err")"; }
 "$incise" score "$pen" "$work/pen/trace.csv" > "$work/pen-score.txt" 2> /dev/null
 check "... its score is incise score's on its trace" cmp -s <(head -1 "$work/pen-score.txt") "$work/pen/score.json"
 "$incise" replay "$pen" --fast --out "$work/pen-replay" > /dev/null
@@ -79,6 +82,7 @@ check "... and its cut is the recording's, replayed (the same geometry hash)" \
   test "$(hash "$work/pen/report.json")" = "$(hash "$work/pen-replay/report.json")"
 check "--input hid on a scenario without a pen mapping is refused" \
   expect_exit 2 "has no pen or six_dof mapping" -- "$incise" train "$pad" --input hid --out "$work/bad"
+check "a bad --pass-mark is refused before the window opens" expect_exit 2 "\-\-pass-mark 'economy=1': no >= or <=" -- "$incise" train "$pad" --pass-mark economy=1 --out "$work/bad"
 check "--input other than mouse or hid is refused" expect_exit 2 "\-\-input 'pen'" -- "$incise" train "$pad" --input pen --out "$work/bad"
 check "no display: exit 2 naming xvfb-run" expect_exit 2 "xvfb-run" -- env -u DISPLAY -u WAYLAND_DISPLAY "$incise" train "$pad" --out "$work/bad"
 check "... and nothing written" test ! -e "$work/bad/trace.csv"

@@ -47,6 +47,34 @@ check "... reports display frames and the latency on screen" grep -q "display fr
 check "... writes what replay writes, the mesh byte for byte the same" cmp -s "$work/plain/cut.obj" "$work/view/cut.obj"
 check "... and the report" grep -q '"mode": "realtime"' "$work/view/report.json"
 
+# A replay that ends and a window that stays open: the run's 1363 frames take 0.7 s at --speed 2, the window
+# then shows its last snapshot for 4 s more before Esc. The latency on screen counts each snapshot once, at
+# the first display frame showing it: the redraws after the end add nothing, so its maximum stays far below
+# the 4 s the window stayed open (counting them, it would be over 4000 ms), and no more snapshots were shown
+# than the run has frames.
+"$incise" view "$straight" --speed 2 --size 480x300 --out "$work/open" > "$work/open.txt" 2> "$work/open.err" &
+view_pid=$!
+view_wid=$(xdotool search --sync --name "incise view" | head -1)
+sleep 4.7
+xdotool key --window "$view_wid" Escape
+wait "$view_pid"; view_code=$?
+check "view left open after the replay ended, then closed: exit 0" test "$view_code" -eq 0
+on_screen() {  # on_screen P50_MAX MAX_MAX: the summary's figures under the bounds, its snapshots <= frames
+  python3 - "$work/open.txt" "$@" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+m = re.search(r'on screen ([0-9.]+) ms p50, ([0-9.]+) ms max .* over ([0-9]+) snapshots', text)
+frames = re.search(r'\(realtime\): ([0-9]+) frames', text)
+if not m or not frames:
+    sys.exit('no on-screen figures or frames in: ' + text)
+p50, worst, shown = float(m.group(1)), float(m.group(2)), int(m.group(3))
+ok = p50 <= float(sys.argv[2]) and worst <= float(sys.argv[3]) and 0 < shown <= int(frames.group(1))
+print('  on screen %.1f ms p50, %.1f ms max over %d snapshots (%s frames)' % (p50, worst, shown, frames.group(1)))
+sys.exit(0 if ok else 1)
+PY
+}
+check "... its latency on screen leaves out the 4 s of redraws: p50 under 1000 ms, max under 2500 ms" on_screen 1000 2500
+
 # Bad input: exit 2, the option and the value, nothing written.
 check "a bad --size is refused with its value" expect_exit 2 "\-\-size '300'" -- "$incise" render "$straight" --out "$work/bad1.png" --size 300
 check "a bad --camera is refused with its value" expect_exit 2 "\-\-camera '10,95'" -- "$incise" render "$straight" --out "$work/bad2.png" --camera 10,95
@@ -55,6 +83,9 @@ check "... and none of them wrote anything" bash -c "! ls '$work' | grep -q '^ba
 check "view --size is checked too" expect_exit 2 "\-\-size 'big'" -- "$incise" view "$straight" --size big --out "$work/bad-view"
 check "view without a display names incise render and xvfb-run" \
   expect_exit 2 "incise render.*xvfb-run" -- env -u DISPLAY -u WAYLAND_DISPLAY "$incise" view "$straight" --out "$work/nodisplay"
+check "view on a display no server answers: exit 2, naming the display" \
+  expect_exit 2 "cannot open the display DISPLAY=:987 .*no server answers there" -- env DISPLAY=:987 "$incise" view "$straight" --out "$work/deaddisplay"
+check "... and no file written" test -z "$(ls -A "$work/deaddisplay" 2> /dev/null)"
 check "an old OpenGL is refused with what the driver offers" \
   expect_exit 2 "OpenGL 3.3 core profile is not available.*offers OpenGL 3.0" -- env MESA_GL_VERSION_OVERRIDE=3.0 "$incise" render "$straight" --out "$work/old.png"
 check "... through EGL too" \

@@ -18,18 +18,20 @@ TEST_CASE("run_report: a replay's report has the mesh's hash and summary and the
   CHECK(json["frames"] == report.frames);
   CHECK(json["mesh"]["closed_two_manifold"] == true);
   CHECK(json["cut_failure"] == "");
+  CHECK(json["note"] == "");
   REQUIRE(json["incision_figures"].size() == 1);
   CHECK(json["incision_figures"][0]["shortfall"] == "none");
   CHECK_FALSE(json.contains("tets"));
 }
 
-TEST_CASE("run_report: a replay that never touched the tissue says so", "[jobs]") {
+TEST_CASE("run_report: a replay that never cut the tissue says so, and it is no failure", "[jobs]") {
   incise::sim::ReplayReport report;
   report.poses = 12;
   report.incisions = 0;
-  CHECK_THAT(incise::jobs::replayFailure({}, report), Catch::StartsWith("no contact: none of the 12 poses"));
+  CHECK_THAT(incise::jobs::noIncision(report), Catch::StartsWith("no incision: none of the 12 poses cut the tissue"));
+  CHECK(incise::jobs::cutFailure({}).empty());
   report.incisions = 1;
-  CHECK(incise::jobs::replayFailure({}, report).empty());
+  CHECK(incise::jobs::noIncision(report).empty());
 }
 
 TEST_CASE("run_report: the timing summary takes nearest ranks", "[jobs]") {

@@ -18,16 +18,21 @@ FrameTiming uniform(double value, bool missed = false) {
   t.period_error_us = value;
   t.geometry_us = value;
   t.haptic_cpu_us = value;
-  t.pose_to_visible_frames = static_cast<int>(value);
   t.deadline_missed = missed;
   return t;
+}
+
+// A frame of `value` in every quantity, and a cut that became visible `value` frames after its pose.
+void recordUniform(LatencyStats& stats, double value, bool missed = false) {
+  stats.record(uniform(value, missed));
+  stats.recordPoseToVisible(static_cast<int>(value));
 }
 
 }  // namespace
 
 TEST_CASE("latency_stats: nearest-rank percentiles of 1..1000 are 500, 990, 999 and the max 1000", "[sim]") {
   LatencyStats stats(1000);
-  for (int i = 1000; i >= 1; --i) stats.record(uniform(i));  // any order: the summary sorts
+  for (int i = 1000; i >= 1; --i) recordUniform(stats, i);  // any order: the summary sorts
   const LatencySummary s = stats.summary();
   CHECK(s.frames == 1000);
   CHECK(s.frames_stored == 1000);
@@ -52,20 +57,20 @@ TEST_CASE("latency_stats: percentiles of a few samples take the nearest rank, ne
   CHECK(s.mean == Approx(20.0));
 }
 
-TEST_CASE("latency_stats: deadline misses are counted and frames without a new cut stay out of pose-to-visible",
+TEST_CASE("latency_stats: deadline misses are counted and pose-to-visible has one sample per cut made visible",
           "[sim]") {
   LatencyStats stats(100);
   for (int i = 0; i < 10; ++i) {
-    FrameTiming t = uniform(100.0, /*missed=*/i % 4 == 0);  // frames 0, 4, 8 miss
-    t.pose_to_visible_frames = (i < 3) ? i + 1 : -1;        // a new cut in frames 0..2 only
-    stats.record(t);
+    stats.record(uniform(100.0, /*missed=*/i % 4 == 0));                     // frames 0, 4, 8 miss
+    if (i == 2) stats.recordPoseToVisible(1), stats.recordPoseToVisible(3);  // two cuts visible in frame 2
+    if (i == 5) stats.recordPoseToVisible(2);
   }
   const LatencySummary s = stats.summary();
   CHECK(s.frames == 10);
   CHECK(s.deadline_misses == 3);
   CHECK(stats.deadlineMisses() == 3);
   CHECK(s.frame_us.count == 10);
-  CHECK(s.pose_to_visible_frames.count == 3);
+  CHECK(s.pose_to_visible_frames.count == 3);  // the cuts, not the frames
   CHECK(s.pose_to_visible_frames.max == 3.0);
   CHECK(s.pose_to_visible_frames.p50 == 2.0);
   CHECK(s.pose_to_visible_frames.mean == Approx(2.0));
@@ -74,7 +79,7 @@ TEST_CASE("latency_stats: deadline misses are counted and frames without a new c
 TEST_CASE("latency_stats: once full it stops storing but keeps counting frames, misses and maxima", "[sim]") {
   LatencyStats stats(10);
   CHECK(stats.capacity() == 10);
-  for (int i = 1; i <= 20; ++i) stats.record(uniform(i, /*missed=*/i > 15));
+  for (int i = 1; i <= 20; ++i) recordUniform(stats, i, /*missed=*/i > 15);
   const LatencySummary s = stats.summary();
   CHECK(s.frames == 20);
   CHECK(s.frames_stored == 10);
@@ -83,17 +88,22 @@ TEST_CASE("latency_stats: once full it stops storing but keeps counting frames, 
   CHECK(s.frame_us.p50 == 5.0);
   CHECK(s.frame_us.p99 == 10.0);
   CHECK(s.frame_us.mean == Approx(5.5));
-  CHECK(s.frame_us.max == 20.0);  // max: every frame
+  CHECK(s.frame_us.max == 20.0);                // max: every frame
+  CHECK(s.pose_to_visible_frames.count == 10);  // the same for the pose-to-visible samples
+  CHECK(s.pose_to_visible_frames.p99 == 10.0);
+  CHECK(s.pose_to_visible_frames.max == 20.0);
 
   SECTION("clear() starts over with the same capacity") {
     stats.clear();
-    stats.record(uniform(3.0));
+    recordUniform(stats, 3.0);
     const LatencySummary t = stats.summary();
     CHECK(t.frames == 1);
     CHECK(t.frames_stored == 1);
     CHECK(t.deadline_misses == 0);
     CHECK(t.frame_us.max == 3.0);
     CHECK(t.frame_us.p50 == 3.0);
+    CHECK(t.pose_to_visible_frames.count == 1);
+    CHECK(t.pose_to_visible_frames.max == 3.0);
   }
 }
 
@@ -181,7 +191,7 @@ TEST_CASE("latency_stats: framesOver counts the stored frames over a threshold i
 
 TEST_CASE("latency_stats: toJson writes the counters and every quantity's statistics", "[sim]") {
   LatencyStats stats(1000);
-  for (int i = 1; i <= 1000; ++i) stats.record(uniform(i, i == 1000));
+  for (int i = 1; i <= 1000; ++i) recordUniform(stats, i, i == 1000);
   const nlohmann::json j = nlohmann::json::parse(incise::sim::toJson(stats.summary()));
   CHECK(j.at("frames") == 1000);
   CHECK(j.at("frames_stored") == 1000);

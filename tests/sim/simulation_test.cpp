@@ -3,12 +3,15 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
 
+#include "incise/incision/surface_cutter.h"
 #include "incise/mesh/shapes.h"
 #include "incise/mesh/surface_mesh.h"
+#include "incise/sim/stroke_poses.h"
 
 using namespace incise;
 using Eigen::Vector3d;
@@ -189,6 +192,84 @@ TEST_CASE("simulation: the ForceSink gets each frame's haptic force at the frame
   CHECK(sink.calls[3].t_s == Approx(1.006).margin(1e-12));
   CHECK(sink.calls[3].force_N == spring);
   CHECK(world.incisions() == 0);
+}
+
+namespace {
+
+// A stroke's poses fed one a frame, with `pause_frames` frames without a pose (the blade held still in
+// the tissue, as a live device that sends nothing while still: the later poses' times are that much later)
+// before pose `pause_before` (none when negative), then frames until the cut has no work left. Returns the
+// pose-to-visible latencies the snapshots show: per frame whose snapshot shows more final columns, the
+// frames until a snapshot shows them cut (the pose that made them final came in that same frame).
+struct PausedStroke {
+  std::vector<int> expected;
+  std::vector<std::int64_t> made_at;  // the frames whose snapshot showed more final columns
+  sim::LatencySummary summary;
+};
+
+PausedStroke pausedStroke(std::int64_t pause_before, int pause_frames) {
+  sim::WorldOptions options;
+  options.cut_budget_us = 20.0;  // a few inversions a frame: the cut trails the stroke by some frames
+  const mesh::SurfaceMesh tissue =
+      mesh::subdivided(mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01), 2);
+  sim::StrokeSpec stroke;
+  stroke.start_m = Vector3d(-0.012, 0.0, 0.015);
+  stroke.length_m = 0.02;
+  std::vector<devices::PoseSample> poses = sim::posesForStrokes(tissue, {stroke}, options, 1000.0);
+  const auto pause_after = static_cast<std::size_t>(pause_before < 0 ? poses.size() : pause_before);
+  for (std::size_t k = pause_after; k < poses.size(); ++k) poses[k].time_s += 0.001 * pause_frames;
+  sim::World world(tissue, options);
+  sim::Simulation simulation(world, nullptr, 1000, 0.0);
+  struct Made {
+    int columns;
+    std::int64_t frame;
+  };
+  std::vector<Made> made;
+  std::vector<int> done_at;  // per frame, columns cut
+  int final_columns = 0;
+  std::size_t next = 0;
+  sim::Snapshot snap;
+  for (std::int64_t frame = 0; next < poses.size() || world.pending() || frame < 2000; ++frame) {
+    const bool paused = next == pause_after && pause_frames-- > 0;
+    if (next < poses.size() && !paused) REQUIRE(simulation.pushPose(poses[next++]));
+    simulation.frame(frameInfo(frame));
+    REQUIRE(simulation.takeSnapshot(snap));
+    REQUIRE(snap.incisions <= 1);
+    if (snap.columns_final > final_columns) made.push_back({final_columns = snap.columns_final, frame});
+    done_at.push_back(snap.columns_done);
+  }
+  PausedStroke out;
+  for (const Made& m : made) {
+    out.made_at.push_back(m.frame);
+    auto frame = m.frame;
+    while (done_at[static_cast<std::size_t>(frame)] < m.columns) ++frame;
+    out.expected.push_back(static_cast<int>(frame - m.frame));
+  }
+  out.summary = simulation.stats().summary();
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("simulation: pose-to-visible counts each cut once, from the frame its pose came; idle frames add nothing",
+          "[sim]") {
+  // Without a pause first; then 300 frames without a pose before a pose that makes columns final (the
+  // middle one of the run without a pause: one pose a frame from frame 0, so frame k took pose k).
+  const PausedStroke straight = pausedStroke(-1, 0);
+  const std::int64_t before = straight.made_at[straight.made_at.size() / 2];
+  for (const int pause_frames : {0, 300}) {
+    INFO(pause_frames << " frames without a pose before pose " << before);
+    const PausedStroke run = pause_frames == 0 ? straight : pausedStroke(before, pause_frames);
+    REQUIRE(run.expected.size() > 20);
+    const sim::SampleSummary& s = run.summary.pose_to_visible_frames;
+    CHECK(s.count == run.expected.size());
+    double sum = 0.0;
+    for (const int e : run.expected) sum += e;
+    CHECK(s.max == *std::max_element(run.expected.begin(), run.expected.end()));
+    CHECK(s.mean == Approx(sum / static_cast<double>(run.expected.size())));
+    CHECK(*std::max_element(run.expected.begin(), run.expected.end()) > 0);  // the budget made the cut trail
+    CHECK(s.max < 100);  // far below the pause: the frames without a pose are not counted
+  }
 }
 
 TEST_CASE("simulation: a non-positive period is refused", "[sim]") {

@@ -98,6 +98,52 @@ TEST_CASE("hud_model: latency on screen in milliseconds and display frames", "[v
   CHECK(h.screen_latency_display_frames_max == Approx(40.0 / 33.0));
 }
 
+TEST_CASE("hud_model: each snapshot counts once on screen; redraws after the run ended change nothing", "[viewer]") {
+  // A 3 s run at 60 display frames a second, each showing a new snapshot whose sim frame began 12 ms (first
+  // half) or 20 ms (second half) before; then the window stays open 2 s on the last snapshot, then 5 s more.
+  HudModel hud(1000.0, 300.0, 5.0);
+  const std::int64_t ms = 1'000'000, display_ns = 1'000'000'000 / 60, start_ns = 1000 * ms;
+  std::int64_t at_ns = start_ns, last_start_ns = 0;
+  for (int i = 0; i < 180; ++i, at_ns += display_ns)
+    hud.displayed(last_start_ns = at_ns - (i < 90 ? 12 : 20) * ms, at_ns);
+  const auto ended = hud.figures();
+  CHECK(ended.snapshots_shown == 180);
+  CHECK(ended.run_screen_latency_ms_p50 == Approx(12.0));
+  CHECK(ended.run_screen_latency_ms_max == Approx(20.0));
+  CHECK(ended.screen_latency_ms_max == Approx(20.0));
+  CHECK(ended.display_fps == Approx(60.0));
+  CHECK(ended.run_screen_latency_display_frames_max == Approx(20.0 * 60.0 / 1000.0));
+  for (const int seconds : {2, 5}) {
+    INFO("the window open " << seconds << " s after the run's last snapshot");
+    for (int i = 0; i < 60 * seconds; ++i, at_ns += display_ns) hud.displayed(last_start_ns, at_ns);
+    const auto open = hud.figures();
+    CHECK(open.snapshots_shown == 180);
+    CHECK(open.run_screen_latency_ms_p50 == ended.run_screen_latency_ms_p50);
+    CHECK(open.run_screen_latency_ms_max == ended.run_screen_latency_ms_max);
+    CHECK(open.screen_latency_ms_p50 == ended.screen_latency_ms_p50);  // the window follows the snapshots
+    CHECK(open.screen_latency_ms_max == ended.screen_latency_ms_max);
+    CHECK(open.display_fps == Approx(60.0));  // the display still runs
+  }
+  // No snapshot yet (frame_start_ns 0): display frames only.
+  HudModel fresh(1000.0, 300.0, 5.0);
+  fresh.displayed(0, start_ns);
+  fresh.displayed(0, start_ns + display_ns);
+  CHECK(fresh.figures().snapshots_shown == 0);
+  CHECK(fresh.figures().display_fps == Approx(60.0));
+}
+
+TEST_CASE("hud_model: the screen latency's window follows the snapshots' sim time, the run's covers them all",
+          "[viewer]") {
+  HudModel hud(1000.0, 300.0, 1.0);  // a 1 s window
+  const std::int64_t ms = 1'000'000;
+  for (int i = 0; i < 30; ++i) hud.displayed((1000 + 100 * i) * ms, (1000 + 100 * i + (i < 10 ? 50 : 10)) * ms);
+  const auto h = hud.figures();
+  CHECK(h.snapshots_shown == 30);
+  CHECK(h.screen_latency_ms_max == Approx(10.0));  // the last 1 s of snapshots: 10 ms each
+  CHECK(h.run_screen_latency_ms_max == Approx(50.0));
+  CHECK(h.run_screen_latency_ms_p50 == Approx(10.0));
+}
+
 TEST_CASE("hud_model: a replay's source is playing, paused, then finished", "[viewer]") {
   incise::viewer::ReplaySourceStatus source("trace bunny-straight.csv", 1.0);
   CHECK(source.status(snapshotAt(500)).state == "playing");

@@ -41,6 +41,18 @@ const char* const kNoDisplay =
     "display use `incise render SCENARIO --out FILE.png`; to watch a run on a machine without a screen use "
     "`xvfb-run -a incise view ...`";
 
+// DISPLAY or WAYLAND_DISPLAY is set, but no server there accepted the connection.
+std::string displayRefused() {
+  const char* x = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  const std::string named =
+      x && *x ? "DISPLAY=" + std::string(x) : "WAYLAND_DISPLAY=" + std::string(wayland ? wayland : "");
+  return "cannot open the display " + named + " (" + glfwLastError() +
+         "): no server answers there, or it refused the connection (an Xvfb resetting after its last client "
+         "left does: start it with -noreset). For pictures without a display unset it and use `incise render "
+         "SCENARIO --out FILE.png`; to watch a run on a machine without a screen use `xvfb-run -a incise view ...`";
+}
+
 }  // namespace
 
 bool displayAvailable() noexcept {
@@ -61,7 +73,7 @@ struct GlContext::Impl {
 };
 
 void GlContext::Impl::openWindow(ContextKind kind, int width, int height, const std::string& title) {
-  if (!glfwInit()) throw ViewerError("cannot open the display (" + glfwLastError() + "). " + kNoDisplay);
+  if (!glfwInit()) throw ViewerError(displayRefused());
   glfw = true;
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);

@@ -44,10 +44,15 @@ void HudModel::add(const sim::FrameTimes& t) {
 }
 
 void HudModel::displayed(std::int64_t shown_frame_start_ns, std::int64_t shown_ns) {
-  if (shown_frame_start_ns <= 0) return;
-  shown_.push_back({shown_ns, 1e-6 * static_cast<double>(shown_ns - shown_frame_start_ns)});
   const double window_ns = 1e3 * period_us_ * static_cast<double>(window_frames_);
-  while (!shown_.empty() && static_cast<double>(shown_ns - shown_.front().at_ns) > window_ns) shown_.pop_front();
+  display_ns_.push_back(shown_ns);
+  while (static_cast<double>(shown_ns - display_ns_.front()) > window_ns) display_ns_.pop_front();
+  if (shown_frame_start_ns <= last_shown_frame_start_ns_) return;  // none yet, or shown before
+  last_shown_frame_start_ns_ = shown_frame_start_ns;
+  const double latency_ms = 1e-6 * static_cast<double>(shown_ns - shown_frame_start_ns);
+  shown_.push_back({shown_frame_start_ns, latency_ms});
+  run_latency_ms_.push_back(latency_ms);
+  while (static_cast<double>(shown_frame_start_ns - shown_.front().frame_start_ns) > window_ns) shown_.pop_front();
 }
 
 HudFigures HudModel::figures() const {
@@ -72,12 +77,15 @@ HudFigures HudModel::figures() const {
   h.incisions = newest_.incisions;
   std::vector<double> latency;
   for (const Shown& s : shown_) latency.push_back(s.latency_ms);
-  const Percentiles l = percentiles(latency);
+  const Percentiles l = percentiles(std::move(latency)), run = percentiles(run_latency_ms_);
   h.screen_latency_ms_p50 = l.p50, h.screen_latency_ms_max = l.max;
-  if (shown_.size() >= 2) {
-    const double span_s = 1e-9 * static_cast<double>(shown_.back().at_ns - shown_.front().at_ns);
-    h.display_fps = span_s > 0.0 ? static_cast<double>(shown_.size() - 1) / span_s : 0.0;
-    h.screen_latency_display_frames_max = h.display_fps > 0.0 ? l.max * 1e-3 * h.display_fps : 0.0;
+  h.run_screen_latency_ms_p50 = run.p50, h.run_screen_latency_ms_max = run.max;
+  h.snapshots_shown = static_cast<std::int64_t>(run_latency_ms_.size());
+  if (display_ns_.size() >= 2) {
+    const double span_s = 1e-9 * static_cast<double>(display_ns_.back() - display_ns_.front());
+    h.display_fps = span_s > 0.0 ? static_cast<double>(display_ns_.size() - 1) / span_s : 0.0;
+    h.screen_latency_display_frames_max = l.max * 1e-3 * h.display_fps;
+    h.run_screen_latency_display_frames_max = run.max * 1e-3 * h.display_fps;
   }
   return h;
 }

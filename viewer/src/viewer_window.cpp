@@ -342,7 +342,8 @@ ViewerRequests ViewerWindow::frame() {
   if (std::exchange(m.input.wireframe, false)) m.wireframe = !m.wireframe;
   if (std::exchange(m.input.tets, false)) m.toggleTets();
   if (std::exchange(m.input.reset, false)) m.camera.reset();
-  if (width > 0 && height > 0) {
+  const bool drawn = width > 0 && height > 0;
+  if (drawn) {
     if (std::exchange(m.input.screenshot, false)) m.screenshot(width, height);
     m.renderer->draw(m.camera, width, height, m.tool(), m.drawOptions());
     m.hudFrame();
@@ -350,7 +351,7 @@ ViewerRequests ViewerWindow::frame() {
   glfwSwapBuffers(m.window);
   glFinish();  // the frame is on screen (llvmpipe draws at the flush): the latency below is honest
   ++m.display_frames;
-  m.hud->displayed(m.snapshot.frame_start_ns, nowNs());
+  if (drawn) m.hud->displayed(m.snapshot.frame_start_ns, nowNs());  // a snapshot counts once, when first shown
   return requests;
 }
 

@@ -30,8 +30,10 @@ nlohmann::json incisionFiguresJson(const std::vector<incision::IncisionFigures>&
 // What went wrong with the cut, for a report's failure field: the cutter's internal failure, else the first
 // incision whose groove fell short of its stroke ("incision 2 of 3: a groove of ..."), else "".
 std::string cutFailure(const incision::CutStats& stats);
-// cutFailure, or "no contact: ..." when a replay's poses never touched the tissue.
-std::string replayFailure(const incision::CutStats& stats, const sim::ReplayReport& report);
+// "no incision: none of the N poses cut the tissue (...)" when a replay with poses made no incision (the
+// tool never touched the tissue, or touched it with the cut button up), else "". Not a failure: a run that
+// did nothing says so.
+std::string noIncision(const sim::ReplayReport& report);
 
 // Sums over the incisions of their groove and stroke lengths (metres).
 double totalGroove_m(const std::vector<incision::IncisionFigures>& figures);
@@ -45,7 +47,7 @@ nlohmann::json timingSummary(std::vector<double> values_us);
 nlohmann::json tetsReport(const tets::TetCutter& tets, const tets::TetView& deformed);
 
 // report.json of a replay that has ended, over run.world as the replay left it: scenario, mode, counts,
-// the cut's figures and failure, geometry_hash (mesh_hash.h, 16 hex digits), the mesh's summary, latency
+// the cut's figures and failure (cutFailure), "note" (noIncision), geometry_hash (mesh_hash.h, 16 hex digits), the mesh's summary, latency
 // and loop figures, and with a tet tissue the "tets" block (tetsReport; the view is made here when
 // `deformed` is null).
 nlohmann::json replayReport(const ScenarioRun& run, const sim::ReplayOptions& options, const sim::ReplayReport& report,

@@ -1,11 +1,14 @@
-// Per-frame latency statistics: the sim thread records one FrameTiming per frame, the benchmark, the CLI and
-// the viewer HUD read the same summary (p50 / p99 / p99.9 / max / mean and deadline misses).
+// Per-frame latency statistics: the sim thread records one FrameTiming per frame, and one pose-to-visible
+// latency per cut that became visible (recordPoseToVisible: each once, in the frame it became visible); the
+// benchmark, the CLI and the viewer HUD read the same summary (p50 / p99 / p99.9 / max / mean and deadline
+// misses).
 //
 // Units: microseconds for times (the _us fields), frames for pose_to_visible_frames.
-// Storage: a fixed capacity of frames, reserved in the constructor; record() never allocates. When the
-// capacity is reached, record() keeps counting frames and deadline misses and keeps the per-quantity maxima
-// and stops storing samples: count, percentiles and mean then describe the first `capacity` frames, while
-// `max`, `frames` and `deadline_misses` cover every recorded frame (`frames_stored` < `frames` says so).
+// Storage: a fixed capacity of frames (and as many pose-to-visible samples), reserved in the constructor;
+// neither record call allocates. When the capacity is reached they keep counting frames and deadline misses
+// and keep the per-quantity maxima and stop storing samples: count, percentiles and mean then describe the
+// first `capacity` samples, while `max`, `frames` and `deadline_misses` cover every recorded one
+// (`frames_stored` < `frames` says so).
 // Threads: not synchronised. One thread records (the sim thread); summary() is called by the same thread or
 // after the recording thread has been joined (a FixedRateLoop stopped).
 // Cost: record() O(1), noexcept; summary() O(n log n) on sorted copies, allocates (not for the sim thread).
@@ -19,8 +22,7 @@
 
 namespace incise::sim {
 
-// What one sim frame cost. pose_to_visible_frames: frames from the pose sample that caused a cut to the
-// snapshot that shows it; -1 when no new cut became visible this frame (such frames do not enter its stats).
+// What one sim frame cost.
 struct FrameTiming {
   double haptic_us = 0.0;
   double cut_us = 0.0;
@@ -31,7 +33,6 @@ struct FrameTiming {
   // descheduled and the steal a VM reports, but counts interrupts taken inside it when the kernel has no
   // CONFIG_IRQ_TIME_ACCOUNTING). haptic_us is the wall time a device sees. -1 when not read (no clock).
   double haptic_cpu_us = -1.0;
-  int pose_to_visible_frames = -1;
   bool deadline_missed = false;  // period_error_us + frame_us over the period: the next deadline was missed
   bool overrun = false;          // frame_us alone over the period: not a late wake-up
   // An overrun whose sim thread ran for at most the period (its CPU time in the frame, CLOCK_THREAD_CPUTIME_ID,
@@ -57,7 +58,7 @@ struct LatencySummary {
   SampleSummary cut_us;
   SampleSummary frame_us;
   SampleSummary period_error_us;
-  SampleSummary pose_to_visible_frames;  // frames with a value >= 0 only
+  SampleSummary pose_to_visible_frames;  // one sample per recordPoseToVisible call
   SampleSummary geometry_us;
   SampleSummary haptic_cpu_us;       // frames with haptic_cpu_us >= 0 only
   std::int64_t frames = 0;           // every record() call
@@ -81,6 +82,9 @@ class LatencyStats {
 
   // Sim thread. O(1), never allocates; see the header comment for what happens once full.
   void record(const FrameTiming& timing) noexcept;
+  // Sim thread: a cut became visible `frames` frames after the frame its pose arrived in (>= 0; simulation.h
+  // says which pose). Once per cut, in the frame it became visible. O(1), never allocates.
+  void recordPoseToVisible(int frames) noexcept;
 
   // Forgets every frame; keeps the reserved capacity. No allocation.
   void clear() noexcept;
@@ -101,12 +105,14 @@ class LatencyStats {
  private:
   std::size_t capacity_;
   std::vector<FrameTiming> samples_;  // reserved to capacity_, never grown past it
+  std::vector<int> pose_to_visible_;  // the same
+  int pose_to_visible_max_ = 0;
+  std::int64_t pose_to_visible_count_ = 0;
   std::int64_t frames_ = 0;
   std::int64_t deadline_misses_ = 0, overrun_misses_ = 0, preempted_misses_ = 0;
-  // Running maxima over every frame, in the order haptic, cut, frame, period error, pose to visible, geometry,
-  // haptic CPU.
-  std::array<double, 7> max_{};
-  std::array<std::int64_t, 7> max_count_{};
+  // Running maxima over every frame, in the order haptic, cut, frame, period error, geometry, haptic CPU.
+  std::array<double, 6> max_{};
+  std::array<std::int64_t, 6> max_count_{};
 };
 
 // {"frames", "frames_stored", "deadline_misses", "overrun_misses", "preempted_misses", "late_wakeup_misses",

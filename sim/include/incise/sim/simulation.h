@@ -15,6 +15,7 @@
 #include <functional>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -49,7 +50,7 @@ struct StepProfile {
 struct FrameTimes {
   std::int64_t frame = -1;
   float frame_us = 0.0f, haptic_us = 0.0f, cut_us = 0.0f, geometry_us = 0.0f;
-  std::int16_t pose_to_visible_frames = -1;  // as FrameTiming's
+  std::int16_t pose_to_visible_frames = -1;  // the largest that became visible this frame (-1: none)
   bool deadline_missed = false;
 };
 using FrameTimesQueue = SpscQueue<FrameTimes, 8192>;  // 8 s at 1 kHz, 256 KiB
@@ -89,9 +90,10 @@ class Simulation final : public devices::PoseSink {
   // changes into it (timed: geometry_us; geometry_stream.h), then publish the Snapshot (timed: publish_us);
   // 5. record the frame in LatencyStats (a deadline missed by the frame's own time over the period is an
   // overrun, one missed by starting late a late wake-up). Frame k's time is t0 + k * period: simulated,
-  // never read from a clock, so the cut is the same whichever frame saw which pose. Pose-to-visible latency:
-  // frames from the frame whose poses made new lattice columns final (less however long they waited in the
-  // world's queue) to the frame whose snapshot shows them cut.
+  // never read from a clock, so the cut is the same whichever frame saw which pose. Pose-to-visible latency,
+  // once per frame whose cut phase made new lattice columns final: from the frame the oldest pose that cut
+  // phase handled arrived in (the haptic part took it: a pose that waited in the world's queue counts its
+  // wait; frames with no pose count for nothing) to the frame whose snapshot first shows those columns cut.
   void frame(const FrameInfo& info) noexcept;  // sim thread
   bool takeSnapshot(Snapshot& out) noexcept;   // reader thread: true when newer than the last
   // Before the first frame: publish the mesh's changes into `stream` every frame (attach() is done here:
@@ -113,6 +115,9 @@ class Simulation final : public devices::PoseSink {
  private:
   int poseToVisible(std::int64_t frame) noexcept;
   void resetOnNewIncision() noexcept;
+  void noteArrivals(int accepted, std::int64_t frame) noexcept;
+  void notePending(std::int64_t frame) noexcept;
+  std::int64_t arrivalFrame(std::int64_t pose, std::int64_t frame) noexcept;
 
   World& world_;
   ForceSink* sink_;
@@ -125,13 +130,23 @@ class Simulation final : public devices::PoseSink {
   LatencyStats own_stats_{1};
   LatencyStats* stats_;
   std::atomic<std::int64_t> dropped_{0}, taken_{0};
-  // Pose-to-visible bookkeeping: columns made final at which frame, in order (a small ring).
+  // Pose-to-visible bookkeeping: columns made final with poses from which frame, in order (a small ring);
+  // and per frame that brought poses, how many the world had accepted by its end (a ring holding every
+  // frame with a pose the cut phase has not handled, and the newest handled one's: at most the world's
+  // queue, kQueuedPoses, plus one; reserved at construction). Poses are counted from 0 in arrival order.
   struct Pending {
     int column;
     std::int64_t frame;
   };
   std::array<Pending, 256> pending_{};
   std::size_t pending_head_ = 0, pending_size_ = 0;
+  struct Arrival {
+    std::int64_t accepted_through;  // poses accepted in this frame and before it
+    std::int64_t frame;
+  };
+  std::vector<Arrival> arrivals_;
+  std::size_t arrivals_head_ = 0, arrivals_size_ = 0;
+  std::int64_t accepted_ = 0, handled_ = 0;  // poses the world accepted, and the cut phase handled
   int last_final_ = 0, last_incisions_ = 0;
   double last_publish_us_ = 0.0, last_frame_us_ = 0.0, last_geometry_us_ = 0.0;
   GeometryStream* geometry_ = nullptr;

@@ -165,9 +165,9 @@ class World {
       double t_s, core::WorkBudget::Clock::time_point deadline = core::WorkBudget::Clock::time_point::max()) noexcept;
   // Cutting work left for later frames: queued poses, an incision waiting to begin, or columns not cut.
   bool pending() const noexcept;
-  // Simulated time between the newest pose the haptic part took and the newest one the cut phase has
-  // handled (0 when nothing waits): how far the cut lags the tool.
-  double cutLagS() const noexcept;
+  // Poses the haptic part took (HapticState::poses) that the cut phase has not handled yet: how far the cut
+  // lags the tool, in poses. O(1).
+  std::size_t queuedPoses() const noexcept;
   const WorldCounters& counters() const noexcept { return counters_; }
   static constexpr std::size_t kQueuedPoses = 8192;
   // The proxy's reach: a refill is due when the blade comes within half the reach of the region's edge, and
@@ -228,7 +228,6 @@ class World {
   // The cut phase's queue (the project's PoseQueue, here with one thread at both ends) and the incision that
   // waits to begin.
   std::unique_ptr<PoseQueue<kQueuedPoses>> queued_;
-  double last_cut_pose_s_ = 0.0;
   bool begin_waiting_ = false, surface_settled_ = false, wait_counted_ = false;
   incision::StrokeSample begin_sample_{};
   Eigen::Vector3d begin_direction_ = Eigen::Vector3d::UnitX();

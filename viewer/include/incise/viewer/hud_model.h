@@ -6,8 +6,12 @@
 // Every frame's timings come through a sim::FrameTimesQueue (add(const FrameTimes&)); frames the queue
 // dropped (a reader away longer than the queue holds) show as gaps in the frame numbers and are counted in
 // HudFigures::frames_unseen. The newest snapshot gives the force, incisions, deadline misses and the
-// pose's clock time. Units: microseconds, newtons, seconds, frames. Threads: one (the viewer's). Cost:
-// add() O(1); figures() O(W log W) for a window of W frames (call it a few times a second). Failure: nothing throws but std::bad_alloc.
+// pose's clock time. Latency on screen counts each snapshot once, at the first display frame that shows it
+// (redraws of a snapshot already shown, e.g. after a replay ended or while paused, count for nothing).
+// Units: microseconds, newtons, seconds, frames. Threads: one (the viewer's). Cost: add() O(1);
+// displayed() O(1) amortised (one double kept per snapshot shown, ~8 bytes at display rate); figures()
+// O(W log W + S log S) for a window of W frames and S snapshots shown (call it a few times a second).
+// Failure: nothing throws but std::bad_alloc.
 #pragma once
 
 #include <cstdint>
@@ -64,9 +68,13 @@ struct HudFigures {
   double force_N = 0.0;
   int incisions = 0;
   int pose_to_visible_frames_max = -1;  // sim frames, over the window (-1: no cut became visible in it)
-  double screen_latency_ms_p50 = 0.0, screen_latency_ms_max = 0.0;  // pose's frame start -> on screen
-  double screen_latency_display_frames_max = 0.0;
-  double display_fps = 0.0;
+  // A snapshot's frame start -> the first display frame showing it, over the snapshots of the window (those
+  // whose frame began within the window before the newest one's), and over the whole run; the maxima also
+  // in display frames at display_fps.
+  double screen_latency_ms_p50 = 0.0, screen_latency_ms_max = 0.0, screen_latency_display_frames_max = 0.0;
+  double run_screen_latency_ms_p50 = 0.0, run_screen_latency_ms_max = 0.0, run_screen_latency_display_frames_max = 0.0;
+  std::int64_t snapshots_shown = 0;  // over the run, each once
+  double display_fps = 0.0;          // display frames over the last window of display time
 };
 
 class HudModel {
@@ -75,7 +83,9 @@ class HudModel {
 
   void add(const sim::Snapshot& snapshot);
   void add(const sim::FrameTimes& times);
-  // A display frame finished at `shown_ns` (steady_clock) showing the snapshot `shown` (its frame_start_ns).
+  // A display frame finished at `shown_ns` (steady_clock) showing the snapshot whose frame began at
+  // `shown_frame_start_ns` (Snapshot::frame_start_ns; 0: none yet). A snapshot not newer than the last one
+  // counted adds a display frame only.
   void displayed(std::int64_t shown_frame_start_ns, std::int64_t shown_ns);
 
   HudFigures figures() const;
@@ -90,10 +100,13 @@ class HudModel {
   std::int64_t next_frame_ = 0, unseen_ = 0;
   sim::Snapshot newest_;
   struct Shown {
-    std::int64_t at_ns;
+    std::int64_t frame_start_ns;
     double latency_ms;
   };
-  std::deque<Shown> shown_;
+  std::deque<Shown> shown_;              // the window's snapshots, oldest first
+  std::vector<double> run_latency_ms_;   // every snapshot shown
+  std::deque<std::int64_t> display_ns_;  // display frames in the last window of display time
+  std::int64_t last_shown_frame_start_ns_ = 0;
 };
 
 }  // namespace incise::viewer
