@@ -201,7 +201,7 @@ class TetCutter {
   void separate(int node);
   void supportTets(int node, std::vector<int>& out) const;
   int addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, NodeState state, int side);
-  void setSide(int node, int side);
+  void setSide(int node, int side);  // tet_cutter_deform.cpp
   void redeform(const incision::Incision& in, TetStep& step);
   void fail(const std::string& message);
   int canonical(int node) const { return nodes_[static_cast<size_t>(node)].origin; }
