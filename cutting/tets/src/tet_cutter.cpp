@@ -177,8 +177,9 @@ void TetCutter::startIncision(int incision_number) {
     *lagged_ = incision_->displacement();  // the same shape as prepare()'s: copied into its storage
   else
     lagged_.emplace(incision_->displacement());
-  opening_seen_.resize(static_cast<size_t>(o.max_columns));
-  for (int c = 0; c < o.max_columns; ++c) opening_seen_[static_cast<size_t>(c)] = incision_->columnOpening(c);
+  lagged_seen_.resize(static_cast<size_t>(o.max_columns));
+  for (int c = 0; c < o.max_columns; ++c) lagged_seen_[static_cast<size_t>(c)] = {1.0, incision_->columnOpening(c)};
+  lagged_changed_.reserve(static_cast<size_t>(o.max_columns));
   if (cells_.size() != static_cast<size_t>(o.max_columns)) cells_.resize(static_cast<size_t>(o.max_columns));
   for (auto& cell : cells_) {
     cell.clear();  // keeps its capacity
@@ -193,7 +194,8 @@ void TetCutter::prepare(const incision::IncisionOptions& options) {
                                  incision::StrokeSample{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.0},
                                  Eigen::Vector3d::UnitX());
   lagged_.emplace(shape.displacement());
-  opening_seen_.assign(static_cast<size_t>(options.max_columns), 0.0);
+  lagged_seen_.assign(static_cast<size_t>(options.max_columns), LaggedColumn{});
+  lagged_changed_.reserve(static_cast<size_t>(options.max_columns));
   cells_.resize(static_cast<size_t>(options.max_columns));
   for (auto& cell : cells_) cell.reserve(kReservedCellNodes);
   stencil_basis_.reserve(kHeadroomNodes * 2 * static_cast<size_t>(shape.stencilSize()));
@@ -288,6 +290,7 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
   if (d.state == NodeState::Waiting && column < d.retry) return Resolve::Later;
   const Eigen::Vector3d& x = rest_m_[static_cast<size_t>(n)];
   const Eigen::Vector3d guess = in.inversionGuess(x, column);
+  const bool waited = d.state == NodeState::Waiting;
   const auto outside = [&] {
     touchNode(n);  // beyond the lattice: the guess tells the side; the node never moves
     d.state = NodeState::Outside;
@@ -297,6 +300,8 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
     const double distance_m = std::abs(guess[0] - 0.5) * (o.across_controls - 1) * o.alpha_m;
     d.sign = distance_m < snap_m_ ? 0 : guess[0] < 0.5 ? -1 : 1;
     if (d.sign == 0) ++stats_.snapped_nodes;
+    // A node that kept tets waiting is fresh too: the tets around it are decided now that it is known.
+    if (waited) fresh_.push_back(n);
     return Resolve::Done;
   };
   if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0) return outside();
