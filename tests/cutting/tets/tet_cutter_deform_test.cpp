@@ -126,4 +126,38 @@ TEST_CASE("tet_cutter: tets that have caught up are the same bits as an unbudget
   REQUIRE(all.stats().tets_cut > 40);
 }
 
+TEST_CASE("tet_cutter: settled cuts along varied strokes leave no tet inverted, snapped nodes moving by their own u",
+          "[cutting]") {
+  // Nodes snapped onto the cut (up to 0.2 median edges from it) move as the tissue at their own u on the side
+  // they lie on; moved as the lip instead, a snapped node drags its uncut neighbours flat (the 20 mm stroke
+  // bent by 5 mm leaves one tet inverted so).
+  const testing::Tissue& tissue = bunnyTissue();
+  int strokes = 0;
+  for (const double length_m : {0.02, 0.03, 0.04})
+    for (const double bend_m : {0.0, 0.005})
+      for (const double offset_m : {-0.004, 0.0, 0.004}) {
+        const incision::Stroke stroke = incision::testing::backStroke(tissue.surface, length_m, bend_m,
+                                                                      Eigen::Vector3d(-0.012, 0.0, 0.015 + offset_m));
+        incision::Incision incision(incision::IncisionOptions{}, stroke.first, stroke.blade_direction);
+        TetCutter tets(tissue.tets);
+        std::vector<int> changed;
+        for (const incision::StrokeSample& sample : stroke.samples) {
+          incision.extend(sample);
+          incision.updateOpening(sample.time_s, changed);
+          tets.follow(incision, 1);
+        }
+        incision.finish();
+        incision.updateOpening(stroke.samples.back().time_s + 1.0, changed);  // settled
+        tets.follow(incision, 1, TetBudget::All);
+        INFO("stroke " << length_m << " m, bent " << bend_m << " m, offset " << offset_m << " m");
+        REQUIRE(tets.stats().failure.empty());
+        REQUIRE(tets.stats().tets_cut > 30);
+        const TetView deformed = tets.view(TetShape::Deformed);
+        CHECK(checkConforming(deformed.mesh).conforming);
+        CHECK(deformed.inverted_tets == 0);
+        ++strokes;
+      }
+  CHECK(strokes == 18);
+}
+
 }  // namespace incise::tets
