@@ -177,8 +177,9 @@ void TetCutter::startIncision(int incision_number) {
     *lagged_ = incision_->displacement();  // the same shape as prepare()'s: copied into its storage
   else
     lagged_.emplace(incision_->displacement());
-  opening_seen_.resize(static_cast<size_t>(o.max_columns));
-  for (int c = 0; c < o.max_columns; ++c) opening_seen_[static_cast<size_t>(c)] = incision_->columnOpening(c);
+  lagged_seen_.resize(static_cast<size_t>(o.max_columns));
+  for (int c = 0; c < o.max_columns; ++c) lagged_seen_[static_cast<size_t>(c)] = {1.0, incision_->columnOpening(c)};
+  lagged_changed_.reserve(static_cast<size_t>(o.max_columns));
   if (cells_.size() != static_cast<size_t>(o.max_columns)) cells_.resize(static_cast<size_t>(o.max_columns));
   for (auto& cell : cells_) {
     cell.clear();  // keeps its capacity
@@ -193,7 +194,8 @@ void TetCutter::prepare(const incision::IncisionOptions& options) {
                                  incision::StrokeSample{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.0},
                                  Eigen::Vector3d::UnitX());
   lagged_.emplace(shape.displacement());
-  opening_seen_.assign(static_cast<size_t>(options.max_columns), 0.0);
+  lagged_seen_.assign(static_cast<size_t>(options.max_columns), LaggedColumn{});
+  lagged_changed_.reserve(static_cast<size_t>(options.max_columns));
   cells_.resize(static_cast<size_t>(options.max_columns));
   for (auto& cell : cells_) cell.reserve(kReservedCellNodes);
   stencil_basis_.reserve(kHeadroomNodes * 2 * static_cast<size_t>(shape.stencilSize()));
@@ -288,6 +290,7 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
   if (d.state == NodeState::Waiting && column < d.retry) return Resolve::Later;
   const Eigen::Vector3d& x = rest_m_[static_cast<size_t>(n)];
   const Eigen::Vector3d guess = in.inversionGuess(x, column);
+  const bool waited = d.state == NodeState::Waiting;
   const auto outside = [&] {
     touchNode(n);  // beyond the lattice: the guess tells the side; the node never moves
     d.state = NodeState::Outside;
@@ -297,6 +300,8 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
     const double distance_m = std::abs(guess[0] - 0.5) * (o.across_controls - 1) * o.alpha_m;
     d.sign = distance_m < snap_m_ ? 0 : guess[0] < 0.5 ? -1 : 1;
     if (d.sign == 0) ++stats_.snapped_nodes;
+    // A node that kept tets waiting is fresh too: the tets around it are decided now that it is known.
+    if (waited) fresh_.push_back(n);
     return Resolve::Done;
   };
   if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0) return outside();
@@ -429,32 +434,6 @@ int TetCutter::addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw
   return id;
 }
 
-void TetCutter::setSide(int n, int side) {
-  Node& d = nodes_[static_cast<size_t>(n)];
-  d.side = static_cast<std::int8_t>(side);
-  dirty_.push_back(n);
-  if (side == 0) return;
-  const incision::Incision& in = *incision_;
-  const int size = in.stencilSize();
-  if (d.stencil < 0) {
-    d.stencil = static_cast<int>(stencil_count_.size());
-    stencil_count_.push_back(0);
-    stencil_first_.resize(stencil_first_.size() + 2);
-    stencil_basis_.resize(stencil_basis_.size() + 2 * static_cast<size_t>(size));
-    const double v = std::clamp(std::floor(d.uvw[1]), 0.0, double(cells_.size() - 1));
-    cells_[static_cast<size_t>(v)].push_back(n);
-  }
-  Eigen::Vector3d uvw = d.uvw;
-  if (d.cut_point || d.state == NodeState::Copy) uvw[0] = 0.5;  // on the cut: the lips' parameters
-  for (int axis = 0; axis < 3; ++axis) {
-    const auto domain = in.rest().domain(axis);
-    uvw[axis] = std::clamp(uvw[axis], domain[0], domain[1]);
-  }
-  const size_t s = static_cast<size_t>(d.stencil);
-  stencil_count_[s] = static_cast<std::uint8_t>(
-      in.stencil(uvw, side, &stencil_first_[2 * s], &stencil_basis_[2 * s * static_cast<size_t>(size)]));
-}
-
 // Steiner points of one base tet: one per piece side, reused when the tet is subdivided again.
 struct TetCutter::SteinerNodes final : detail::SteinerSink {
   SteinerNodes(TetCutter& cutter, int tet) : cutter_(cutter), tet_(tet) {}
@@ -519,44 +498,6 @@ void TetCutter::subdivide(int t, TetStep& step) {
   baseTetChanged(t);
   if (tet_state_[static_cast<size_t>(t)] == 0) tet_state_[static_cast<size_t>(t)] = 1;
   ++step.tets_subdivided;
-}
-
-void TetCutter::redeform(const incision::Incision& in, TetStep& step) {
-  if (++stamp_ == 0) stamp_ = 1;
-  const auto move = [&](int n) {
-    Node& d = nodes_[static_cast<size_t>(n)];
-    if (d.stamp == stamp_) return;
-    d.stamp = stamp_;
-    Eigen::Vector3d x = rest_m_[static_cast<size_t>(n)];
-    if (d.side != 0 && d.stencil >= 0) {
-      const size_t s = static_cast<size_t>(d.stencil);
-      x += in.displacementFromStencil(*lagged_, stencil_count_[s], &stencil_first_[2 * s],
-                                      &stencil_basis_[2 * s * static_cast<size_t>(in.stencilSize())]);
-    }
-    deformed_m_[static_cast<size_t>(n)] = x;
-    nodeChanged(n);
-    ++step.nodes_moved;
-  };
-  const int order = in.options().order;
-  const int columns = static_cast<int>(opening_seen_.size());
-  // Columns stay shut from `shut_from` on, where tets may not be cut yet, and open gradually over the
-  // lag_columns_ before it (a step would tear the tets behind the front); all open once all is cut.
-  const bool all_cut = in.finished() && !pending();
-  const int shut_from = next_column_ - lag_columns_;
-  const bspline::BSplineVolume& source = in.displacement();
-  const std::array<int, 3> counts = source.controlCounts();
-  for (int c = 0; c < columns; ++c) {
-    const double scale = all_cut ? 1.0 : std::clamp(double(shut_from - c) / lag_columns_, 0.0, 1.0);
-    const double opening = scale * in.columnOpening(c);
-    if (opening == opening_seen_[static_cast<size_t>(c)]) continue;
-    opening_seen_[static_cast<size_t>(c)] = opening;
-    for (int k = 0; k < counts[2]; ++k)
-      for (int i = 0; i < counts[0]; ++i) lagged_->setControl(i, c, k, scale * source.control(i, c, k));
-    for (int cell = c; cell < std::min(c + order, columns); ++cell)
-      for (const int n : cells_[static_cast<size_t>(cell)]) move(n);
-  }
-  for (const int n : dirty_) move(n);
-  dirty_.clear();
 }
 
 TetView TetCutter::view(TetShape shape) const {

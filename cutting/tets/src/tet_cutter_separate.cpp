@@ -1,7 +1,7 @@
 // TetCutter's step 3 (tet_cutter.h): separating the cut at one node. The child tets around the node are
 // grouped (union-find) through their faces that contain it and are not cut faces; when there are two
 // groups or more, some with + pieces only, the node is duplicated and those groups move to the copy (the
-// u >= 1/2 side). Steps 1, 2 and 4 are in tet_cutter.cpp.
+// u >= 1/2 side). Steps 1 and 2 are in tet_cutter.cpp, step 4 in tet_cutter_deform.cpp.
 // Cost: O(k log k) for the k child tets around the node (a few dozen). No allocation within the headroom
 // reserved by reserveHeadroom(). Thread: the cutter's owner (inside follow()).
 #include "incise/tets/tet_cutter.h"

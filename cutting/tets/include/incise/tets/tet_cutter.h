@@ -80,7 +80,7 @@ class TetCutter {
   // Per final lattice column (nodes found through a grid, tets through node -> tet incidence; no pass over
   // the mesh):
   //  1. the nodes under the column are parameterised by inverting F0 (as the surface cutter); the tets around
-  //     each node bound are decided once all their nodes are known;
+  //     each node bound (or found beyond the lattice after waiting) are decided once all their nodes are known;
   //     phi = u - 1/2; a node closer to the cut than `snap_tolerance_m` gets phi = 0 (it lies on the cut:
   //     snapping instead of a sliver);
   //  2. a tet whose nodes all have phi and whose cut polygon (phi = 0 through it, linear in the tet) lies
@@ -92,8 +92,11 @@ class TetCutter {
   //  3. every node on the cut is duplicated when the tets around it fall into separate groups once cut faces
   //     no longer connect them: the u < 1/2 group keeps it, the u >= 1/2 group gets a copy; nodes on the crack
   //     front stay single and move with the mean of both sides;
-  //  4. nodes move to rest + D(u, v, w) on their side (Incision::displacementAt, through cached stencils),
-  //     again whenever the incision's opening changes (Incision::columnOpening).
+  //  4. nodes move to rest + D(u, v, w) on their side (Incision::displacementAt, through cached stencils; a
+  //     node snapped onto the cut keeps its own u, clamped to the lip on the other side), again whenever the
+  //     incision's opening changes (Incision::columnOpening), through a delayed copy of D that keeps the
+  //     columns near the tets' front shut: every node is where the incision's state and the columns cut so
+  //     far put it after each call, whatever the timing of the calls (tet_cutter_deform.cpp).
   //
   // A new incision (a new `incision_number`) starts from the mesh as the previous one left it
   // (deformed, settled): it becomes the new rest mesh. Only what the previous incision changed is redone (the
@@ -158,6 +161,7 @@ class TetCutter {
     int stencil = -1;
     std::uint32_t stamp = 0;
     bool touched = false;  // in touched_nodes_
+    int cell = -1;         // the cells_ list that holds it: the last lattice column its stencil reaches
   };
 
   void build(TetMesh mesh);  // load time: the base, its edges, incidence and grid
@@ -201,7 +205,8 @@ class TetCutter {
   void separate(int node);
   void supportTets(int node, std::vector<int>& out) const;
   int addNode(const Eigen::Vector3d& rest_m, const Eigen::Vector3d& uvw, NodeState state, int side);
-  void setSide(int node, int side);
+  void setSide(int node, int side);  // tet_cutter_deform.cpp
+  void copyLagged(const incision::Incision& in);
   void redeform(const incision::Incision& in, TetStep& step);
   void fail(const std::string& message);
   int canonical(int node) const { return nodes_[static_cast<size_t>(node)].origin; }
@@ -219,8 +224,13 @@ class TetCutter {
   std::vector<int> candidates_, affected_, cut_points_, scratch_, scratch2_, parent_;
   std::vector<std::array<int, 3>> faces_;  // separate(): (node, node, element) per face through the node
   std::vector<std::uint8_t> group_seen_;
-  std::vector<double> opening_seen_;              // per column: the opening copied into lagged_
-  std::optional<bspline::BSplineVolume> lagged_;  // the incision's displacement, columns near the tets' front at 0
+  // The incision's displacement delayed: per column `scale` x the incision's (0 near the tets' front).
+  std::optional<bspline::BSplineVolume> lagged_;
+  struct LaggedColumn {
+    double scale = 1.0, opening = 0.0;  // lagged_ holds scale x the incision's column at this opening
+  };
+  std::vector<LaggedColumn> lagged_seen_;  // per column
+  std::vector<int> lagged_changed_;        // the columns copyLagged() copied again in this call
   int lag_columns_ = 0;
   double median_edge_m_ = 0.0;
 
@@ -254,7 +264,7 @@ class TetCutter {
   std::vector<std::array<int, 3>> steiner_;  // per base tet: Steiner node per piece side (-1, 0, +1)
   int tet_count_ = 0;
 
-  std::vector<std::vector<int>> cells_;  // nodes with a stencil by floor(v)
+  std::vector<std::vector<int>> cells_;  // nodes with a stencil by the last column it reaches (Node::cell)
   std::vector<std::uint8_t> stencil_count_;
   std::vector<int> stencil_first_;
   std::vector<double> stencil_basis_;
