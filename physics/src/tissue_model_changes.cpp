@@ -5,7 +5,8 @@
 //  2. base tets: each one's pieces are removed (matrix entries released, node and grid entries dropped) and
 //     the new pieces added, warm-started with the rotation of the base tet's first old piece;
 //  3. pieces around a node whose rest moved get their rest shape again;
-//  4. the touched nodes' masses (a quarter of each live piece's mass) and roles (free, held, unused).
+//  4. the masses (a quarter of each live piece's mass) and roles (free, held, unused) of every node of a piece
+//     added, removed or reshaped.
 #include <algorithm>
 #include <cmath>
 
@@ -168,6 +169,7 @@ void reshape(State& s, std::span<const int> moved, ChangeStats& stats) {
       }
       if (centroid != el.centroid_m) s.grid.move(e, centroid, el.centroid_m);
       s.max_radius_m = std::max(s.max_radius_m, el.radius_m);
+      for (const int n : el.nodes) touchNode(s, n);  // its volume changed: so did its nodes' masses
       ++stats.elements_updated;
     }
   }
