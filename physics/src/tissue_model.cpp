@@ -30,6 +30,9 @@ void validateOptions(const ModelOptions& o) {
            std::to_string(o.reserve_elements) + ")");
 }
 
+// Elements a locate() query may list (the grid's hits near one point) before its scratch list grows.
+constexpr std::size_t kCandidateRoom = 4096;
+
 // Twice the mean tet edge: a grid cell then holds a few element centroids.
 double gridCell(const tets::TetMesh& mesh) {
   double sum = 0.0;
@@ -108,6 +111,7 @@ TissueModel::TissueModel(const tets::TetMesh& mesh, const Material& material, co
   s.node_elements.reserve(nodes, 4 * elements + 8 * nodes);
   s.base_elements.reserve(tets + static_cast<std::size_t>(options.reserve_elements) / 4, 3 * elements);
   s.grid.reserve(elements);
+  s.candidates.reserve(kCandidateRoom);
   const std::vector<int> upper = upperNeighbours(mesh);
   s.matrix.reserve(
       nodes, 2 * static_cast<std::size_t>(nodes) + 3 * tets + 40 * static_cast<std::size_t>(options.reserve_nodes));
