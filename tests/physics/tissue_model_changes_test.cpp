@@ -1,0 +1,159 @@
+// Tests for physics/src/tissue_model_changes.cpp, cut_changes.cpp and tet_cutter_journal.cpp: a grid cut by
+// the real tet cutter (a stroke along its top, the surface cutter's incision), the journal applied to the
+// model after every sample, gives the model a model built from the cut mesh would have: the same pieces,
+// masses, matrix pattern and motion; with nothing allocated past the reserve (no rebuild).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "incise/incision/stroke_path.h"
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/shapes.h"
+#include "incise/physics/tet_cutter_journal.h"
+#include "incise/tets/tet_cutter.h"
+#include "physics_fixture.h"
+
+namespace incise::physics {
+namespace {
+
+// A 10 x 10 x 14 mm block of 2 mm cubes (1,050 tets), top at y = 0, held on its z = 0 face.
+struct Block {
+  Eigen::AlignedBox3d box{Eigen::Vector3d(-0.005, -0.01, 0.0), Eigen::Vector3d(0.005, 0.0, 0.014)};
+  Eigen::Vector3i cells{5, 5, 7};
+  tets::TetMesh tets = gridTets(box, cells);
+  mesh::SurfaceMesh surface = mesh::makeBox(box, cells);
+  Boundary boundary;
+  Block() { boundary.fixed_boxes = {testing::plane(2, 0.0)}; }
+};
+
+// Cuts `block` along +z over its top's middle, the tet cutter following the surface cutter's incision; after
+// every sample the cutter's journal goes to `model` (block.surface is cut too). Returns the cutter and the summed change counts.
+struct Cut {
+  tets::TetCutter cutter;
+  ChangeStats total;
+};
+
+Cut cutAlongTop(Block& block, TissueModel& model) {
+  incision::StrokePathOptions path;
+  path.start_m = Eigen::Vector3d(0.0003, 0.05, 0.003);
+  path.direction = Eigen::Vector3d::UnitZ();
+  path.length_m = 0.008;
+  const incision::Stroke stroke = incision::strokeAlongPath(block.surface, path);
+  incision::CutterOptions options;
+  options.refine = incision::CutterOptions::Refine::Off;
+  incision::SurfaceCutter surface(block.surface, options);
+  Cut cut{tets::TetCutter(block.tets), {}};
+  cut.cutter.recordChanges(true);
+  CutChanges scratch;
+  scratch.reserve(1 << 12, 1 << 12, 1 << 14);
+  const auto follow = [&](tets::TetBudget budget) {
+    cut.cutter.follow(*surface.incision(), surface.stats().incisions, budget);
+    const ChangeStats c = applyTetCutterJournal(model, cut.cutter, scratch);
+    cut.total.nodes_added += c.nodes_added, cut.total.nodes_moved += c.nodes_moved;
+    cut.total.elements_added += c.elements_added, cut.total.elements_removed += c.elements_removed;
+    cut.total.pieces_refused += c.pieces_refused;
+  };
+  surface.begin(stroke.first, stroke.blade_direction);
+  follow(tets::TetBudget::PerCall);
+  for (const incision::StrokeSample& s : stroke.samples) {
+    surface.extend(s);
+    follow(tets::TetBudget::PerCall);
+  }
+  surface.finish();
+  surface.advance(1e9);
+  while (surface.pending()) surface.advance(1e9);
+  follow(tets::TetBudget::All);
+  return cut;
+}
+
+// The cutter's working mesh as it is (uncompacted: the model's indices), at its current positions.
+tets::TetMesh workingMesh(const tets::TetCutter& cutter, std::vector<int>& sides) {
+  tets::TetMesh mesh;
+  for (int n = 0; n < cutter.nodeCount(); ++n) mesh.nodes_m.push_back(cutter.nodePosition(n));
+  sides.clear();
+  for (int b = 0; b < cutter.baseTetCount(); ++b)
+    for (const tets::TetChild& c : cutter.children(b)) mesh.tets.push_back(c.nodes), sides.push_back(c.side);
+  return mesh;
+}
+
+TEST_CASE("tissue_model: a cut enters the model as it is made, as if the model were built from the cut mesh",
+          "[physics]") {
+  Block block;
+  ModelOptions o;
+  o.cg_tolerance = 1e-10, o.max_cg_iterations = 2000;
+  o.reserve_nodes = 2000, o.reserve_elements = 8000;
+  TissueModel model(block.tets, Material{}, block.boundary, o);
+  const std::size_t entries_before = model.matrixEntries();
+  const Cut cut = cutAlongTop(block, model);
+  INFO("tets cut " << cut.cutter.stats().tets_cut << ", nodes added " << cut.total.nodes_added << ", pieces added "
+                   << cut.total.elements_added << ", removed " << cut.total.elements_removed);
+  REQUIRE(cut.cutter.stats().failure.empty());
+  REQUIRE(cut.cutter.stats().tets_cut > 10);
+  CHECK(cut.total.nodes_added > 0);
+  CHECK(cut.total.pieces_refused == 0);
+  CHECK(model.elementCount() == cut.cutter.tetCount());
+  CHECK(model.nodeCount() == cut.cutter.nodeCount());
+  CHECK(model.reserveOverflows() == 0);  // every change within the reserve: nothing rebuilt or reallocated
+  CHECK(model.matrixEntries() > entries_before);
+
+  std::vector<int> sides;
+  const tets::TetMesh cut_mesh = workingMesh(cut.cutter, sides);
+  TissueModel fresh(cut_mesh, Material{}, block.boundary, o, sides);
+  CHECK(model.matrixEntries() == fresh.matrixEntries());
+  CHECK(model.totalMass_kg() == Approx(fresh.totalMass_kg()).epsilon(1e-12));
+  for (int n = 0; n < model.nodeCount(); ++n) {
+    INFO("node " << n);
+    REQUIRE(model.restPositions_m()[static_cast<std::size_t>(n)] ==
+            fresh.restPositions_m()[static_cast<std::size_t>(n)]);
+    REQUIRE(model.mass_kg(n) == Approx(fresh.mass_kg(n)).epsilon(1e-12).margin(1e-18));
+    REQUIRE(model.isHeld(n) == fresh.isHeld(n));
+  }
+  // Released from rest, both swing the same way (to CG's tolerance: their sums run in other orders).
+  model.resetState();
+  double sag_m = 0.0, difference_m = 0.0;
+  for (int i = 0; i < 20; ++i) {
+    REQUIRE(model.step(0.005).status == StepStatus::Converged);
+    REQUIRE(fresh.step(0.005).status == StepStatus::Converged);
+    for (int n = 0; n < model.nodeCount(); ++n) {
+      const auto k = static_cast<std::size_t>(n);
+      sag_m = std::max(sag_m, (model.positions_m()[k] - model.restPositions_m()[k]).norm());
+      difference_m = std::max(difference_m, (model.positions_m()[k] - fresh.positions_m()[k]).norm());
+    }
+  }
+  INFO("largest displacement " << sag_m << " m, largest difference " << difference_m << " m");
+  CHECK(sag_m > 1e-4);
+  CHECK(difference_m < 1e-8 * sag_m);
+}
+
+TEST_CASE("tissue_model: cut pieces keep their side, and a point is embedded on its own side of the cut", "[physics]") {
+  Block block;
+  TissueModel model(block.tets, Material{}, block.boundary);
+  const Cut cut = cutAlongTop(block, model);
+  REQUIRE(cut.cutter.stats().failure.empty());
+  // A point on the cut plane (x = 0.3 mm) inside the cut's length, just under the top.
+  const Eigen::Vector3d on_cut(0.0003, -0.0005, 0.007);
+  for (const int side : {-1, 1}) {
+    const std::optional<Embedded> e = model.locate(on_cut, OnSide{side}, 1e-4);
+    REQUIRE(e);
+    CHECK(e->element.side == side);
+  }
+  // The two lips' embeddings move with their own pieces: pulled apart, they part.
+  const std::optional<Embedded> minus = model.locate(on_cut, OnSide{-1}, 1e-4),
+                                plus = model.locate(on_cut, OnSide{1}, 1e-4);
+  REQUIRE(minus);
+  REQUIRE(plus);
+  model.addPointForce(*minus, Eigen::Vector3d(-0.01, 0, 0));
+  model.addPointForce(*plus, Eigen::Vector3d(0.01, 0, 0));
+  for (int i = 0; i < 20; ++i) REQUIRE(model.step(0.005).status != StepStatus::NonFinite);
+  const double gap_m =
+      embeddedPosition(*plus, model.positions_m()).x() - embeddedPosition(*minus, model.positions_m()).x();
+  const double rest_gap_m =
+      embeddedPosition(*plus, model.restPositions_m()).x() - embeddedPosition(*minus, model.restPositions_m()).x();
+  INFO("gap at rest " << rest_gap_m << " m, pulled " << gap_m << " m");
+  CHECK(gap_m > rest_gap_m + 1e-4);
+}
+
+}  // namespace
+}  // namespace incise::physics
