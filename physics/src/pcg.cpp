@@ -10,13 +10,13 @@ namespace incise::physics::detail {
 void PcgScratch::reserve(std::size_t nodes) {
   for (auto* v : {&r, &z, &p, &q, &t}) v->reserve(nodes);
   push.reserve(nodes);
-  inverse_diagonal.reserve(nodes);
+  for (auto* m : {&inverse_diagonal, &scaled_diagonal, &correction}) m->reserve(nodes);
 }
 
 void PcgScratch::resize(std::size_t nodes) {
   for (auto* v : {&r, &z, &p, &q, &t}) v->resize(nodes, Eigen::Vector3d::Zero());
   push.resize(nodes, Quad{{0.0, 0.0, 0.0, 0.0}});
-  inverse_diagonal.resize(nodes, Eigen::Matrix3d::Zero());
+  for (auto* m : {&inverse_diagonal, &scaled_diagonal, &correction}) m->resize(nodes, Eigen::Matrix3d::Zero());
 }
 
 double dotActive(std::span<const Eigen::Vector3d> a, std::span<const Eigen::Vector3d> b,
@@ -29,10 +29,12 @@ double dotActive(std::span<const Eigen::Vector3d> a, std::span<const Eigen::Vect
 
 namespace {
 
-void invertDiagonal(const BlockMatrix& a, std::span<const std::uint8_t> active, PcgScratch& s) noexcept {
+// The diagonal blocks' inverses (and with SSOR, w > 0, their scaled copies) into the scratch.
+void invertDiagonal(const BlockMatrix& a, std::span<const std::uint8_t> active, double omega, PcgScratch& s) noexcept {
   for (std::size_t i = 0; i < active.size(); ++i) {
     if (!active[i]) continue;
     const Eigen::Matrix3d d = a.diagonal(static_cast<int>(i)).matrix();
+    if (omega > 0.0) s.scaled_diagonal[i] = d / omega, s.correction[i] = (1.0 - 2.0 / omega) * d;
     const double det = d.determinant();
     // A singular block (a node of flat pieces only) falls back to the inverse of its mean diagonal.
     if (std::abs(det) > 1e-300 && std::isfinite(det))
@@ -51,17 +53,26 @@ struct System {
   double omega;
   PcgScratch& s;
 
-  // q = A^ p (Eisenstat: t = E^-T p, q = t + E^-1 (p + (D - 2 D / w) t)).
-  void apply(std::span<const Eigen::Vector3d> p, std::span<Eigen::Vector3d> q) const noexcept {
-    if (omega <= 0.0) return a.multiply(p, q, active, s.push);
+  // q = A^ p (Eisenstat: t = E^-T p, q = t + E^-1 (p + (D - 2 D / w) t)); returns p . q. s.z is its scratch.
+  double apply(std::span<const Eigen::Vector3d> p, std::span<Eigen::Vector3d> q) const noexcept {
+    if (omega <= 0.0) {
+      a.multiply(p, q, active, s.push);
+      return dotActive(p, q, active);
+    }
     a.upperSolve(p, s.t, s.inverse_diagonal, active, omega);
-    const double c = 1.0 - 2.0 / omega;
     for (std::size_t i = 0; i < active.size(); ++i)
-      if (active[i]) s.z[i] = p[i] + c * (a.diagonal(static_cast<int>(i)).matrix() * s.t[i]);
+      if (active[i]) s.z[i] = p[i] + s.correction[i] * s.t[i];
     a.lowerSolve(s.z, q, s.inverse_diagonal, active, omega, s.push);
-    for (std::size_t i = 0; i < active.size(); ++i) q[i] += s.t[i];
+    double pq = 0.0;
+    for (std::size_t i = 0; i < active.size(); ++i)
+      if (active[i]) q[i] += s.t[i], pq += p[i].dot(q[i]);
+    return pq;
   }
-  // z = the preconditioner applied to r; returns r . z.
+  // The preconditioner applied to one active node's residual.
+  Eigen::Vector3d preconditioned(std::size_t i, const Eigen::Vector3d& r) const noexcept {
+    return omega > 0.0 ? Eigen::Vector3d(s.scaled_diagonal[i] * r) : Eigen::Vector3d(s.inverse_diagonal[i] * r);
+  }
+  // z = the preconditioner applied to r (zero on inactive nodes); returns r . z.
   double precondition(std::span<const Eigen::Vector3d> r, std::span<Eigen::Vector3d> z) const noexcept {
     double rz = 0.0;
     for (std::size_t i = 0; i < active.size(); ++i) {
@@ -69,8 +80,7 @@ struct System {
         z[i].setZero();
         continue;
       }
-      z[i] = omega > 0.0 ? Eigen::Vector3d(a.diagonal(static_cast<int>(i)).matrix() * r[i] / omega)
-                         : Eigen::Vector3d(s.inverse_diagonal[i] * r[i]);
+      z[i] = preconditioned(i, r[i]);
       rz += r[i].dot(z[i]);
     }
     return rz;
@@ -94,7 +104,7 @@ PcgResult solvePcg(const BlockMatrix& a, std::span<const std::uint8_t> active, s
   const std::size_t n = active.size();
   for (std::size_t i = 0; i < n; ++i)
     if (!active[i]) x[i].setZero();
-  invertDiagonal(a, active, s);
+  invertDiagonal(a, active, omega, s);
   const System system{a, active, omega, s};
   // r = b^ - A^ x^ (q holds x^, then b^).
   if (omega > 0.0) {
@@ -113,16 +123,21 @@ PcgResult solvePcg(const BlockMatrix& a, std::span<const std::uint8_t> active, s
   double rz = system.precondition(s.r, s.z);
   for (std::size_t i = 0; i < n; ++i) s.p[i] = s.z[i];
   while (rz > limit2 && result.iterations < max_iterations) {
-    system.apply(s.p, s.q);
-    const double pq = dotActive(s.p, s.q, active);
+    const double pq = system.apply(s.p, s.q);
     if (!(pq > 0.0) || !std::isfinite(rz)) {
       result.finite = std::isfinite(pq) && std::isfinite(rz);
       break;  // breakdown: the system is not positive definite along p (or already solved)
     }
     const double alpha = rz / pq;
-    for (std::size_t i = 0; i < n; ++i) x[i] += alpha * s.p[i], s.r[i] -= alpha * s.q[i];
+    // x += alpha p, r -= alpha q, z = M^-1 r and r . z in one pass (z is zero on inactive nodes from before).
+    double rz_next = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!active[i]) continue;
+      x[i] += alpha * s.p[i], s.r[i] -= alpha * s.q[i];
+      s.z[i] = system.preconditioned(i, s.r[i]);
+      rz_next += s.r[i].dot(s.z[i]);
+    }
     ++result.iterations;
-    const double rz_next = system.precondition(s.r, s.z);
     const double beta = rz_next / rz;
     rz = rz_next;
     if (rz <= limit2) break;

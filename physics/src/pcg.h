@@ -22,7 +22,9 @@ namespace incise::physics::detail {
 struct PcgScratch {
   std::vector<Eigen::Vector3d> r, z, p, q, t;
   std::vector<Quad> push;
-  std::vector<Eigen::Matrix3d> inverse_diagonal;
+  // Per active node: D_i^-1; with SSOR also D_i / w (the split system's preconditioner) and (1 - 2 / w) D_i
+  // (Eisenstat's correction), set once per solve.
+  std::vector<Eigen::Matrix3d> inverse_diagonal, scaled_diagonal, correction;
   void reserve(std::size_t nodes);
   void resize(std::size_t nodes);
 };
