@@ -7,19 +7,12 @@
 
 #include <catch2/catch.hpp>
 
+#include "physics_fixture.h"
+
 namespace incise::physics {
 namespace {
 
-// The message of the std::invalid_argument `f` throws ("" if it does not throw).
-template <class F>
-std::string refusal(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::refusal;
 
 TEST_CASE("material: Lame's parameters of E and nu", "[physics]") {
   Material m;

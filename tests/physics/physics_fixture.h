@@ -1,8 +1,10 @@
-// Test fixture for incise::physics: a regular tet grid in a box, the nodes on a plane of it, and the mean of
-// a displacement component over a set of nodes.
+// Test fixture for incise::physics: a regular tet grid in a box, the nodes on a plane of it, the mean of a
+// displacement component over a set of nodes, and the message a refused input throws.
 #pragma once
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "incise/physics/grid_tets.h"
@@ -44,6 +46,17 @@ inline double meanDisplacement(const TissueModel& model, const std::vector<int>&
     sum += model.positions_m()[static_cast<std::size_t>(n)][axis] -
            model.restPositions_m()[static_cast<std::size_t>(n)][axis];
   return sum / static_cast<double>(nodes.size());
+}
+
+// The message of the std::invalid_argument `f` throws ("" if it does not throw).
+template <class F>
+std::string refusal(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace incise::physics::testing

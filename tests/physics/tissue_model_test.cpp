@@ -19,17 +19,7 @@ namespace {
 using testing::grid;
 using testing::nodesAt;
 using testing::plane;
-
-// The message of the std::invalid_argument `f` throws ("" if it does not throw).
-template <class F>
-std::string refusal(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::refusal;
 
 // Largest |x_i - y_i| over the nodes.
 double maxDistance(std::span<const Eigen::Vector3d> x, std::span<const Eigen::Vector3d> y) {
