@@ -1,7 +1,8 @@
 // Tests for physics/src/tissue_model_changes.cpp, cut_changes.cpp and tet_cutter_journal.cpp: a grid cut by
 // the real tet cutter (a stroke along its top, the surface cutter's incision), the journal applied to the
 // model after every sample, gives the model a model built from the cut mesh would have: the same pieces,
-// masses, matrix pattern and motion; with nothing allocated past the reserve (no rebuild).
+// masses, matrix pattern and motion; with nothing allocated past the reserve (no rebuild). Cut pieces keep
+// their side, and a cut through a tissue held in tension (a prestretch) gapes by itself.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -153,6 +154,45 @@ TEST_CASE("tissue_model: cut pieces keep their side, and a point is embedded on 
       embeddedPosition(*plus, model.restPositions_m()).x() - embeddedPosition(*minus, model.restPositions_m()).x();
   INFO("gap at rest " << rest_gap_m << " m, pulled " << gap_m << " m");
   CHECK(gap_m > rest_gap_m + 1e-4);
+}
+
+TEST_CASE("tissue_model: a cut through a tissue held in tension gapes by itself", "[physics]") {
+  // The block held on its x = -5 mm and x = +5 mm faces, its natural shape 1 / 1.25 of the mesh along x: in
+  // tension across the cut. Cut fully through, each half would shrink to its natural length towards its held
+  // face, opening the top by 10 mm x (1 - 1 / 1.25) = 2 mm; the cut (8 mm of 14, part of the depth) opens less.
+  Block block;
+  block.boundary.fixed_boxes = {testing::plane(0, -0.005), testing::plane(0, 0.005)};
+  block.boundary.gravity_m_per_s2.setZero();
+  Material m;
+  m.prestretch = Eigen::Vector3d(1.25, 1.0, 1.0);
+  ModelOptions o;
+  o.max_cg_iterations = 300;
+  TissueModel model(block.tets, m, block.boundary, o);
+  const auto settle = [&] {
+    for (int i = 0; i < 300; ++i) REQUIRE(model.step(0.005).status != StepStatus::NonFinite);
+  };
+  // Two points of the top 2 mm apart across the cut's plane (x = 0.3 mm), half-way along it.
+  const Eigen::Vector3d a(-0.0007, -0.0002, 0.007), b(0.0013, -0.0002, 0.007);
+  const auto apart = [&](int side_a, int side_b) {
+    const std::optional<Embedded> ea = model.locate(a, OnSide{side_a}, 1e-4),
+                                  eb = model.locate(b, OnSide{side_b}, 1e-4);
+    REQUIRE(ea);
+    REQUIRE(eb);
+    return embeddedPosition(*eb, model.positions_m()).x() - embeddedPosition(*ea, model.positions_m()).x();
+  };
+  settle();
+  const double uncut_m = apart(0, 0);
+  const Cut cut = cutAlongTop(block, model);
+  REQUIRE(cut.cutter.stats().failure.empty());
+  const double just_cut_m = apart(-1, 1);
+  settle();
+  const double cut_m = apart(-1, 1);
+  INFO("apart along x: uncut, held " << uncut_m << " m; just cut " << just_cut_m << " m; 1.5 s later " << cut_m
+                                     << " m");
+  CHECK(std::abs(uncut_m - 0.002) < 2e-4);       // held at its mesh length, it does not open
+  CHECK(std::abs(just_cut_m - uncut_m) < 1e-4);  // the cut itself moves them little (its rest changes only)
+  CHECK(cut_m > uncut_m + 1e-3);                 // the lips part by themselves
+  CHECK(cut_m < uncut_m + 2e-3);                 // but less than a cut through everything would
 }
 
 }  // namespace
