@@ -85,12 +85,15 @@ void touchNode(State& s, int node) {
   s.touched_nodes.push_back(node);
 }
 
-// Where a new node starts: its rest position carried by the piece that holds it now.
+// Where a new node starts: its rest position carried by the piece that holds it now (looked for among the
+// pieces whose centroid is within the largest radius first: a piece that contains it is; only a node outside
+// every piece needs the wider search).
 void placeNewNode(State& s, int node) {
   const auto i = static_cast<std::size_t>(node);
   const Eigen::Vector3d rest = s.rest_m[i];
   s.x_m[i] = rest, s.v_m_per_s[i].setZero();
-  const std::optional<Embedded> at = s.locate(rest, {}, 2.0 * s.max_radius_m);
+  std::optional<Embedded> at = s.locate(rest, {}, 0.0);
+  if (!at) at = s.locate(rest, {}, 2.0 * s.max_radius_m);
   if (!at) return;
   Eigen::Vector3d x = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
   for (int k = 0; k < 4; ++k) {
