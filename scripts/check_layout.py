@@ -16,6 +16,7 @@ ALLOWED = {
     'cutting/incision': {'core', 'bspline', 'mesh'},
     'cutting/global_dffd': {'core', 'bspline', 'mesh'},
     'cutting/tets': {'core', 'bspline', 'mesh', 'incision'},
+    'physics': {'core', 'bspline', 'mesh', 'tets'},
     'devices': set(),
     'sim': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices'},
     'jobs': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim'},

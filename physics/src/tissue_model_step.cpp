@@ -1,0 +1,153 @@
+// TissueModel::step and solveStatic (tissue_model.h), and the assembly they share.
+//
+// Linearised backward Euler with Rayleigh damping D = alpha M + beta K (Baraff & Witkin 1998; SOFA's
+// EulerImplicitSolver): with f = f_ext + M g + f_el(x0) and K the co-rotated stiffness at x0,
+//   [(1 + h alpha) M + h (h + beta) K] v1 = M v0 + h f,   x1 = x0 + h v1,
+// solved for v1 by CG from v0. The static solve takes Newton steps K dx = f with the same K and f.
+#include <cmath>
+
+#include "incise/physics/tissue_model.h"
+#include "tissue_model_state.h"
+
+namespace incise::physics {
+namespace {
+
+using detail::Element;
+
+// block += K_ab = kl u w^T + km w u^T + km dot I with u = c_a, w = c_b (times the stiffness coefficient).
+void addPair(detail::Block& block, const Eigen::Vector3d& u, const Eigen::Vector3d& w, double kl, double km,
+             double dot) noexcept {
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) block(r, k) += kl * u[r] * w[k] + km * w[r] * u[k];
+  block(0, 0) += km * dot, block(1, 1) += km * dot, block(2, 2) += km * dot;
+}
+
+// One element's elastic forces (into force) and its stiffness times k (into the matrix).
+bool assembleElement(Element& e, TissueModel::State& s, double k) noexcept {
+  const auto& x = s.x_m;
+  const Eigen::Vector3d& x0 = x[static_cast<std::size_t>(e.nodes[0])];
+  Eigen::Matrix3d ds;
+  for (int i = 0; i < 3; ++i) ds.col(i) = x[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(i + 1)])] - x0;
+  const Eigen::Matrix3d f = ds * e.bm;
+  int iterations = 0;
+  const Eigen::Matrix3d r =
+      detail::rotation(f, e.q, s.options.rotation_tolerance, s.options.max_rotation_iterations, iterations);
+  const Eigen::Matrix3d rf = r.transpose() * f;
+  Eigen::Matrix3d strain = 0.5 * (rf + rf.transpose()) - Eigen::Matrix3d::Identity();
+  const double lambda = s.lame.lambda_Pa, mu = s.lame.mu_Pa, volume = e.volume_m3;
+  Eigen::Matrix3d stress = 2.0 * mu * strain;
+  stress.diagonal().array() += lambda * strain.trace();
+  // Forces on nodes 1..3 are the columns of -V R sigma bm^T; node 0 takes minus their sum.
+  const Eigen::Matrix3d h = -volume * (r * (stress * e.bm.transpose()));
+  for (int i = 0; i < 3; ++i) s.force_N[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(i + 1)])] += h.col(i);
+  s.force_N[static_cast<std::size_t>(e.nodes[0])] -= h.col(0) + h.col(1) + h.col(2);
+  // Rotated shape gradients c_a = R beta_a.
+  const Eigen::Matrix3d c3 = r * e.bm.transpose();
+  const std::array<Eigen::Vector3d, 4> c = {-(c3.col(0) + c3.col(1) + c3.col(2)), c3.col(0), c3.col(1), c3.col(2)};
+  const double kl = k * lambda * volume, km = k * mu * volume;
+  for (int a = 0; a < 4; ++a)
+    addPair(s.matrix.diagonal(e.nodes[static_cast<std::size_t>(a)]), c[static_cast<std::size_t>(a)],
+            c[static_cast<std::size_t>(a)], kl, km, e.dots[static_cast<std::size_t>(a)]);
+  for (std::size_t p = 0; p < 6; ++p) {
+    int a = detail::kPairs[p][0], b = detail::kPairs[p][1];
+    if (e.nodes[static_cast<std::size_t>(a)] > e.nodes[static_cast<std::size_t>(b)]) std::swap(a, b);
+    addPair(s.matrix.upper(e.nodes[static_cast<std::size_t>(a)], e.pair[p]), c[static_cast<std::size_t>(a)],
+            c[static_cast<std::size_t>(b)], kl, km, e.dots[4 + p]);
+  }
+  return f.determinant() <= 0.0;
+}
+
+}  // namespace
+
+int TissueModel::State::assemble(double mass_coefficient, double stiffness_coefficient) noexcept {
+  matrix.setZero();
+  for (auto& f : force_N) f.setZero();
+  int inverted = 0;
+  for (Element& e : elements)
+    if (e.alive) inverted += assembleElement(e, *this, stiffness_coefficient) ? 1 : 0;
+  for (std::size_t i = 0; i < mass_kg.size(); ++i) {
+    detail::Block& d = matrix.diagonal(static_cast<int>(i));
+    const double m = mass_coefficient * mass_kg[i];
+    d(0, 0) += m, d(1, 1) += m, d(2, 2) += m;
+  }
+  return inverted;
+}
+
+StepStats TissueModel::step(double dt_s) noexcept {
+  State& s = *s_;
+  StepStats stats;
+  if (!(std::isfinite(dt_s) && dt_s > 0.0)) return stats.status = StepStatus::BadTimeStep, stats;
+  const double h = dt_s, alpha = s.material.damping.mass_per_s, beta = s.material.damping.stiffness_s;
+  s.moveHeldNodes();
+  stats.inverted_elements = s.assemble(1.0 + h * alpha, h * (h + beta));
+  s.last_dt_s = h;
+  const Eigen::Vector3d& g = s.boundary.gravity_m_per_s2;
+  for (std::size_t i = 0; i < s.x_m.size(); ++i) {
+    s.rhs[i] =
+        s.active[i]
+            ? Eigen::Vector3d(s.mass_kg[i] * s.v_m_per_s[i] + h * (s.external_N[i] + s.mass_kg[i] * g + s.force_N[i]))
+            : Eigen::Vector3d::Zero();
+    s.v_next[i] = s.v_m_per_s[i];
+  }
+  // The floor: gravity's momentum over the step (a tissue at rest has b ~ 0, and a residual small next to
+  // its own weight is small enough).
+  for (std::size_t i = 0; i < s.x_m.size(); ++i) s.force_N[i] = (h * s.mass_kg[i]) * g;
+  const detail::PcgResult cg =
+      detail::solvePcg(s.matrix, s.active, s.rhs, s.v_next, s.options.cg_tolerance, s.options.max_cg_iterations,
+                       s.options.ssor_relaxation, s.force_N, s.pcg);
+  stats.cg_iterations = cg.iterations;
+  stats.relative_residual = cg.relative_residual;
+  bool finite = cg.finite;
+  for (std::size_t i = 0; i < s.x_m.size() && finite; ++i) finite = s.v_next[i].allFinite();
+  if (!finite) {
+    for (auto& v : s.v_m_per_s) v.setZero();
+    stats.status = StepStatus::NonFinite;
+    return stats;
+  }
+  for (std::size_t i = 0; i < s.x_m.size(); ++i)
+    if (s.active[i]) s.v_m_per_s[i] = s.v_next[i], s.x_m[i] += h * s.v_next[i];
+  ++s.steps;
+  stats.status = cg.converged ? StepStatus::Converged : StepStatus::IterationLimit;
+  return stats;
+}
+
+StaticResult TissueModel::solveStatic(const StaticOptions& options) {
+  State& s = *s_;
+  StaticResult result;
+  const ModelOptions kept = s.options;
+  s.options.rotation_tolerance = options.rotation_tolerance;
+  s.options.max_rotation_iterations = options.max_rotation_iterations;
+  s.moveHeldNodes();
+  for (auto& v : s.v_m_per_s) v.setZero();
+  const Eigen::Vector3d& g = s.boundary.gravity_m_per_s2;
+  double load = 0.0;
+  for (std::size_t i = 0; i < s.x_m.size(); ++i)
+    if (s.active[i]) load += (s.external_N[i] + s.mass_kg[i] * g).squaredNorm();
+  load = std::sqrt(load);
+  for (int it = 0; it <= options.max_newton_iterations; ++it) {
+    s.assemble(0.0, 1.0);
+    for (std::size_t i = 0; i < s.x_m.size(); ++i)
+      s.rhs[i] =
+          s.active[i] ? Eigen::Vector3d(s.external_N[i] + s.mass_kg[i] * g + s.force_N[i]) : Eigen::Vector3d::Zero();
+    const double residual = std::sqrt(detail::dotActive(s.rhs, s.rhs, s.active));
+    if (it == 0) load = std::max(load, residual);  // no load (a prestretch alone): the first residual's scale
+    result.relative_force_residual = load > 0.0 ? residual / load : 0.0;
+    if (residual <= options.force_tolerance * load || it == options.max_newton_iterations) {
+      result.converged = residual <= options.force_tolerance * load;
+      break;
+    }
+    for (auto& dx : s.v_next) dx.setZero();
+    const detail::PcgResult cg = detail::solvePcg(s.matrix, s.active, s.rhs, s.v_next, options.cg_tolerance,
+                                                  options.max_cg_iterations, s.options.ssor_relaxation, {}, s.pcg);
+    result.cg_iterations += cg.iterations;
+    if (!cg.finite) break;
+    for (std::size_t i = 0; i < s.x_m.size(); ++i)
+      if (s.active[i]) s.x_m[i] += s.v_next[i];
+    ++result.newton_iterations;
+  }
+  s.options = kept;
+  s.last_dt_s = 0.0;  // the matrix is K alone, not a step's
+  return result;
+}
+
+}  // namespace incise::physics
