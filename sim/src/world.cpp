@@ -206,17 +206,25 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
   return state;
 }
 
+void World::queueBegin(const incision::StrokeSample& sample, const devices::PoseSample& pose) noexcept {
+  begin_waiting_ = true;
+  begin_sample_ = sample;
+  begin_direction_ = pose.orientation * Eigen::Vector3d::UnitX();
+}
+
 void World::cutPose(const devices::PoseSample& pose) noexcept {
   const Contact c = exactContact(pose);
   // A blade that only scratches the skin (less than min_depth_m in) makes no groove.
   if (c.cutting && c.penetration_m >= options_.cutter.incision.min_depth_m) {
     const incision::StrokeSample sample{c.point_m, c.normal, pose.time_s, c.penetration_m};
     if (!cutter_->active()) {  // a new incision: it begins once the previous one's work is done
-      begin_waiting_ = true;
-      begin_sample_ = sample;
-      begin_direction_ = pose.orientation * Eigen::Vector3d::UnitX();
-    } else {
-      cutter_->addSample(sample, incision::SampleOrigin::OnSurface);  // on the surface by contact
+      queueBegin(sample, pose);
+    } else if (cutter_->addSample(sample, incision::SampleOrigin::OnSurface).sample ==  // on the surface by contact
+                   incision::SampleStatus::SkippedJump &&
+               !cutter_->active()) {
+      // The blade is farther than a step from the stroke for a second pose (poses were lost): the incision
+      // ended where it was, and a new one begins here.
+      queueBegin(sample, pose);
     }
   } else if (cutter_->active()) {
     cutter_->finish(incision::FinishWork::Later);  // the blade left the tissue (or the button was released)

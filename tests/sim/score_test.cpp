@@ -257,3 +257,13 @@ TEST_CASE("depth: a tip deeper than incision.depth_m cuts that deep; one that sc
   const Score none = scoreStrokes(padScenario(), {scratch});
   CHECK(none.plan.share_uncut == 1.0);
 }
+
+TEST_CASE("score: a jump of 6 mm mid-stroke (poses lost) ends the incision and the next begins after it", "[score]") {
+  const Scenario scenario = padScenario();
+  const incise::mesh::SurfaceMesh tissue = incise::sim::loadTissue(scenario);
+  std::vector<PoseSample> poses = incise::sim::posesForStrokes(tissue, {stroke(-0.025, 0.05)}, scenario.world, 1000.0);
+  std::erase_if(poses, [](const PoseSample& p) { return p.buttons != 0 && p.tip_m.x() > 0.0 && p.tip_m.x() < 0.006; });
+  const Score s = incise::sim::scoreSession(scenario, tissue, poses);
+  CHECK(s.incisions == 2);
+  CHECK(s.groove_length_m > 0.04);  // 50 mm less the 6 mm gap and the ends' tapers
+}

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "incise/bspline/volume_inversion.h"
 #include "surface_cutter_internal.h"
@@ -171,6 +172,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   stencil_basis_.clear();
   stats_.seam_vertices = 0;
   failed_ = false;
+  jumped_ = false;
   CutStep step;
   no_contact_ = !onSurface(first.point_m);
   if (no_contact_) {
@@ -234,6 +236,14 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin o
       stats_.figures.back().stroke_length_m += (sample.point_m - last_accepted_m_).norm();
       last_accepted_m_ = sample.point_m;
     }
+    // One sample far from the stroke is a glitch, skipped; two in a row, the blade is elsewhere: the
+    // incision ends (the caller may begin another there).
+    if (step.sample == SampleStatus::SkippedJump && std::exchange(jumped_, true)) {
+      step.left_surface = true;
+      incision_->finish();
+      break;
+    }
+    if (step.sample == SampleStatus::Accepted) jumped_ = false;
     if (step.sample == SampleStatus::Ended) break;
   }
   return step;

@@ -207,6 +207,8 @@ class World {
                     const Eigen::Vector3d& normal) const noexcept;  // the tip's penetration at a skin point
   void hapticContact(const devices::PoseSample& pose, HapticState& state) noexcept;  // the proxy
   bool takeQueuedPoses(bool at_once) noexcept;  // false: an incision waits for the previous one's work
+  // A new incision from this sample, begun once the previous one's work is done (takeQueuedPoses).
+  void queueBegin(const incision::StrokeSample& sample, const devices::PoseSample& pose) noexcept;
   void cutPose(const devices::PoseSample& pose) noexcept;
   bool readyToBegin(bool at_once) noexcept;
   void refreshProxy() noexcept;

@@ -56,7 +56,8 @@ enum class SampleStatus : std::uint8_t {
   SkippedStill,     // closer than 1e-9 m to the previous sample: nothing to add
   SkippedBackward,  // goes back along the stroke (more than 120 degrees from its direction)
   SkippedTime,      // time not after the previous sample's
-  SkippedJump,      // farther than max_step_m from the previous sample: the blade left the surface here
+  SkippedJump,      // farther than max_step_m from the previous sample: the blade left the surface here (two
+                    // in a row: the surface cutter ends the incision, the simulation begins one there)
   RefusedNaN,       // a non-finite coordinate, normal or time
   RefusedNormal,    // a zero normal, or one parallel to the step (no side direction)
   Ended,            // the lattice is full, or the incision is finished: the sample is not used

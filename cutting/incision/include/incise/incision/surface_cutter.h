@@ -317,6 +317,7 @@ class SurfaceCutter {
   // A sample deeper than this many times incision.depth_m is counted as clamped (a tip held at the clamp
   // measures a hair over it where the contact's normal differs from the stroke's).
   static constexpr double kClampedOver = 1.05;
+  bool jumped_ = false;       // the last sample was SkippedJump
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<mesh::TriMesh::VertexHandle> fresh_;
