@@ -173,6 +173,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   stats_.seam_vertices = 0;
   failed_ = false;
   jumped_ = false;
+  thickness_ = {};
   CutStep step;
   no_contact_ = !onSurface(first.point_m);
   if (no_contact_) {
@@ -188,20 +189,31 @@ bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
   const IncisionOptions& o = options_.incision;
   if (sample.depth_m > kClampedOver * o.depth_m) ++stats_.figures.back().depth_clamped_samples;
   const double want_m = sample.depth_m >= 0.0 ? std::clamp(sample.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
-  const Eigen::Vector3d n = sample.normal.normalized();
-  // The tissue's far side below the sample, at rest: the first skin crossing of the segment inwards.
-  std::optional<mesh::SurfacePoint> far;
-  try {
-    far = intersect(sample.point_m - kSkinM * n, sample.point_m - (want_m / kFloorOfThickness + kSkinM) * n);
-  } catch (...) {  // allocation in the grid query: leave the depth as it is
-    return false;
-  }
-  if (!far) return false;
-  const double thickness_m = (sample.point_m - far->point_m).dot(n);
+  const double thickness_m = thicknessBelow(sample, want_m / kFloorOfThickness);
   if (!(want_m > kFloorOfThickness * thickness_m)) return false;
   sample.depth_m = std::max(o.min_depth_m, kFloorOfThickness * thickness_m);
   ++stats_.figures.back().thickness_limited_samples;
   return true;
+}
+
+double SurfaceCutter::thicknessBelow(const StrokeSample& sample, double probe_m) noexcept {
+  // The last answer holds within a lattice spacing (the stations' own resolution) if its probe reached as
+  // deep, or it found the far side.
+  ThicknessProbe& c = thickness_;
+  if (c.valid && (sample.point_m - c.at_m).norm() < options_.incision.spacing_m &&
+      (c.probe_m >= probe_m || std::isfinite(c.thickness_m)))
+    return c.thickness_m;
+  const Eigen::Vector3d n = sample.normal.normalized();
+  // The tissue's far side below the sample, at rest: the first skin crossing of the segment inwards.
+  std::optional<mesh::SurfacePoint> far;
+  try {
+    far = intersect(sample.point_m - kSkinM * n, sample.point_m - (probe_m + kSkinM) * n);
+  } catch (...) {  // allocation in the grid query: leave the depth as it is
+    return std::numeric_limits<double>::infinity();
+  }
+  c = {true, sample.point_m, probe_m,
+       far ? (sample.point_m - far->point_m).dot(n) : std::numeric_limits<double>::infinity()};
+  return c.thickness_m;
 }
 
 CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return extend(std::span(&sample, 1)); }

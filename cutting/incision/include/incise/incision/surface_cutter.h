@@ -255,6 +255,9 @@ class SurfaceCutter {
   // thickness: the walls end inside the tissue instead of passing through its far side. Counted in the
   // incision's figures (thickness_limited_samples). True if it changed the sample. One contact query.
   bool limitToThickness(StrokeSample& sample) noexcept;
+  // The tissue's thickness below a sample along -normal (infinity: no far side within probe_m); one grid
+  // query, or none within half a spacing of the last one.
+  double thicknessBelow(const StrokeSample& sample, double probe_m) noexcept;
   // Once every column is cut: the seam's first and last vertices are the last crossings inside the cut,
   // where the opening is not yet 0; each end is carried one face further, to where the cut's plane leaves
   // the face beside it (crossBeyond), where the opening is 0 on both sides: the lips close where the seam
@@ -317,7 +320,12 @@ class SurfaceCutter {
   // A sample deeper than this many times incision.depth_m is counted as clamped (a tip held at the clamp
   // measures a hair over it where the contact's normal differs from the stroke's).
   static constexpr double kClampedOver = 1.05;
-  bool jumped_ = false;       // the last sample was SkippedJump
+  bool jumped_ = false;  // the last sample was SkippedJump
+  struct ThicknessProbe {
+    bool valid = false;
+    Eigen::Vector3d at_m = Eigen::Vector3d::Zero();
+    double probe_m = 0.0, thickness_m = 0.0;
+  } thickness_;               // the last thicknessBelow() query
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<mesh::TriMesh::VertexHandle> fresh_;
