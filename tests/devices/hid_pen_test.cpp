@@ -222,7 +222,8 @@ TEST_CASE("hid_pen: devices/README.md's table of tablets says what the pen profi
       cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
     }
     REQUIRE(cells.size() == 11);
-    const auto search = findHidPen(parseHidDescriptor(loadShippedDescriptor(t.file)));
+    const HidDescriptor descriptor = parseHidDescriptor(loadShippedDescriptor(t.file));  // the pen points into it
+    const auto search = findHidPen(descriptor);
     if (!search.pen) {
       CHECK(cells[4].rfind("no pen: ", 0) == 0);
       CHECK(cells[10] == "no");

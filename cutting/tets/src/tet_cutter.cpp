@@ -283,6 +283,19 @@ bool TetCutter::processColumn(const incision::Incision& in, int column, core::Wo
   return true;
 }
 
+bspline::InversionResult TetCutter::canonicalInversion(const incision::Incision& in, const Eigen::Vector3d& x,
+                                                       int column, const bspline::InversionResult& found) const {
+  // Newton's last bits depend on its start, and the start on the column the node was resolved at (which
+  // depends on how the calls grouped the samples): solved again from the start of the slab the node lies in,
+  // a function of the node alone, so fast and real-time runs bind it to the same bits.
+  const int own = static_cast<int>(std::floor(found.uvw[1]));
+  if (own == column) return found;  // solved from that start already
+  const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, own + 1.0, 1.0));
+  const bspline::InversionResult again = bspline::invertPoint(in.rest(), x, in.inversionGuess(x, own), final_part,
+                                                              bspline::InversionOptions{12, 1e-10, 6});
+  return again.converged && std::floor(again.uvw[1]) == own ? again : found;
+}
+
 TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, int column, core::WorkBudget& budget,
                                           TetStep& step) {
   Node& d = nodes_[static_cast<size_t>(n)];
@@ -316,8 +329,9 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
   touchNode(n);
   // As SurfaceCutter::bindVertex: search only where F0 is final, so the result cannot depend on when.
   const Eigen::AlignedBox3d final_part(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(1.0, column + 1.0, 1.0));
-  const bspline::InversionResult r =
+  bspline::InversionResult r =
       bspline::invertPoint(in.rest(), x, guess, final_part, bspline::InversionOptions{12, 1e-10, 6});
+  if (r.converged && r.uvw[1] < column + 1.0) r = canonicalInversion(in, x, column, r);
   if (r.converged && r.uvw[1] < column + 1.0) {
     d.state = NodeState::Bound;
     d.uvw = r.uvw;

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "incise/bspline/volume_inversion.h"
 #include "incise/core/work_budget.h"
 #include "incise/incision/incision.h"
 #include "incise/mesh/vertex_grid.h"
@@ -195,6 +196,10 @@ class TetCutter {
   bool processColumn(const incision::Incision& in, int column, core::WorkBudget& budget, TetStep& step);
   enum class Resolve : std::uint8_t { Done, Later, OutOfBudget };
   Resolve resolveNode(const incision::Incision& in, int node, int column, core::WorkBudget& budget, TetStep& step);
+  // The node's parameters solved again from the start of its own slab when it was resolved at a later column
+  // (the same bits whatever the column); `found` if that does not converge there.
+  bspline::InversionResult canonicalInversion(const incision::Incision& in, const Eigen::Vector3d& x, int column,
+                                              const bspline::InversionResult& found) const;
   bool decideCut(const incision::Incision& in, int tet);
   int edgePoint(int edge);
   Eigen::Vector3d crossingUvw(int a, int b, double& lambda) const;
