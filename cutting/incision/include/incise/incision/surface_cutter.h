@@ -253,10 +253,10 @@ class SurfaceCutter {
   // Where the tissue below a sample is thinner than the blade's depth there (its far side within
   // depth / kFloorOfThickness along -normal, at rest), the depth becomes kFloorOfThickness of the
   // thickness: the walls end inside the tissue instead of passing through its far side. Counted in the
-  // incision's figures (thickness_limited_samples). True if it changed the sample. One contact query.
+  // incision's figures (thickness_limited_samples). True if it changed the sample (thicknessBelow: a query).
   bool limitToThickness(StrokeSample& sample) noexcept;
   // The tissue's thickness below a sample along -normal (infinity: no far side within probe_m); one grid
-  // query, or none within half a spacing of the last one.
+  // query, or none within a lattice spacing of the last one.
   double thicknessBelow(const StrokeSample& sample, double probe_m) noexcept;
   // Once every column is cut: the seam's first and last vertices are the last crossings inside the cut,
   // where the opening is not yet 0; each end is carried one face further, to where the cut's plane leaves
