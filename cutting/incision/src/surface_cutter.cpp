@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "incise/bspline/volume_inversion.h"
+#include "incise/mesh/thickness.h"
 #include "surface_cutter_internal.h"
 
 namespace incise::incision {
@@ -64,6 +65,7 @@ SurfaceCutter::SurfaceCutter(mesh::SurfaceMesh& mesh, const CutterOptions& optio
   const double cell_edge_m = refine ? std::min(edge_m, refine_edge_m_) : edge_m;
   grid_ = mesh::VertexGrid(std::max({2.0 * cell_edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
   for (const auto v : m.vertices()) grid_.insert(v.idx(), mesh::toEigen(m.point(v)));
+  thickness_below_m_ = mesh::thicknessBelowVertices(m, io.depth_m / kFloorOfThickness, kSkinM);
   coarse_grid_ = mesh::VertexGrid(std::max({2.0 * edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
   if (refine) initCoarse();
   reserveHeadroom();  // after every property is added: OpenMesh reserves the properties there are
@@ -189,31 +191,40 @@ bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
   const IncisionOptions& o = options_.incision;
   if (sample.depth_m > kClampedOver * o.depth_m) ++stats_.figures.back().depth_clamped_samples;
   const double want_m = sample.depth_m >= 0.0 ? std::clamp(sample.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
-  const double thickness_m = thicknessBelow(sample, want_m / kFloorOfThickness);
+  const double thickness_m = thicknessBelow(sample);
   if (!(want_m > kFloorOfThickness * thickness_m)) return false;
   sample.depth_m = std::max(o.min_depth_m, kFloorOfThickness * thickness_m);
   ++stats_.figures.back().thickness_limited_samples;
   return true;
 }
 
-double SurfaceCutter::thicknessBelow(const StrokeSample& sample, double probe_m) noexcept {
-  // The last answer holds within a lattice spacing (the stations' own resolution) if its probe reached as
-  // deep, or it found the far side.
+double SurfaceCutter::thicknessBelow(const StrokeSample& sample) noexcept {
+  // The last answer holds within a lattice spacing (the stations' own resolution).
   ThicknessProbe& c = thickness_;
-  if (c.valid && (sample.point_m - c.at_m).norm() < options_.incision.spacing_m &&
-      (c.probe_m >= probe_m || std::isfinite(c.thickness_m)))
-    return c.thickness_m;
-  const Eigen::Vector3d n = sample.normal.normalized();
-  // The tissue's far side below the sample, at rest: the first skin crossing of the segment inwards.
-  std::optional<mesh::SurfacePoint> far;
-  try {
-    far = intersect(sample.point_m - kSkinM * n, sample.point_m - (probe_m + kSkinM) * n);
-  } catch (...) {  // allocation in the grid query: leave the depth as it is
-    return std::numeric_limits<double>::infinity();
+  if (c.valid && (sample.point_m - c.at_m).norm() < options_.incision.spacing_m) return c.thickness_m;
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  const mesh::TriMesh& m = mesh_.mesh();
+  for (const double radius_m : {mean_edge_m_, longest_edge_m_}) {
+    const Eigen::Vector3d r = Eigen::Vector3d::Constant(radius_m);
+    query_.clear();
+    try {
+      grid_.query(Eigen::AlignedBox3d(sample.point_m - r, sample.point_m + r), query_);
+    } catch (...) {  // allocation in the grid query: leave the depth as it is
+      return kNone;
+    }
+    bool found = false;
+    double thinnest_m = kNone;
+    for (const int id : query_) {
+      if (static_cast<size_t>(id) >= thickness_below_m_.size() || m.status(VH(id)).deleted()) continue;
+      found = true;
+      thinnest_m = std::min(thinnest_m, static_cast<double>(thickness_below_m_[static_cast<size_t>(id)]));
+    }
+    if (found) {
+      c = {true, sample.point_m, thinnest_m};
+      return thinnest_m;
+    }
   }
-  c = {true, sample.point_m, probe_m,
-       far ? (sample.point_m - far->point_m).dot(n) : std::numeric_limits<double>::infinity()};
-  return c.thickness_m;
+  return kNone;
 }
 
 CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return extend(std::span(&sample, 1)); }

@@ -122,7 +122,8 @@ class SurfaceCutter {
   // it is in the wound's air; back in the tissue beyond it, its first contact is the far lip's skin, where a
   // new incision starts (an incision begun on a wall's face, its normal across the stroke, could not chain
   // its seam from the wall onto the skin and cut nothing beyond the lip).
-  // Cost O(vertices within one edge of the segment). No allocation once warmed up.
+  // Cost O(vertices within one edge of the segment up to the crossing), queried a grid cell at a time from
+  // `a`. No allocation once warmed up.
   std::optional<mesh::SurfacePoint> intersect(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   // The skin faces around `box` as intersect() sees them (at rest for the current incision, walls left out):
   // every face with a corner within the query margin of the box (the longest edge, or refine_edge_m with
@@ -253,11 +254,12 @@ class SurfaceCutter {
   // Where the tissue below a sample is thinner than the blade's depth there (its far side within
   // depth / kFloorOfThickness along -normal, at rest), the depth becomes kFloorOfThickness of the
   // thickness: the walls end inside the tissue instead of passing through its far side. Counted in the
-  // incision's figures (thickness_limited_samples). True if it changed the sample (thicknessBelow: a query).
+  // incision's figures (thickness_limited_samples). True if it changed the sample.
   bool limitToThickness(StrokeSample& sample) noexcept;
-  // The tissue's thickness below a sample along -normal (infinity: no far side within probe_m); one grid
-  // query, or none within a lattice spacing of the last one.
-  double thicknessBelow(const StrokeSample& sample, double probe_m) noexcept;
+  // The tissue's thickness below a sample (infinity: no far side within depth_m / kFloorOfThickness): the
+  // least thickness_below_m_ of the loaded mesh's vertices within a mean edge of it (within the longest
+  // edge when none is that near). One small grid query, or none within a lattice spacing of the last one.
+  double thicknessBelow(const StrokeSample& sample) noexcept;
   // Once every column is cut: the seam's first and last vertices are the last crossings inside the cut,
   // where the opening is not yet 0; each end is carried one face further, to where the cut's plane leaves
   // the face beside it (crossBeyond), where the opening is 0 on both sides: the lips close where the seam
@@ -317,6 +319,8 @@ class SurfaceCutter {
   // inside the skin (so it does not meet the skin it starts on).
   static constexpr double kFloorOfThickness = 0.8;
   static constexpr double kSkinM = 1e-5;
+  // intersect(): a segment longer than a grid cell is queried in at most this many pieces, each about a cell.
+  static constexpr int kMaxProbePieces = 64;
   // A sample deeper than this many times incision.depth_m is counted as clamped (a tip held at the clamp
   // measures a hair over it where the contact's normal differs from the stroke's).
   static constexpr double kClampedOver = 1.05;
@@ -324,8 +328,11 @@ class SurfaceCutter {
   struct ThicknessProbe {
     bool valid = false;
     Eigen::Vector3d at_m = Eigen::Vector3d::Zero();
-    double probe_m = 0.0, thickness_m = 0.0;
-  } thickness_;               // the last thicknessBelow() query
+    double thickness_m = 0.0;
+  } thickness_;  // the last thicknessBelow() query
+  // The loaded mesh's thickness under each vertex (mesh::thicknessBelowVertices, at construction, up to
+  // depth_m / kFloorOfThickness), by vertex index; vertices made later have none.
+  std::vector<float> thickness_below_m_;
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<mesh::TriMesh::VertexHandle> fresh_;
