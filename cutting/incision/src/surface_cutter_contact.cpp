@@ -2,6 +2,7 @@
 // for the current incision (intersect), and a bounded copy of that skin around a box (skinNear, for the
 // haptic part's contact proxy). Both query the vertex grids with the edge margins the refinement keeps.
 #include <algorithm>
+#include <cmath>
 
 #include "incise/incision/surface_cutter.h"
 #include "incise/mesh/face_walk.h"
@@ -45,10 +46,28 @@ std::optional<mesh::SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d
   // Against the surface at rest for the current incision: its own walls left out, every other vertex
   // where it was when the incision began. That surface does not depend on how far the current cut's
   // work has got, so contact (and so the cut) is the same whichever frame handles a pose.
+  // A long segment (a whole blade, a thickness probe) is queried piece by piece from `a`, each piece's box
+  // about a grid cell: one box around a slanted 30 mm blade would hold the whole skin patch under it. Each
+  // piece's faces are tested against the whole segment (the same parameter, so the same bits, as one
+  // query); the march stops at the first piece that holds the best crossing so far, which then is the
+  // first: a crossing in a piece has its face's corners within the query margin of that piece's box.
   if (!a.allFinite() || !b.allFinite()) return std::nullopt;
-  queryRest(Eigen::AlignedBox3d(a.cwiseMin(b), a.cwiseMax(b)));
-  return mesh::detail::firstCrossing(
-      mesh_.mesh(), query_, a, b, [&](VH v) { return restPosition(v); }, [&](FH f) { return skipForContact(f); });
+  const double length_m = (b - a).norm();
+  const int pieces = static_cast<int>(std::clamp(std::ceil(length_m / grid_.cellSize()), 1.0, double(kMaxProbePieces)));
+  std::optional<mesh::SurfacePoint> best;
+  for (int i = 0; i < pieces; ++i) {
+    const double t1 = static_cast<double>(i + 1) / pieces;
+    const Eigen::Vector3d p0 = a + (static_cast<double>(i) / pieces) * (b - a);
+    const Eigen::Vector3d p1 = i + 1 == pieces ? b : Eigen::Vector3d(a + t1 * (b - a));
+    queryRest(Eigen::AlignedBox3d(p0.cwiseMin(p1), p0.cwiseMax(p1)));
+    const std::optional<mesh::SurfacePoint> hit = mesh::detail::firstCrossing(
+        mesh_.mesh(), query_, a, b, [&](VH v) { return restPosition(v); }, [&](FH f) { return skipForContact(f); });
+    if (hit && (!best || hit->distance_m < best->distance_m ||
+                (hit->distance_m == best->distance_m && hit->face.idx() < best->face.idx())))
+      best = hit;
+    if (best && best->distance_m <= t1 * length_m) break;
+  }
+  return best;
 }
 
 int SurfaceCutter::skinNear(const Eigen::AlignedBox3d& box, std::span<mesh::SkinTriangle> out) const {
