@@ -1,7 +1,8 @@
 // `incise wrap SCENARIO [--out DIR]`: the global DFFD (paper §3). A model translates along v (y) through
 // static obstacles over N frames; at every frame it is split at the discontinuities and mapped through F,
-// left open, stitched or capped. Writes DIR/frame_NNNN.obj (or .ply) per frame, DIR/frames.jsonl (one JSON
-// line per frame: vertices, faces, boundary loops, worst penetration into an obstacle, min det J, times)
+// left open (the lips F leaves together welded: weldClosedLips), stitched or capped. Writes
+// DIR/frame_NNNN.obj (or .ply) per frame, DIR/frames.jsonl (one JSON line per frame: vertices, faces,
+// boundary loops, worst penetration into an obstacle, min det J, pairs of faces crossing, times)
 // and prints a summary; a progress bar on stderr when it is a terminal. The scenario format is in
 // docs/scenarios.md ("Wrap scenarios"), read by sim::loadWrapScenario (sim/wrap_scenario.h); this file
 // runs the frames and writes the outputs. Exit codes: 2 bad input (the file and key, or the obstacle and
