@@ -43,8 +43,8 @@ const std::array<Tissue, 4>& tissues() {
   return t;
 }
 
-// The faces of `cut` that may cross a face the cut changed: the changed faces (a vertex moved or made by
-// the cut) and every face whose box overlaps their box. The rest of the tissue is as it was, and the
+// The faces of `cut` that may cross a face the cut changed: the changed faces (new, or with a vertex moved
+// or made by the cut) and every face whose box overlaps their box. The rest of the tissue is as it was, and the
 // tissues have no two faces crossing, so a crossing pair has a face here. Checking this part alone keeps
 // CGAL's check (most of an execution's time on the whole tissue) to the cut's neighbourhood. As a mesh
 // (faces OpenMesh cannot add, at a vertex where two fans of the part meet, make it return the whole cut).
@@ -54,9 +54,18 @@ mesh::SurfaceMesh neighbourhood(const mesh::SurfaceMesh& cut, const mesh::Surfac
   const auto changed = [&](mesh::TriMesh::VertexHandle v) {
     return static_cast<std::size_t>(v.idx()) >= t.n_vertices() || m.point(v) != t.point(v);
   };
+  // A face is new unless the tissue's face of the same index has the same corners in the same order.
+  const auto same_face = [&](mesh::TriMesh::FaceHandle f) {
+    if (static_cast<std::size_t>(f.idx()) >= t.n_faces() || t.status(f).deleted()) return false;
+    auto a = m.cfv_iter(f);
+    auto b = t.cfv_iter(f);
+    for (int i = 0; i < 3; ++i, ++a, ++b)
+      if (*a != *b) return false;
+    return true;
+  };
   Eigen::AlignedBox3d region;
   for (const auto f : m.faces()) {
-    bool c = false;
+    bool c = !same_face(f);
     for (const auto v : m.fv_range(f)) c = c || changed(v);
     if (c)
       for (const auto v : m.fv_range(f)) region.extend(mesh::toEigen(m.point(v)));
