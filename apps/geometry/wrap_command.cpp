@@ -1,7 +1,8 @@
 // `incise wrap SCENARIO [--out DIR]`: the global DFFD (paper §3). A model translates along v (y) through
 // static obstacles over N frames; at every frame it is split at the discontinuities and mapped through F,
-// left open, stitched or capped. Writes DIR/frame_NNNN.obj (or .ply) per frame, DIR/frames.jsonl (one JSON
-// line per frame: vertices, faces, boundary loops, worst penetration into an obstacle, min det J, times)
+// left open (the lips F leaves together welded: weldClosedLips), stitched or capped. Writes
+// DIR/frame_NNNN.obj (or .ply) per frame, DIR/frames.jsonl (one JSON line per frame: vertices, faces,
+// boundary loops, worst penetration into an obstacle, min det J, pairs of faces crossing, times)
 // and prints a summary; a progress bar on stderr when it is a terminal. The scenario format is in
 // docs/scenarios.md ("Wrap scenarios"), read by sim::loadWrapScenario (sim/wrap_scenario.h); this file
 // runs the frames and writes the outputs. Exit codes: 2 bad input (the file and key, or the obstacle and
@@ -20,6 +21,7 @@
 #include "incise/core/atomic_file.h"
 #include "incise/core/format.h"
 #include "incise/global_dffd/global_dffd.h"
+#include "incise/mesh/self_intersection.h"
 #include "incise/sim/wrap_scenario.h"
 #include "json_output.h"
 #include "progress.h"
@@ -59,7 +61,13 @@ Frame wrapFrame(const WrapScenario& s, const global_dffd::GlobalDffd& base, int 
     if (stitched)
       for (int i = 0; i < static_cast<int>(dffd.obstacles().size()); ++i)
         dffd.stitch(i, global_dffd::stitchLevel(split, dffd, i));
-    out.mesh = global_dffd::deformSplit(split, dffd);
+    if (stitched) {
+      out.mesh = global_dffd::deformSplit(split, dffd);
+    } else {
+      std::vector<Eigen::Vector3d> positions(split.rest_m.size());
+      global_dffd::deformSplit(split, dffd, positions);
+      out.mesh = global_dffd::weldClosedLips(split, positions);
+    }
     min_det_j = dffd.minJacobian(1);
   }
   const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -74,6 +82,7 @@ Frame wrapFrame(const WrapScenario& s, const global_dffd::GlobalDffd& base, int 
               {"worst_penetration_m", penetration},
               {"deepest_obstacle", deepest},
               {"min_det_j", min_det_j},
+              {"self_intersections", mesh::findSelfIntersections(r).size()},
               {"split_and_deform_ms", ms}};
   return out;
 }

@@ -289,6 +289,61 @@ void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen
   });
 }
 
+namespace {
+
+// Per vertex of the split: its twin across the plane (a side -1 vertex's side +1 copy and back: the same
+// plane, source vertex and source edge), or -1. A key held by more than one pair is left without twins.
+std::vector<int> twinsOf(const DffdSplit& split) {
+  using Key = std::array<int, 4>;
+  std::map<Key, std::array<int, 3>> pairs;  // key -> (minus, plus, count of vertices)
+  for (size_t v = 0; v < split.side.size(); ++v) {
+    if (split.side[v] == 0) continue;
+    const Key key{split.plane[v], split.source_vertex[v], split.source_edge[v][0], split.source_edge[v][1]};
+    auto [it, fresh] = pairs.try_emplace(key, std::array<int, 3>{-1, -1, 0});
+    it->second[split.side[v] < 0 ? 0 : 1] = static_cast<int>(v);
+    ++it->second[2];
+  }
+  std::vector<int> twin(split.side.size(), -1);
+  for (const auto& [key, p] : pairs)
+    if (p[2] == 2 && p[0] >= 0 && p[1] >= 0)
+      twin[static_cast<size_t>(p[0])] = p[1], twin[static_cast<size_t>(p[1])] = p[0];
+  return twin;
+}
+
+}  // namespace
+
+mesh::SurfaceMesh weldClosedLips(const DffdSplit& split, std::span<const Eigen::Vector3d> positions) {
+  if (positions.size() != split.rest_m.size())
+    throw DffdError(DffdErrorKind::BadInput, "weldClosedLips: " + std::to_string(positions.size()) + " positions for " +
+                                                 std::to_string(split.rest_m.size()) + " vertices");
+  const std::vector<int> twin = twinsOf(split);
+  const size_t n = positions.size();
+  std::vector<char> closed(n, 0);  // a side -1 vertex whose twin's image is its own, bit for bit
+  for (size_t v = 0; v < n; ++v)
+    closed[v] = split.side[v] < 0 && twin[v] >= 0 && positions[v] == positions[static_cast<size_t>(twin[v])];
+  // Weld a closed vertex only where an edge of the opening (both ends closed) welds with it: a closed vertex
+  // between open edges would join the surface at a point (not a two-manifold).
+  std::vector<char> weld(n, 0);
+  for (const auto& t : split.faces)
+    for (int i = 0; i < 3; ++i) {
+      const auto a = static_cast<size_t>(t[static_cast<size_t>(i)]), b = static_cast<size_t>(t[(i + 1) % 3]);
+      if (closed[a] && closed[b]) weld[a] = weld[b] = 1;
+    }
+  std::vector<int> index(n, -1);  // output index per split vertex
+  std::vector<Eigen::Vector3d> x;
+  x.reserve(n);
+  for (size_t v = 0; v < n; ++v) {
+    const bool merged = split.side[v] > 0 && twin[v] >= 0 && weld[static_cast<size_t>(twin[v])];
+    if (!merged) index[v] = static_cast<int>(x.size()), x.push_back(positions[v]);
+  }
+  for (size_t v = 0; v < n; ++v)
+    if (index[v] < 0) index[v] = index[static_cast<size_t>(twin[v])];
+  std::vector<std::array<int, 3>> faces(split.faces.size());
+  for (size_t f = 0; f < faces.size(); ++f)
+    for (size_t i = 0; i < 3; ++i) faces[f][i] = index[static_cast<size_t>(split.faces[f][i])];
+  return meshOf(x, faces);
+}
+
 mesh::SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd) {
   std::vector<Eigen::Vector3d> positions(split.rest_m.size());
   deformSplit(split, dffd, positions);

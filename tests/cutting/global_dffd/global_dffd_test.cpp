@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
 
 namespace incise::global_dffd {
@@ -80,6 +81,48 @@ TEST_CASE("global_dffd: a sphere moving through a bar splits around it without p
   INFO("smallest signed distance to the bar " << worst_m);
   CHECK(frames_split >= 5);
   CHECK(worst_m >= -1e-6);
+}
+
+TEST_CASE("global_dffd: the open output welds the lips F leaves together: no faces touching across a crack",
+          "[cutting]") {
+  const GlobalDffd dffd({bar()}, options());
+  // Centred on the bar: split all round, two lips (two pieces, each with one opening). Partly where F moved:
+  // one opening, a slit whose ends are welded. Beyond the box (F the identity): split, but nothing opens.
+  struct Expect {
+    double y_m;
+    int openings;
+  };
+  for (const Expect e : {Expect{0.0, 2}, Expect{0.015, 1}, Expect{0.08, 0}}) {
+    INFO("sphere centre y " << e.y_m);
+    const mesh::SurfaceMesh sphere = mesh::makeSphere(Eigen::Vector3d(0.0, e.y_m, 0.001), 0.012, 3);
+    const DffdSplit split = splitAtDiscontinuities(sphere, dffd);
+    std::vector<Eigen::Vector3d> positions(split.rest_m.size());
+    deformSplit(split, dffd, positions);
+    const mesh::SurfaceMesh cracked = split.surface(positions), welded = weldClosedLips(split, positions);
+    const size_t touching = mesh::findSelfIntersections(cracked.mesh()).size();
+    INFO(touching << " pairs of faces touch across the unwelded crack");
+    if (e.y_m > 0.0) CHECK(touching > 0);
+    CHECK(mesh::findSelfIntersections(welded.mesh()).empty());
+    const mesh::ManifoldReport report = mesh::checkManifold(welded.mesh());
+    INFO(report.first_problem);
+    CHECK(report.non_manifold_vertices == 0);
+    CHECK(report.non_manifold_edges == 0);
+    CHECK(boundaryLoops(welded.mesh()) == e.openings);
+    CHECK(report.components == (e.openings == 2 ? 2 : 1));
+    CHECK(report.euler_characteristic == 2 * report.components - e.openings);  // discs or a sphere with a hole
+    CHECK(welded.mesh().n_faces() == split.faces.size());
+    CHECK(worstPenetration(welded.mesh(), {bar()}) <= 1e-6);
+    // Every output vertex is one of the split's, where deformSplit put it.
+    std::vector<Eigen::Vector3d> kept;
+    for (const auto v : welded.mesh().vertices()) kept.push_back(mesh::toEigen(welded.mesh().point(v)));
+    size_t k = 0;
+    for (size_t v = 0; v < positions.size() && k < kept.size(); ++v) k += positions[v] == kept[k];
+    CHECK(k == kept.size());
+  }
+  std::vector<Eigen::Vector3d> too_few(3);
+  CHECK_THROWS_AS(
+      weldClosedLips(splitAtDiscontinuities(mesh::makeSphere(Eigen::Vector3d::Zero(), 0.012, 2), dffd), too_few),
+      DffdError);
 }
 
 TEST_CASE("global_dffd: split vertices are duplicated with an index map back to the model", "[cutting]") {

@@ -253,6 +253,17 @@ void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen
 // The same as a mesh (split.surface() of the deformed positions): the deformed model, same connectivity.
 mesh::SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd);
 
+// The open treatment's output: the split's surface at `positions_m` (deformSplit's: one per split vertex)
+// with the lips F leaves together welded. A vertex duplicated on a plane whose image is bit for bit its
+// twin's (beyond the box, or where no control of F's support moved: F- = F+ there) is merged with it when an
+// edge of the opening at it welds too (both ends together); a lone such vertex between separated lips stays
+// split (welding it alone would join the surface at a point). The opening is then only where F separates the
+// lips: no zero-width crack whose faces touch each other (a self-intersection). Meant for splits with
+// Openings::Leave. Vertices: the split's in index order, less the merged copies. O(V log V + F).
+// Failure: DffdError when positions_m does not have one position per split vertex, or the welded surface
+// cannot be built as a two-manifold.
+mesh::SurfaceMesh weldClosedLips(const DffdSplit& split, std::span<const Eigen::Vector3d> positions_m);
+
 // A split bound to F's lattice, for re-deforming it without a new split (F changed, the model did not:
 // after stitch(), or another GlobalDffd with the same lattice). The parameters of the split's vertices
 // inside the box (x with u shifted by side * epsilon and clamped to the domain, as map() does) are bound
