@@ -47,6 +47,9 @@ Cut cutAlongTop(Block& block, TissueModel& model, int batch = 1) {
   const incision::Stroke stroke = incision::strokeAlongPath(block.surface, path);
   incision::CutterOptions options;
   options.refine = incision::CutterOptions::Refine::Off;
+  // A wound barely open at rest (0.1 mm; the kernel's default is wider): the model's tension, not the
+  // kernel, is what opens it here, and a point on the cut plane is within reach of both lips' tets.
+  options.incision.opening_m = 1e-4;
   incision::SurfaceCutter surface(block.surface, options);
   Cut cut{tets::TetCutter(block.tets), {}};
   cut.cutter.recordChanges(true);
