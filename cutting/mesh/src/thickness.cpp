@@ -12,9 +12,9 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <boost/variant/get.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <boost/variant/get.hpp>
 
 #include "incise/mesh/thickness.h"
 
@@ -80,15 +80,14 @@ std::vector<float> thicknessBelowVertices(const TriMesh& mesh, double max_m, dou
   if (triangles.empty()) return out;
   Tree tree(triangles.begin(), triangles.end());
   tree.build();  // now, not lazily inside the first of the concurrent queries
-  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(mesh.n_vertices()), 1024),
-                    [&](const tbb::blocked_range<int>& range) {
-                      for (int i = range.begin(); i != range.end(); ++i) {
-                        const TriMesh::VertexHandle v(i);
-                        if (mesh.status(v).deleted()) continue;
-                        out[static_cast<size_t>(i)] =
-                            thicknessAt(tree, toEigen(mesh.point(v)), vertexNormal(mesh, v), max_m, skin_m);
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, static_cast<int>(mesh.n_vertices()), 1024), [&](const tbb::blocked_range<int>& range) {
+        for (int i = range.begin(); i != range.end(); ++i) {
+          const TriMesh::VertexHandle v(i);
+          if (mesh.status(v).deleted()) continue;
+          out[static_cast<size_t>(i)] = thicknessAt(tree, toEigen(mesh.point(v)), vertexNormal(mesh, v), max_m, skin_m);
+        }
+      });
   return out;
 }
 
