@@ -222,6 +222,18 @@ TEST_CASE("tissue physics: a cut in a tensioned, held pad gapes by itself; unten
   CHECK(width_m > 0.002);         // the lips pulled apart by the tissue: ten times the kernel's opening
   CHECK(slack_width_m < 0.0003);  // without tension the tissue holds the kernel's opening
   CHECK(physics.counters().max_inverted == 0);
+  // The held boxes (the base, the two side walls) stay where they are, every other node is free to move.
+  const auto rest_x = physics.model().restPositions_m();
+  const auto x = physics.model().positions_m();
+  int held = 0;
+  for (std::size_t n = 0; n < rest_x.size(); ++n) {
+    const Eigen::Vector3d& r = rest_x[n];
+    if (!(r.y() <= -0.0099 || std::abs(r.x()) >= 0.0199)) continue;
+    REQUIRE(physics.model().isHeld(static_cast<int>(n)));
+    REQUIRE((x[n] - r).norm() == 0.0);
+    ++held;
+  }
+  CHECK(held > 100);
 
   // The skin follows its own lip: vertices near the cut on top move away from the cut plane, each on its side.
   const double plane_x = cutPlaneX(rest);
