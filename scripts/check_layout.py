@@ -18,11 +18,11 @@ ALLOWED = {
     'cutting/tets': {'core', 'bspline', 'mesh', 'incision'},
     'physics': {'core', 'bspline', 'mesh', 'tets'},
     'devices': set(),
-    'sim': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices'},
-    'jobs': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim'},
-    'capi': {'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim', 'jobs'},
-    'python': {'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim', 'jobs'},
-    'viewer': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'devices', 'sim'},
+    'sim': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'physics', 'devices'},
+    'jobs': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'physics', 'devices', 'sim'},
+    'capi': {'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'physics', 'devices', 'sim', 'jobs'},
+    'python': {'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'physics', 'devices', 'sim', 'jobs'},
+    'viewer': {'measure', 'core', 'bspline', 'mesh', 'incision', 'global_dffd', 'tets', 'physics', 'devices', 'sim'},
 }
 MAX_FILES = 25
 SOURCE = ('.cpp', '.h', '.c')

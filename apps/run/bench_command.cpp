@@ -112,6 +112,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
   int replays = 0;
   double wall_s = 0.0;
   std::int64_t overruns = 0, period_us = 1000;
+  double physics_rate_hz = 0.0;  // 0: the tissue is not simulated
   nlohmann::json counters = nlohmann::json::object();
   std::unique_ptr<sim::LatencyStats> stats;
   Progress progress("bench " + std::filesystem::path(path).stem().string(), seconds);
@@ -130,6 +131,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
     wall_s += report.wall_s;
     overruns += report.loop.overruns;
     addCounters(counters, run.world->counters());
+    if (const sim::TissuePhysics* physics = run.world->physics()) physics_rate_hz = physics->rateHz();
     ++replays;
     progress.update(static_cast<double>(stats->frames()) * 1e-6 * static_cast<double>(period_us));
   }
@@ -139,28 +141,35 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
   const nlohmann::json meets = verdict(s, period_us);
   bool all = true;
   for (const auto& item : meets.items()) all = all && item.value().get<bool>();
-  return {{"scenario", name},
-          {"period_us", period_us},
-          {"replays", replays},
-          {"frames", s.frames},
-          {"wall_s", wall_s},
-          {"frame_us", summary(s.frame_us)},
-          {"haptic_us", summary(s.haptic_us)},
-          {"haptic_cpu_us", summary(s.haptic_cpu_us)},
-          {"haptic_frames_over_100us", haptic_over},
-          {"haptic_per_minute_over_100us", perMinute(haptic_over, s.frames_stored, period_us)},
-          {"cut_us", summary(s.cut_us)},
-          {"period_error_us", summary(s.period_error_us)},
-          {"pose_to_visible_frames", summary(s.pose_to_visible_frames)},
-          {"deadline_misses", s.deadline_misses},
-          {"overrun_misses", s.overrun_misses},
-          {"preempted_misses", s.preempted_misses},
-          {"late_wakeup_misses", s.late_wakeup_misses},
-          {"loop_overruns", overruns},
-          {"world", counters},
-          {"frame_us_p99_target", frameTargetUs(period_us)},
-          {"meets", meets},
-          {"meets_targets", all}};
+  nlohmann::json result = {{"scenario", name},
+                           {"period_us", period_us},
+                           {"replays", replays},
+                           {"frames", s.frames},
+                           {"wall_s", wall_s},
+                           {"frame_us", summary(s.frame_us)},
+                           {"haptic_us", summary(s.haptic_us)},
+                           {"haptic_cpu_us", summary(s.haptic_cpu_us)},
+                           {"haptic_frames_over_100us", haptic_over},
+                           {"haptic_per_minute_over_100us", perMinute(haptic_over, s.frames_stored, period_us)},
+                           {"cut_us", summary(s.cut_us)},
+                           {"period_error_us", summary(s.period_error_us)},
+                           {"pose_to_visible_frames", summary(s.pose_to_visible_frames)},
+                           {"deadline_misses", s.deadline_misses},
+                           {"overrun_misses", s.overrun_misses},
+                           {"preempted_misses", s.preempted_misses},
+                           {"late_wakeup_misses", s.late_wakeup_misses},
+                           {"loop_overruns", overruns},
+                           {"world", counters},
+                           {"frame_us_p99_target", frameTargetUs(period_us)},
+                           {"meets", meets},
+                           {"meets_targets", all}};
+  if (physics_rate_hz > 0.0) {  // a simulated tissue: its steps (each frame's physics time on the sim thread)
+    result["physics_rate_hz"] = physics_rate_hz;
+    result["physics_step_us"] = {
+        {"p50", s.physics_step_us.p50}, {"p99", s.physics_step_us.p99}, {"max", s.physics_step_us.max}};
+    result["physics_late"] = s.physics_late;
+  }
+  return result;
 }
 
 }  // namespace

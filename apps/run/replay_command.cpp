@@ -36,10 +36,41 @@ struct ReplayArgs {
 // The tet tissue's files beside the surface mesh: tets.vtu (ParaView) and TetGen's tets.node/.ele, with
 // per-tet fields side (-1 / +1 of the cut, 0 elsewhere) and split (0 original, 1 piece of a cut tet, 2 part
 // of a crack-front tet).
-void writeTets(const tets::TetView& view, const std::filesystem::path& out) {
+// A simulated tissue's tets are written as simulated (tets.*) and at rest (tets_rest.node/.ele).
+void writeTets(const tets::TetView& view, const sim::World& world, const std::filesystem::path& out) {
   const std::map<std::string, std::vector<int>> fields = {{"side", view.side}, {"split", view.split}};
-  tets::saveVtu(view.mesh, out / "tets.vtu", fields);
-  tets::saveNodeEle(view.mesh, out / "tets", fields);
+  const sim::TissuePhysics* physics = world.physics();
+  if (!physics) {
+    tets::saveVtu(view.mesh, out / "tets.vtu", fields);
+    tets::saveNodeEle(view.mesh, out / "tets", fields);
+    return;
+  }
+  tets::TetView simulated = view;
+  physics->deform(simulated, *world.tets());
+  tets::saveVtu(simulated.mesh, out / "tets.vtu", fields);
+  tets::saveNodeEle(simulated.mesh, out / "tets", fields);
+  tets::saveNodeEle(view.mesh, out / "tets_rest", fields);
+}
+
+// The surface: as simulated in cut.obj and at rest in cut_rest.obj for a simulated tissue, else cut.obj.
+void writeSurface(const sim::World& world, const std::filesystem::path& out) {
+  if (const sim::TissuePhysics* physics = world.physics()) {
+    mesh::saveObj(physics->deformedSurface(world.tissue()), out / "cut.obj");
+    mesh::saveObj(world.tissue(), out / "cut_rest.obj");
+    return;
+  }
+  mesh::saveObj(world.tissue(), out / "cut.obj");
+}
+
+// The physics' figures for the summary line ("" without a simulated tissue).
+std::string physicsNote(const sim::World& world, const sim::LatencySummary& latency) {
+  const sim::TissuePhysics* physics = world.physics();
+  if (!physics) return "";
+  char text[256];
+  std::snprintf(text, sizeof text, "; physics %.0f Hz: %lld steps, step p99 %.0f us, %lld late", physics->rateHz(),
+                static_cast<long long>(physics->counters().steps), latency.physics_step_us.p99,
+                static_cast<long long>(latency.physics_late));
+  return text;
 }
 
 int runReplay(const ReplayArgs& a) {
@@ -74,24 +105,24 @@ int runReplay(const ReplayArgs& a) {
 // summary line.
 int writeReplayOutputs(const char* command, const LoadedScenario& run, const sim::ReplayOptions& options,
                        const sim::ReplayReport& report, const std::string& out_dir) {
-  const mesh::SurfaceMesh& tissue = run.world->tissue();
   const auto& stats = run.world->cutter().stats();
   const std::filesystem::path out(out_dir);
   nlohmann::json json;
   bool tets_ok = true;
   std::string tets_note;
   try {
-    mesh::saveObj(tissue, out / "cut.obj");
+    writeSurface(*run.world, out);
     const tets::TetCutter* tets = run.world->tets();
     const std::optional<tets::TetView> view = tets ? std::optional(tets->view(tets::TetShape::Deformed)) : std::nullopt;
     json = jobs::replayReport(run, options, report, view ? &*view : nullptr);
     if (view) {
-      writeTets(*view, out);
+      writeTets(*view, *run.world, out);
       tets_ok = json["tets"]["failure"].get<std::string>().empty() && json["tets"]["inverted_tets"].get<int>() == 0;
       tets_note = "; " + std::to_string(json["tets"]["tets"].get<size_t>()) + " tets (" +
                   std::to_string(json["tets"]["tets_cut"].get<int>()) + " cut, " +
                   std::to_string(json["tets"]["inverted_tets"].get<int>()) + " inverted)";
     }
+    tets_note += physicsNote(*run.world, report.latency);
     writeJsonAtomically(json, out / "report.json");
   } catch (const std::exception& e) {
     failWith(command, e.what());

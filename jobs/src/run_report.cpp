@@ -6,6 +6,7 @@
 
 #include "incise/incision/surface_cutter.h"
 #include "incise/mesh/mesh_hash.h"
+#include "incise/physics/tissue_model.h"
 #include "incise/tets/tet_cutter.h"
 
 namespace incise::jobs {
@@ -101,6 +102,28 @@ nlohmann::json tetsReport(const tets::TetCutter& tets, const tets::TetView& defo
           {"failure", stats.failure}};
 }
 
+// A simulated tissue's figures: its rate and steps, their time on the sim thread, and what the model met.
+nlohmann::json physicsReport(const sim::TissuePhysics& physics, const sim::LatencySummary& latency) {
+  const sim::PhysicsCounters& c = physics.counters();
+  return {{"physics_rate_hz", physics.rateHz()},
+          {"steps", c.steps},
+          {"physics_step_us",
+           {{"p50", latency.physics_step_us.p50},
+            {"p99", latency.physics_step_us.p99},
+            {"max", latency.physics_step_us.max}}},
+          {"physics_late", latency.physics_late},
+          {"cg_limited_steps", c.cg_limited},
+          {"non_finite_steps", c.non_finite},
+          {"cuts_applied", c.cuts_applied},
+          {"pieces_refused", c.pieces_refused},
+          {"failed_applies", c.failed_applies},
+          {"reserve_overflows", c.reserve_overflows},
+          {"max_inverted_elements", c.max_inverted},
+          {"nodes", physics.model().nodeCount()},
+          {"elements", physics.model().elementCount()},
+          {"positions_hash", hexText(physics.positionsHash())}};
+}
+
 nlohmann::json replayReport(const ScenarioRun& run, const sim::ReplayOptions& options, const sim::ReplayReport& report,
                             const tets::TetView* deformed) {
   const mesh::SurfaceMesh& tissue = run.world->tissue();
@@ -139,6 +162,8 @@ nlohmann::json replayReport(const ScenarioRun& run, const sim::ReplayOptions& op
   };
   if (const tets::TetCutter* tets = run.world->tets())
     json["tets"] = deformed ? tetsReport(*tets, *deformed) : tetsReport(*tets, tets->view(tets::TetShape::Deformed));
+  if (const sim::TissuePhysics* physics = run.world->physics())
+    json["physics"] = physicsReport(*physics, report.latency);
   return json;
 }
 

@@ -62,12 +62,17 @@ void CutChanges::reserve(std::size_t node_count, std::size_t base_tet_count, std
 }
 
 void collectCutChanges(const tets::TetCutter& cutter, const tets::TetChanges& journal, CutChanges& out) {
+  collectCutChanges(cutter, journal.nodes, journal.base_tets, out);
+}
+
+void collectCutChanges(const tets::TetCutter& cutter, std::span<const int> nodes, std::span<const int> base_tets,
+                       CutChanges& out) {
   if (++out.collects == 0) {  // wrapped: no base tet counts as read in this call
     std::fill(out.base_read.begin(), out.base_read.end(), 0u);
     out.collects = 1;
   }
-  for (const int node : journal.nodes) addNode(cutter, node, out);
-  for (const int base_tet : journal.base_tets) addBaseTet(cutter, base_tet, out);
+  for (const int node : nodes) addNode(cutter, node, out);
+  for (const int base_tet : base_tets) addBaseTet(cutter, base_tet, out);
 }
 
 }  // namespace incise::physics

@@ -59,6 +59,14 @@ void summarize(std::vector<double>& values, SampleSummary& s) {
 LatencyStats::LatencyStats(std::size_t capacity_frames) : capacity_(capacity_frames) {
   samples_.reserve(capacity_);
   pose_to_visible_.reserve(capacity_);
+  physics_us_.reserve(capacity_);
+}
+
+void LatencyStats::recordPhysicsStep(double us, bool late) noexcept {
+  physics_max_us_ = physics_frames_ == 0 ? us : std::max(physics_max_us_, us);
+  ++physics_frames_;
+  if (late) ++physics_late_;
+  if (physics_us_.size() < capacity_) physics_us_.push_back(us);
 }
 
 void LatencyStats::record(const FrameTiming& timing) noexcept {
@@ -86,6 +94,9 @@ void LatencyStats::clear() noexcept {
   pose_to_visible_.clear();
   pose_to_visible_max_ = 0;
   pose_to_visible_count_ = 0;
+  physics_us_.clear();
+  physics_max_us_ = 0.0;
+  physics_frames_ = physics_late_ = 0;
   frames_ = 0;
   deadline_misses_ = overrun_misses_ = preempted_misses_ = 0;
   for (std::size_t q = 0; q < kQuantities; ++q) {
@@ -124,6 +135,11 @@ LatencySummary LatencyStats::summary() const {
   values.assign(pose_to_visible_.begin(), pose_to_visible_.end());
   summarize(values, out.pose_to_visible_frames);
   out.pose_to_visible_frames.max = static_cast<double>(pose_to_visible_max_);
+  values.assign(physics_us_.begin(), physics_us_.end());
+  summarize(values, out.physics_step_us);
+  out.physics_step_us.max = physics_max_us_;
+  out.physics_frames = physics_frames_;
+  out.physics_late = physics_late_;
   return out;
 }
 
@@ -142,6 +158,11 @@ std::string toJson(const LatencySummary& summary, int indent) {
   putSummary(j, "pose_to_visible_frames", summary.pose_to_visible_frames);
   putSummary(j, "geometry_us", summary.geometry_us);
   putSummary(j, "haptic_cpu_us", summary.haptic_cpu_us);
+  if (summary.physics_frames > 0) {
+    j["physics_frames"] = summary.physics_frames;
+    j["physics_late"] = summary.physics_late;
+    putSummary(j, "physics_step_us", summary.physics_step_us);
+  }
   return j.dump(indent);
 }
 

@@ -57,6 +57,57 @@ void readTets(const Reader& r, TetTissueOptions& t) {
   t.cutter.snap_tolerance_m = r.number("snap_tolerance_m", t.cutter.snap_tolerance_m, 0.0, 1.0);
 }
 
+// A number that must be > 0 (the key's unit in `unit`).
+double positiveNumber(const Reader& r, const char* key, double fallback, const char* unit) {
+  const double value = r.number(key, fallback, -1e30, 1e30);
+  if (!(value > 0.0)) r.fail("must be > 0 (" + std::string(unit) + "), got " + core::formatNumber(value), key);
+  return value;
+}
+
+// "tissue.material": the tet tissue's elasticity, density, Rayleigh damping and prestretch.
+void readMaterial(const Reader& r, physics::Material& m) {
+  m.youngs_modulus_Pa = positiveNumber(r, "youngs_modulus_Pa", m.youngs_modulus_Pa, "Pa");
+  m.poisson_ratio = r.number("poisson_ratio", m.poisson_ratio, -1e30, 1e30);
+  if (!(m.poisson_ratio >= 0.0 && m.poisson_ratio < 0.5))
+    r.fail("= " + core::formatNumber(m.poisson_ratio) + " is outside [0, 0.5)", "poisson_ratio");
+  m.density_kg_per_m3 = positiveNumber(r, "density_kg_per_m3", m.density_kg_per_m3, "kg/m^3");
+  const Reader damping = r.child("damping");
+  m.damping.mass_per_s = damping.number("mass_per_s", m.damping.mass_per_s, 0.0, 1e6);
+  m.damping.stiffness_s = damping.number("stiffness_s", m.damping.stiffness_s, 0.0, 1e3);
+  m.prestretch = r.vector("prestretch", m.prestretch);
+  if (!(m.prestretch.array() > 0.0).all()) r.fail("must be > 0 along every axis", "prestretch");
+}
+
+// A simulated tissue: tissue.material (with tissue.tets), tissue.fixed (at least one box), gravity_m_per_s2
+// and physics_rate_hz (at most the frame rate). The keys but `material` are refused without it.
+void readPhysics(const Reader& root, const Reader& tissue, Scenario& s) {
+  PhysicsOptions& p = s.world.physics;
+  if (!tissue.has("material")) {
+    for (const char* key : {"fixed"})
+      if (tissue.has(key)) tissue.fail("is only for a simulated tissue (give tissue.material)", key);
+    for (const char* key : {"gravity_m_per_s2", "physics_rate_hz"})
+      if (root.has(key)) root.fail("is only for a simulated tissue (give tissue.material)", key);
+    return;
+  }
+  p.enabled = true;
+  if (!s.world.tets.enabled) tissue.fail("needs tissue.tets: the tets are what is simulated", "material");
+  readMaterial(tissue.child("material"), p.material);
+  if (!tissue.has("fixed"))
+    tissue.fail(
+        "is missing: a simulated tissue must be held somewhere (give at least one box "
+        "{\"min_m\": [x, y, z], \"max_m\": [x, y, z]})",
+        "fixed");
+  for (const Reader& box : tissue.objects("fixed")) {
+    if (!box.has("min_m")) box.fail("is missing ([x, y, z] in metres)", "min_m");
+    if (!box.has("max_m")) box.fail("is missing ([x, y, z] in metres)", "max_m");
+    const physics::Box b{box.vector("min_m", Eigen::Vector3d::Zero()), box.vector("max_m", Eigen::Vector3d::Zero())};
+    if (!(b.min_m.array() <= b.max_m.array()).all()) box.fail("must be >= min_m along every axis", "max_m");
+    p.boundary.fixed_boxes.push_back(b);
+  }
+  p.boundary.gravity_m_per_s2 = root.vector("gravity_m_per_s2", p.boundary.gravity_m_per_s2);
+  p.rate_hz = root.number("physics_rate_hz", p.rate_hz, 10.0, s.rate_hz);
+}
+
 std::vector<StrokeSpec> readStrokes(const Reader& source) {
   std::vector<StrokeSpec> strokes;
   for (const Reader& s : source.objects("strokes")) {
@@ -156,6 +207,7 @@ Scenario readScenario(const Reader& root, const std::filesystem::path& file) {
               "depth_m");
 
   s.rate_hz = root.number("rate_hz", s.rate_hz, 10.0, 100000.0);
+  readPhysics(root, tissue, s);
   s.settle_s = root.number("settle_s", s.settle_s, 0.0, 100.0);
   s.world.cut_budget_us = root.number("cut_budget_us", s.world.cut_budget_us, 1.0, 1e6);
   s.world.us_per_inversion = root.number("us_per_inversion", s.world.us_per_inversion, 0.01, 1000.0);

@@ -108,13 +108,29 @@ void Simulation::notePending(std::int64_t frame) noexcept {
   arrivalFrame(handled_ - 1, frame);  // forget the frames whose poses are all handled
 }
 
+// The frame's poses into frame_poses_, oldest first; with hold_, none later than t_s (kept for its frame).
+int Simulation::takePoses(double t_s) noexcept {
+  const double latest_s = hold_ ? t_s + 1e-12 : std::numeric_limits<double>::infinity();
+  int count = 0;
+  if (has_held_ && !(held_.time_s > latest_s))
+    frame_poses_[static_cast<std::size_t>(count++)] = held_, has_held_ = false;
+  while (!has_held_ && count < kMaxPosesPerFrame && queue_.pop(frame_poses_[static_cast<std::size_t>(count)])) {
+    if (frame_poses_[static_cast<std::size_t>(count)].time_s > latest_s) {
+      held_ = frame_poses_[static_cast<std::size_t>(count)];
+      has_held_ = true;
+      break;
+    }
+    ++count;
+  }
+  taken_.fetch_add(count, std::memory_order_relaxed);
+  return count;
+}
+
 void Simulation::frame(const FrameInfo& info) noexcept {
   const std::int64_t cpu_start_ns = info.against_clock ? threadCpuNs() : -1;  // a system call: the clock only
   const auto start = Clock::now();
   const double t_s = frameTime(info.frame);
-  int count = 0;
-  while (count < kMaxPosesPerFrame && queue_.pop(frame_poses_[static_cast<std::size_t>(count)])) ++count;
-  taken_.fetch_add(count, std::memory_order_relaxed);
+  const int count = takePoses(t_s);
 
   const HapticState haptic =
       world_.updateTool(std::span(frame_poses_.data(), static_cast<std::size_t>(count)), info.dt_s);
@@ -126,12 +142,21 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   // The cut phase takes the poses and makes lattice columns final; remember when the oldest pose it handled
   // came (poses numbered in arrival order), to measure when the columns are cut.
   const incision::SurfaceCutter& cutter = world_.cutter();
-  // Against the clock the surface's budgeted work also stops at its share of cut_budget_us (work_budget.h).
-  const auto cut_deadline = info.against_clock
+  // Against the clock the surface's budgeted work also stops at its share of cut_budget_us (work_budget.h);
+  // not for a simulated tissue, whose model takes each cut in the frame it is made: where the work stops
+  // would change its motion (it keeps to the inversion budget, as the tets do).
+  const auto cut_deadline = info.against_clock && !world_.physics()
                                 ? haptic_end + std::chrono::nanoseconds(std::llround(1e3 * world_.surfaceCutBudgetUs()))
                                 : core::WorkBudget::Clock::time_point::max();
   world_.cut(t_s, cut_deadline);
   const auto cut_end = Clock::now();
+  // A simulated tissue: the frame's tet changes applied and the physics steps due at t_s (simulated time).
+  auto physics_end = cut_end;
+  if (world_.physics() && world_.stepPhysics(t_s) > 0) {
+    physics_end = Clock::now();
+    const double physics_us = microseconds(cut_end, physics_end);
+    stats_->recordPhysicsStep(physics_us, physics_us > period_us_);
+  }
   notePending(info.frame);
   const int visible = poseToVisible(info.frame);
   if (geometry_) geometry_->publish(world_, info.frame);
@@ -166,7 +191,7 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   timing.haptic_us = microseconds(start, haptic_end);  // not from `s`: the reader owns that slot now
   if (cpu_haptic_ns >= 0) timing.haptic_cpu_us = 1e-3 * static_cast<double>(cpu_haptic_ns - cpu_start_ns);
   timing.cut_us = microseconds(haptic_end, cut_end);
-  timing.geometry_us = last_geometry_us_ = geometry_ ? microseconds(cut_end, geometry_end) : 0.0;
+  timing.geometry_us = last_geometry_us_ = geometry_ ? microseconds(physics_end, geometry_end) : 0.0;
   timing.frame_us = last_frame_us_ = microseconds(start, end);
   timing.period_error_us = info.period_error_us;
   timing.deadline_missed = info.period_error_us + timing.frame_us > period_us_;
@@ -233,7 +258,12 @@ struct ReplayRun {
   double stop_s = std::numeric_limits<double>::infinity();
   std::atomic<std::int64_t> paused_frames{0};
   double wall_period_s = 1e-3;
+  double lead_s = 0.0;  // the feeder releases poses this much before their time (real time)
 };
+
+// How many frames early a real-time replay of a simulated tissue feeds its poses: a feeder thread woken
+// this late still gives every pose to the frame of its time.
+constexpr double kPoseLeadFrames = 5.0;
 
 void replayFast(ReplayRun& run) {
   Snapshot snapshot;
@@ -260,7 +290,7 @@ void replayFast(ReplayRun& run) {
 Clock::time_point releaseTime(const ReplayRun& run, Clock::time_point start, std::size_t i) {
   const double wall_s = (run.trace[i].time_s - run.trace.front().time_s) / run.options.speed +
                         static_cast<double>(run.paused_frames.load()) * run.wall_period_s;
-  return start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall_s));
+  return start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall_s - run.lead_s));
 }
 
 void replayRealTime(ReplayRun& run) {
@@ -350,6 +380,10 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   ReplayRun run{world, trace, options, sim, loop, report, trace.back().time_s + options.settle_s, pin, cpus};
   run.stop_s = trace.front().time_s + options.stop_after_s;
   run.wall_period_s = static_cast<double>(loop_options.period_us) * 1e-6;
+  if (world.physics()) {  // a simulated tissue: each pose in the frame of its time (holdPosesToTheirFrame)
+    sim.holdPosesToTheirFrame(true);
+    run.lead_s = kPoseLeadFrames * run.wall_period_s;
+  }
   sim.attachGeometry(options.geometry);
   sim.attachTimes(options.times);
 

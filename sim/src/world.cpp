@@ -77,12 +77,18 @@ World::World(mesh::SurfaceMesh tissue, const WorldOptions& options) : options_(o
   proxy_ = std::make_unique<ContactProxy>();
   tissue_ = std::make_unique<mesh::SurfaceMesh>(std::move(tissue));
   cutter_ = std::make_unique<incision::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
+  if (options.physics.enabled && !options.tets.enabled)
+    throw std::invalid_argument("World: a simulated tissue (physics) needs its tets (tets.enabled)");
   if (options.tets.enabled) {
     tets::TetCutterOptions tet_options = options.tets.cutter;
     tet_options.max_inversions_per_call = workBudget(options);
-    tets_ = std::make_unique<tets::TetCutter>(tets::tetrahedralize(*tissue_, options.tets.mesh), tet_options);
+    tets::TetMesh mesh = tets::tetrahedralize(*tissue_, options.tets.mesh);
+    // The model is built from the cutter's load mesh (same node and tet order) and follows its journal.
+    if (options.physics.enabled) physics_ = std::make_unique<TissuePhysics>(mesh, options.physics);
+    tets_ = std::make_unique<tets::TetCutter>(std::move(mesh), tet_options);
     requireFineTets(*tissue_, *tets_, options.cutter.incision);
     tets_->prepare(options.cutter.incision);  // the sim thread then allocates nothing for the first incision
+    if (physics_) tets_->recordChanges(true);
   }
 }
 
@@ -93,13 +99,27 @@ World& World::operator=(World&&) noexcept = default;
 int World::incisions() const noexcept { return cutter_->stats().incisions; }
 
 void World::recordMeshChanges(bool on) {
+  // The tets' journal stays on for the physics; the physics has read it all (cut() collects), and it is
+  // cleared here.
+  stream_records_ = on;
   cutter_->recordChanges(on);
-  if (tets_) tets_->recordChanges(on);
+  if (tets_) tets_->recordChanges(on || physics_ != nullptr);
+  if (physics_) physics_->journalCleared();
 }
 const incision::MeshChanges& World::meshChanges() const noexcept { return cutter_->changes(); }
 void World::clearMeshChanges() noexcept {
   cutter_->clearChanges();
   if (tets_) tets_->clearChanges();
+  if (physics_) physics_->journalCleared();
+}
+
+void World::collectTetChanges() noexcept {
+  if (!physics_) return;
+  physics_->collect(*tets_);
+  if (!stream_records_) {  // no other reader: the journal is the physics' alone
+    tets_->clearChanges();
+    physics_->journalCleared();
+  }
 }
 
 void World::followTets(tets::TetBudget budget) noexcept {
@@ -297,6 +317,7 @@ incision::CutStep World::cut(double t_s, core::WorkBudget::Clock::time_point dea
     followTets(tets::TetBudget::PerCall);
   }
   refreshProxy();  // again only when an incision began in this frame or PN refinement moved the skin
+  collectTetChanges();
   if (step.deadline_hit) ++counters_.deadline_stops;
   counters_.reserve_overflows = cutter_->stats().reserve_overflows + (tets_ ? tets_->stats().reserve_overflows : 0);
   return step;

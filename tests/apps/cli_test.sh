@@ -119,6 +119,32 @@ check "the report has the tet counts, volume and smallest dihedral angle" \
   grep -q '"min_split_dihedral_deg"' "$work/tets/report.json"
 check "the .ele names its per-tet attributes" grep -q '^# attributes: side split' "$work/tets/tets.ele"
 check "the .vtu has the side field" grep -q 'Name="side"' "$work/tets/tets.vtu"
+check "a tissue without a material writes no rest files" test ! -e "$work/tets/cut_rest.obj" -a ! -e "$work/tets/tets_rest.node"
+
+# A simulated tissue: written as simulated and at rest (same vertices and faces, same tets), the physics'
+# figures in the report and the summary line.
+check "replay runs the simulated pad" "$incise" replay "$scenarios/pad-tension.json" --out "$work/sim"
+for f in cut.obj cut_rest.obj tets.node tets_rest.node tets.ele tets_rest.ele; do
+  check "the simulated replay writes $f" test -s "$work/sim/$f"
+done
+check "... the same faces and tets, the vertices moved by the tissue's tension" python3 -c "
+import math, sys
+def obj(p):
+    lines = open(p).read().split(chr(10))
+    return [list(map(float, l.split()[1:4])) for l in lines if l.startswith('v ')], [l for l in lines if l.startswith('f ')]
+def node(p):
+    lines = open(p).read().split(chr(10))
+    n = int(lines[0].split()[0])
+    return [list(map(float, l.split()[1:4])) for l in lines[1:1 + n]]
+(v, f), (rv, rf) = obj('$work/sim/cut.obj'), obj('$work/sim/cut_rest.obj')
+x, r = node('$work/sim/tets.node'), node('$work/sim/tets_rest.node')
+same = f == rf and len(v) == len(rv) and len(x) == len(r) and open('$work/sim/tets.ele').read() == open('$work/sim/tets_rest.ele').read()
+moved = max(math.dist(a, b) for a, b in zip(v, rv)) > 5e-4 and max(math.dist(a, b) for a, b in zip(x, r)) > 5e-4
+sys.exit(0 if same and moved else 1)"
+check "the report has the physics block" python3 -c "
+import json, sys
+p = json.load(open('$work/sim/report.json'))['physics']
+sys.exit(0 if p['physics_rate_hz'] == 100 and p['steps'] > 100 and p['non_finite_steps'] == 0 and 'p99' in p['physics_step_us'] and 'physics_late' in p else 1)"
 
 # Bad scenarios: exit 2, a message naming the file, nothing in the output directory.
 printf '{\n  "tissue": { "mesh": "meshes/bunny.obj" },\n  "pose_source": { "kind": "trace", "path": "traces/missing.csv" }\n}\n' > "$work/missing-trace.json"

@@ -124,6 +124,12 @@ TEST_CASE("alloc: the tets' second incision (their rebase) allocates nothing eit
   requireNoAllocation("bunny-tets", 2, 0, "bunny-crossing");  // the crossing trace's two strokes
 }
 
+TEST_CASE("alloc: a simulated tissue's steps and cuts allocate nothing on the sim thread either", "[alloc]") {
+  // pad-tension: tets with a material, stepped at 100 Hz of simulated time, the cut's journal applied to the
+  // model in the frame it is made.
+  requireNoAllocation("pad-tension", 1);
+}
+
 TEST_CASE("alloc: bunny-crossing at 4 kHz allocates nothing on the sim thread after its first frame", "[alloc]") {
   requireNoAllocation("bunny-crossing-4khz", 2);
 }

@@ -16,6 +16,7 @@
 #include "incise/sim/spsc_queue.h"
 #include "incise/sim/stroke_poses.h"
 #include "incise/sim/tet_mirror.h"
+#include "incise/sim/tissue_physics.h"
 #include "incise/sim/triple_buffer.h"
 #include "incise/sim/world.h"
 

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -62,5 +63,9 @@ struct CutChanges {
 // current pieces. The journal is not cleared (the caller does: cutter.clearChanges()). Never throws but
 // std::bad_alloc beyond the reserve. Thread: the cutter's owner. Cost O(journal + pieces x 4).
 void collectCutChanges(const tets::TetCutter& cutter, const tets::TetChanges& journal, CutChanges& out);
+// The same for a part of a journal (the entries a reader has not read yet, when the journal is shared with
+// another reader who clears it): `nodes` and `base_tets` are journal entries (node and base-tet indices).
+void collectCutChanges(const tets::TetCutter& cutter, std::span<const int> nodes, std::span<const int> base_tets,
+                       CutChanges& out);
 
 }  // namespace incise::physics

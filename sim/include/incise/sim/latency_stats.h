@@ -70,6 +70,12 @@ struct LatencySummary {
   std::int64_t overrun_misses = 0;
   std::int64_t preempted_misses = 0;
   std::int64_t late_wakeup_misses = 0;
+  // A simulated tissue's physics (recordPhysicsStep: one sample per frame that stepped it): the frame's
+  // physics time, the frames that stepped it, and those whose physics alone took longer than the frame's
+  // period (the physics could not keep its rate inside the frame).
+  SampleSummary physics_step_us;
+  std::int64_t physics_frames = 0;
+  std::int64_t physics_late = 0;
 };
 
 class LatencyStats {
@@ -85,6 +91,9 @@ class LatencyStats {
   // Sim thread: a cut became visible `frames` frames after the frame its pose arrived in (>= 0; simulation.h
   // says which pose). Once per cut, in the frame it became visible. O(1), never allocates.
   void recordPoseToVisible(int frames) noexcept;
+  // Sim thread: a frame stepped the tissue's physics for `us` (late: longer than the frame's period). O(1),
+  // never allocates (samples past the capacity are counted, not stored).
+  void recordPhysicsStep(double us, bool late) noexcept;
 
   // Forgets every frame; keeps the reserved capacity. No allocation.
   void clear() noexcept;
@@ -106,6 +115,9 @@ class LatencyStats {
   std::size_t capacity_;
   std::vector<FrameTiming> samples_;  // reserved to capacity_, never grown past it
   std::vector<int> pose_to_visible_;  // the same
+  std::vector<double> physics_us_;    // the same
+  double physics_max_us_ = 0.0;
+  std::int64_t physics_frames_ = 0, physics_late_ = 0;
   int pose_to_visible_max_ = 0;
   std::int64_t pose_to_visible_count_ = 0;
   std::int64_t frames_ = 0;
@@ -117,8 +129,9 @@ class LatencyStats {
 
 // {"frames", "frames_stored", "deadline_misses", "overrun_misses", "preempted_misses", "late_wakeup_misses",
 // then per quantity {"count", "p50", "p99", "p999", "max", "mean"} under "haptic_us", "cut_us", "frame_us",
-// "period_error_us", "pose_to_visible_frames", "geometry_us", "haptic_cpu_us"}, keys in that order, indented
-// by `indent` spaces (-1: one line).
+// "period_error_us", "pose_to_visible_frames", "geometry_us", "haptic_cpu_us"}, keys in that order, and with
+// a simulated tissue (physics_frames > 0) "physics_frames", "physics_late" and "physics_step_us" last;
+// indented by `indent` spaces (-1: one line).
 std::string toJson(const LatencySummary& summary, int indent = 2);
 
 }  // namespace incise::sim

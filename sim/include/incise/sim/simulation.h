@@ -86,7 +86,8 @@ class Simulation final : public devices::PoseSink {
   // A frame, in order: 1. drain every queued pose (oldest first) into a fixed array;
   // 2. World::updateTool, the haptic part alone (contact against the world's ContactProxy, force) ->
   // ForceSink (timed: haptic_us); 3. World::cut at the frame's time: the poses' stroke samples and all the
-  // cutting work, under the budget (timed: cut_us); 4. when a GeometryStream is attached, the frame's mesh
+  // cutting work, under the budget (timed: cut_us); 3b. a simulated tissue's World::stepPhysics at the
+  // frame's time (timed, when it stepped: LatencyStats::recordPhysicsStep); 4. when a GeometryStream is attached, the frame's mesh
   // changes into it (timed: geometry_us; geometry_stream.h), then publish the Snapshot (timed: publish_us);
   // 5. record the frame in LatencyStats (a deadline missed by the frame's own time over the period is an
   // overrun, one missed by starting late a late wake-up). Frame k's time is t0 + k * period: simulated,
@@ -99,6 +100,11 @@ class Simulation final : public devices::PoseSink {
   // Before the first frame: publish the mesh's changes into `stream` every frame (attach() is done here:
   // allocates). nullptr detaches. The stream must outlive the simulation's frames.
   void attachGeometry(GeometryStream* stream);
+  // Before the first frame: a frame takes only the queued poses whose time is at most its own (a later one
+  // waits for its frame), so each pose is handled in the frame of its time however early it was pushed.
+  // A real-time replay of a simulated tissue feeds poses a few frames early with this on, so that its cuts
+  // reach the physics in the same frames as a fast replay's. Off by default (a pose is handled when it comes).
+  void holdPosesToTheirFrame(bool on) noexcept { hold_ = on; }
   // Before the first frame: push every frame's timings into `queue` (one reader thread pops them). nullptr
   // detaches. The queue must outlive the simulation's frames.
   void attachTimes(FrameTimesQueue* queue) noexcept { times_ = queue; }
@@ -115,6 +121,7 @@ class Simulation final : public devices::PoseSink {
  private:
   int poseToVisible(std::int64_t frame) noexcept;
   void resetOnNewIncision() noexcept;
+  int takePoses(double t_s) noexcept;
   void noteArrivals(int accepted, std::int64_t frame) noexcept;
   void notePending(std::int64_t frame) noexcept;
   std::int64_t arrivalFrame(std::int64_t pose, std::int64_t frame) noexcept;
@@ -130,6 +137,8 @@ class Simulation final : public devices::PoseSink {
   LatencyStats own_stats_{1};
   LatencyStats* stats_;
   std::atomic<std::int64_t> dropped_{0}, taken_{0};
+  bool hold_ = false, has_held_ = false;  // holdPosesToTheirFrame; a pose popped before its frame
+  devices::PoseSample held_{};
   // Pose-to-visible bookkeeping: columns made final with poses from which frame, in order (a small ring);
   // and per frame that brought poses, how many the world had accepted by its end (a ring holding every
   // frame with a pose the cut phase has not handled, and the newest handled one's: at most the world's

@@ -1,7 +1,7 @@
 // The simulated world: the tissue (a surface mesh, and with `tets` a tet mesh too, cut by local DFFD
-// incisions, paper §4) and the scalpel, advanced one frame at a time by the sim thread in two calls that the
-// caller times apart without the world reading a clock: updateTool() (the haptic part) then cut() (the cut
-// phase). The cut depends only on the pose samples and their order, never on which frame handled them: a
+// incisions, paper §4; with `physics` the tets are simulated, tissue_physics.h) and the scalpel, advanced one
+// frame at a time by the sim thread in calls that the caller times apart without the world reading a clock:
+// updateTool() (the haptic part), cut() (the cut phase), then stepPhysics() (a simulated tissue's steps). The cut depends only on the pose samples and their order, never on which frame handled them: a
 // trace replayed as fast as possible or in real time gives the same geometry (ARCHITECTURE.md, "One frame").
 //
 // Units: metres, seconds, newtons. The blade points along the tool's local -z axis (the tip is the pose
@@ -25,6 +25,7 @@
 #include "incise/incision/surface_cutter_options.h"
 #include "incise/sim/contact_proxy.h"
 #include "incise/sim/pose_queue.h"
+#include "incise/sim/tissue_physics.h"
 #include "incise/tets/tet_cutter_options.h"
 #include "incise/tets/tetrahedralize_options.h"
 
@@ -65,6 +66,7 @@ struct TetTissueOptions {
 struct WorldOptions {
   incision::CutterOptions cutter;
   TetTissueOptions tets;
+  PhysicsOptions physics;  // enabled: the tets are simulated (needs tets.enabled)
   ToolOptions tool;
   TissueOptions tissue;
   double cut_budget_us = 300.0;   // per-frame time for cutting work, turned into an inversion budget
@@ -118,12 +120,13 @@ class World {
   World(World&&) noexcept;
   World& operator=(World&&) noexcept;
 
-  // One whole frame at time t_s: updateTool(poses, dt_s) then cut(t_s). Callers that time the two
-  // parts (Simulation) call them separately.
+  // One whole frame at time t_s: updateTool(poses, dt_s), cut(t_s), then stepPhysics(t_s). Callers that
+  // time the parts (Simulation) call them separately.
   StepResult step(std::span<const devices::PoseSample> poses, double dt_s, double t_s) noexcept {
     StepResult result;
     result.haptic = updateTool(poses, dt_s);
     result.cut = cut(t_s);
+    stepPhysics(t_s);
     return result;
   }
 
@@ -163,6 +166,12 @@ class World {
   // would make that depend on the machine's speed too.
   incision::CutStep cut(
       double t_s, core::WorkBudget::Clock::time_point deadline = core::WorkBudget::Clock::time_point::max()) noexcept;
+  // The simulated tissue's part of the frame, after cut(): the tets' changes cut() collected applied to the
+  // model, then every physics step due at t_s (tissue_physics.h). Returns the steps taken (0 without a
+  // simulated tissue). Never throws.
+  int stepPhysics(double t_s) noexcept { return physics_ ? physics_->advance(t_s) : 0; }
+  // The simulated tissue; nullptr unless options.physics.enabled.
+  const TissuePhysics* physics() const noexcept { return physics_.get(); }
   // Cutting work left for later frames: queued poses, an incision waiting to begin, or columns not cut.
   bool pending() const noexcept;
   // Poses the haptic part took (HapticState::poses) that the cut phase has not handled yet: how far the cut
@@ -213,11 +222,14 @@ class World {
   bool readyToBegin(bool at_once) noexcept;
   void refreshProxy() noexcept;
   void followTets(tets::TetBudget budget) noexcept;
+  void collectTetChanges() noexcept;  // the tets' journal into the physics' change buffer
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
   std::unique_ptr<mesh::SurfaceMesh> tissue_;  // stable address: the cutter keeps a reference
   std::unique_ptr<incision::SurfaceCutter> cutter_;
   std::unique_ptr<tets::TetCutter> tets_;
+  std::unique_ptr<TissuePhysics> physics_;
+  bool stream_records_ = false;  // a geometry reader owns the journals (recordMeshChanges(true))
   WorldOptions options_;
   double probe_m_ = 0.0;  // the blade's part that can meet the skin: its depth + 2 mm (at most its length)
   // The haptic part's state: the newest pose, the tool's velocity, the previous frame's tip.

@@ -1,0 +1,165 @@
+#include "incise/sim/tissue_physics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <new>
+#include <optional>
+#include <span>
+
+#include "incise/mesh/surface_mesh.h"
+#include "incise/physics/tissue_model.h"
+#include "incise/tets/tet_cutter.h"
+
+namespace incise::sim {
+
+namespace {
+
+// Nodes the incisions may add before the model and the change buffer grow: as many as the tet cutter keeps
+// room for (its own headroom, 20,000 nodes), or half the load mesh's when that is more.
+std::size_t cutNodes(const tets::TetMesh& mesh) { return std::max<std::size_t>(20000, mesh.nodes_m.size() / 2); }
+
+physics::ModelOptions modelOptions(const tets::TetMesh& mesh) {
+  physics::ModelOptions o;
+  o.reserve_nodes = static_cast<int>(cutNodes(mesh));
+  o.reserve_elements = std::max(o.reserve_elements, static_cast<int>(mesh.tets.size()) / 2);
+  return o;
+}
+
+// A point just inside the surface beside vertex v: halfway to its neighbours' centroid, a quarter of their
+// mean distance behind its normal. On the vertex's own side of a cut through it (its neighbours are).
+Eigen::Vector3d probeBeside(const mesh::TriMesh& m, mesh::TriMesh::VertexHandle v) {
+  const Eigen::Vector3d x = mesh::toEigen(m.point(v));
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+  double spread_m = 0.0;
+  int count = 0;
+  for (const auto u : m.vv_range(v)) {
+    const Eigen::Vector3d y = mesh::toEigen(m.point(u));
+    centroid += y, spread_m += (y - x).norm(), ++count;
+  }
+  for (const auto f : m.vf_range(v)) {
+    std::array<Eigen::Vector3d, 3> p;
+    int i = 0;
+    for (const auto w : m.fv_range(f)) p[static_cast<std::size_t>(i++)] = mesh::toEigen(m.point(w));
+    normal += (p[1] - p[0]).cross(p[2] - p[0]);  // area-weighted
+  }
+  if (count == 0) return x;
+  centroid /= count, spread_m /= count;
+  const double n = normal.norm();
+  return 0.5 * (x + centroid) - (n > 0.0 ? Eigen::Vector3d(0.25 * spread_m * normal / n) : Eigen::Vector3d::Zero());
+}
+
+}  // namespace
+
+std::vector<physics::Embedded> TissuePhysics::embedSurface(const mesh::SurfaceMesh& surface) const {
+  const mesh::TriMesh& m = surface.mesh();
+  std::vector<physics::Embedded> out(m.n_vertices());
+  for (const auto v : m.vertices()) {
+    if (m.is_isolated(v)) continue;
+    int side = 0;
+    if (const auto probe = model_->locate(probeBeside(m, v))) side = probe->element.side;
+    const Eigen::Vector3d x = mesh::toEigen(m.point(v));
+    std::optional<physics::Embedded> e = side != 0 ? model_->locate(x, physics::OnSide{side}) : std::nullopt;
+    if (!e) e = model_->locate(x);
+    if (e) out[static_cast<std::size_t>(v.idx())] = *e;
+  }
+  return out;
+}
+
+mesh::SurfaceMesh TissuePhysics::deformedSurface(const mesh::SurfaceMesh& surface) const {
+  const std::vector<physics::Embedded> embedded = embedSurface(surface);
+  mesh::SurfaceMesh out = surface;
+  const std::span<const Eigen::Vector3d> x = model_->positions_m();
+  for (const auto v : out.mesh().vertices()) {
+    const physics::Embedded& e = embedded[static_cast<std::size_t>(v.idx())];
+    if (e.nodes[0] < 0) continue;
+    const Eigen::Vector3d p = physics::embeddedPosition(e, x);
+    out.mesh().set_point(v, mesh::TriMesh::Point(p.x(), p.y(), p.z()));
+  }
+  return out;
+}
+
+std::uint64_t TissuePhysics::positionsHash() const noexcept {
+  std::uint64_t h = 14695981039346656037ull;
+  for (const Eigen::Vector3d& p : model_->positions_m())
+    for (int a = 0; a < 3; ++a) {
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, &p[a], sizeof bits);
+      for (int b = 0; b < 8; ++b) h = (h ^ ((bits >> (8 * b)) & 0xffu)) * 1099511628211ull;
+    }
+  return h;
+}
+
+void TissuePhysics::deform(tets::TetView& view, const tets::TetCutter& cutter) const {
+  std::vector<char> used(static_cast<std::size_t>(cutter.nodeCount()), 0);
+  for (int t = 0; t < cutter.baseTetCount(); ++t)
+    for (const tets::TetChild& c : cutter.children(t))
+      for (const int n : c.nodes) used[static_cast<std::size_t>(n)] = 1;
+  const std::span<const Eigen::Vector3d> x = model_->positions_m();
+  std::size_t k = 0;
+  for (std::size_t n = 0; n < used.size() && k < view.mesh.nodes_m.size(); ++n) {
+    if (!used[n]) continue;
+    if (n < x.size()) view.mesh.nodes_m[k] = x[n];
+    ++k;
+  }
+}
+
+TissuePhysics::TissuePhysics(const tets::TetMesh& mesh, const PhysicsOptions& options) : options_(options) {
+  if (!(std::isfinite(options.rate_hz) && options.rate_hz > 0.0))
+    throw std::invalid_argument("TissuePhysics: rate_hz must be finite and > 0");
+  physics::validate(options.material);
+  model_ = std::make_unique<physics::TissueModel>(mesh, options.material, options.boundary, modelOptions(mesh));
+  const std::size_t added = cutNodes(mesh);
+  changes_.reserve(mesh.nodes_m.size() + added, mesh.tets.size() + 8 * added, 16 * added);
+}
+
+TissuePhysics::~TissuePhysics() = default;
+
+void TissuePhysics::collect(const tets::TetCutter& cutter) noexcept {
+  const tets::TetChanges& journal = cutter.changes();
+  if (journal.nodes.size() == read_nodes_ && journal.base_tets.size() == read_base_tets_) return;
+  const std::size_t node_capacity = changes_.node_entry.capacity() + changes_.nodes.capacity();
+  const std::size_t piece_capacity = changes_.pieces.capacity() + changes_.base_entry.capacity();
+  try {
+    collectCutChanges(cutter, std::span(journal.nodes).subspan(read_nodes_),
+                      std::span(journal.base_tets).subspan(read_base_tets_), changes_);
+  } catch (const std::bad_alloc&) {
+    ++counters_.failed_applies;
+  }
+  if (changes_.node_entry.capacity() + changes_.nodes.capacity() != node_capacity ||
+      changes_.pieces.capacity() + changes_.base_entry.capacity() != piece_capacity)
+    ++counters_.reserve_overflows;
+  read_nodes_ = journal.nodes.size();
+  read_base_tets_ = journal.base_tets.size();
+}
+
+int TissuePhysics::advance(double t_s) noexcept {
+  if (!changes_.empty()) {
+    const int overflows = model_->reserveOverflows();
+    try {
+      const physics::ChangeStats applied = model_->apply(changes_);
+      counters_.pieces_refused += applied.pieces_refused;
+      ++counters_.cuts_applied;
+    } catch (const std::bad_alloc&) {
+      ++counters_.failed_applies;
+    }
+    counters_.reserve_overflows += model_->reserveOverflows() - overflows;
+    changes_.clear();
+  }
+  if (!started_) {
+    started_ = true;
+    t_first_s_ = t_s;
+  }
+  int taken = 0;
+  // Step k is due at t_first + k / rate; the tick's time computed from k (no accumulated sum).
+  while (t_first_s_ + static_cast<double>(next_step_) / options_.rate_hz <= t_s + 1e-9 / options_.rate_hz) {
+    const physics::StepStats s = model_->step(stepS());
+    ++next_step_, ++taken, ++counters_.steps;
+    if (s.status == physics::StepStatus::IterationLimit) ++counters_.cg_limited;
+    if (s.status == physics::StepStatus::NonFinite) ++counters_.non_finite;
+    counters_.max_inverted = std::max(counters_.max_inverted, s.inverted_elements);
+  }
+  return taken;
+}
+
+}  // namespace incise::sim

@@ -1,0 +1,275 @@
+// A simulated tissue in the world (sim/tissue_physics.h): its scenario keys and their refusals, its steps at
+// the fixed rate of simulated time, cuts reaching the model in the frame they are made, the same bytes in
+// real time as fast, the skin embedded on its own side of the cut, and a cut in a tensioned pad that gapes.
+#include "incise/sim/tissue_physics.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "incise/mesh/surface_mesh.h"
+#include "incise/physics/tissue_model.h"
+#include "incise/sim/geometry_stream.h"
+#include "incise/sim/simulation.h"
+#include "incise/tets/tet_cutter.h"
+#include "scenario_fixture.h"
+#include "shipped_scenario.h"
+
+using namespace incise;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A small pad with tets and a material, and `extra` keys in the tissue object and at the root.
+std::string padScenario(const std::string& tissue_extra, const std::string& root_extra = "") {
+  return R"({
+    "tissue": {"shape": "pad", "size_m": [0.02, 0.01, 0.02], "grid_m": 0.002, "tets": {"max_volume_m3": 1e-7})" +
+         tissue_extra + R"(},
+    "pose_source": {"kind": "strokes", "strokes": [{}]})" +
+         root_extra + "}";
+}
+
+const char* kMaterial = R"(, "material": {"youngs_modulus_Pa": 20000, "poisson_ratio": 0.4, "density_kg_per_m3": 900,
+    "damping": {"mass_per_s": 2, "stiffness_s": 0.02}, "prestretch": [1.1, 1, 1.05]},
+    "fixed": [{"min_m": [-1, -1, -1], "max_m": [1, -0.0099, 1]}])";
+
+sim::Scenario load(const std::string& name, const std::string& text) {
+  return sim::loadScenario(test::scenarioDir().scenario(name, text));
+}
+
+std::string materialWith(const std::string& from, const std::string& to) {
+  std::string m = kMaterial;
+  const std::size_t at = m.find(from);
+  REQUIRE(at != std::string::npos);
+  return m.replace(at, from.size(), to);
+}
+
+// The shipped tensioned pad, replayed frame by frame (fast), prestretch overridden when given.
+struct PadRun {
+  test::ShippedScenario run;
+  std::int64_t frames = 0;
+  double t_first_s = 0.0, t_last_s = 0.0;
+};
+
+PadRun replayPad(const Eigen::Vector3d* prestretch = nullptr, sim::ReplayPace pace = sim::ReplayPace::Fast) {
+  PadRun p;
+  p.run = test::loadShipped("pad-tension");
+  if (prestretch) {
+    sim::Scenario s = p.run.scenario;
+    s.world.physics.material.prestretch = *prestretch;
+    p.run.world = std::make_unique<sim::World>(sim::loadTissue(s), s.world);
+  }
+  sim::ReplayOptions options;
+  options.pace = pace;
+  options.period_us = p.run.scenario.periodUs();
+  options.settle_s = p.run.scenario.settle_s;
+  const sim::ReplayReport report = sim::replay(*p.run.world, p.run.poses, options);
+  p.frames = report.frames;
+  return p;
+}
+
+// The wound's width at the skin around the cut's middle: the spread across the cut (in x) of the lips' seam
+// vertices on top within 4 mm of z = 0, as simulated (`x` the vertices' positions) or at rest. At rest it
+// is the kernel's opening; the lips pulled apart by the tissue widen it.
+double woundWidthM(const mesh::SurfaceMesh& rest, const mesh::SurfaceMesh& x) {
+  const mesh::TriMesh& m = rest.mesh();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto v : m.vertices()) {
+    const Eigen::Vector3d r = mesh::toEigen(m.point(v));
+    if (rest.kind(v) != mesh::VertexKind::Seam || r.y() < -1e-4 || std::abs(r.z()) > 0.004) continue;
+    const double px = mesh::toEigen(x.mesh().point(v)).x();
+    lo = std::min(lo, px), hi = std::max(hi, px);
+  }
+  return hi - lo;
+}
+
+// The cut's plane across x: the mean rest x of the lips' seam vertices on top.
+double cutPlaneX(const mesh::SurfaceMesh& rest) {
+  const mesh::TriMesh& m = rest.mesh();
+  double sum = 0.0;
+  int n = 0;
+  for (const auto v : m.vertices()) {
+    const Eigen::Vector3d r = mesh::toEigen(m.point(v));
+    if (rest.kind(v) == mesh::VertexKind::Seam && r.y() >= -1e-4) sum += r.x(), ++n;
+  }
+  return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
+TEST_CASE("tissue physics: a material, its held boxes, gravity and rate are read from the scenario", "[sim]") {
+  const sim::Scenario s = load("material", padScenario(kMaterial, R"(, "gravity_m_per_s2": [0, -9.81, 0],
+      "physics_rate_hz": 200)"));
+  const sim::PhysicsOptions& p = s.world.physics;
+  REQUIRE(p.enabled);
+  CHECK(p.material.youngs_modulus_Pa == 20000);
+  CHECK(p.material.poisson_ratio == 0.4);
+  CHECK(p.material.density_kg_per_m3 == 900);
+  CHECK(p.material.damping.mass_per_s == 2);
+  CHECK(p.material.damping.stiffness_s == 0.02);
+  CHECK(p.material.prestretch == Eigen::Vector3d(1.1, 1, 1.05));
+  REQUIRE(p.boundary.fixed_boxes.size() == 1);
+  CHECK(p.boundary.fixed_boxes[0].max_m == Eigen::Vector3d(1, -0.0099, 1));
+  CHECK(p.boundary.gravity_m_per_s2 == Eigen::Vector3d(0, -9.81, 0));
+  CHECK(p.rate_hz == 200);
+  const sim::Scenario plain = load("plain", padScenario(""));
+  CHECK_FALSE(plain.world.physics.enabled);
+  // Defaults: no gravity, 100 Hz.
+  const sim::Scenario defaults = load("defaults", padScenario(kMaterial));
+  CHECK(defaults.world.physics.boundary.gravity_m_per_s2 == Eigen::Vector3d::Zero());
+  CHECK(defaults.world.physics.rate_hz == 100);
+}
+
+TEST_CASE("tissue physics: out-of-range materials and tissues that cannot be simulated are refused by key", "[sim]") {
+  CHECK_THROWS_WITH(load("e0", padScenario(materialWith("20000", "0"))),
+                    Contains("e0.json: tissue.material.youngs_modulus_Pa: must be > 0 (Pa), got 0"));
+  CHECK_THROWS_WITH(load("nu", padScenario(materialWith("0.4", "0.5"))),
+                    Contains("tissue.material.poisson_ratio: = 0.5 is outside [0, 0.5)"));
+  CHECK_THROWS_WITH(load("nuneg", padScenario(materialWith("0.4", "-0.1"))),
+                    Contains("tissue.material.poisson_ratio: = -0.1 is outside [0, 0.5)"));
+  CHECK_THROWS_WITH(load("rho", padScenario(materialWith("900", "-1"))),
+                    Contains("tissue.material.density_kg_per_m3: must be > 0 (kg/m^3), got -1"));
+  CHECK_THROWS_WITH(load("stretch", padScenario(materialWith("[1.1, 1, 1.05]", "[1, 0, 1]"))),
+                    Contains("tissue.material.prestretch: must be > 0 along every axis"));
+  const std::string unheld = R"(, "material": {"youngs_modulus_Pa": 20000})";
+  CHECK_THROWS_WITH(load("unheld", padScenario(unheld)),
+                    Contains("tissue.fixed: is missing: a simulated tissue must be held somewhere"));
+  CHECK_THROWS_WITH(load("emptyfixed", padScenario(unheld + R"(, "fixed": [])")),
+                    Contains("tissue.fixed: must be a non-empty array"));
+  CHECK_THROWS_WITH(load("boxorder", padScenario(unheld + R"(, "fixed": [{"min_m": [0, 0, 0], "max_m": [1, -1, 1]}])")),
+                    Contains("tissue.fixed[0].max_m: must be >= min_m along every axis"));
+  CHECK_THROWS_WITH(load("nomin", padScenario(unheld + R"(, "fixed": [{"max_m": [1, 1, 1]}])")),
+                    Contains("tissue.fixed[0].min_m: is missing"));
+  // Without tets there is nothing to simulate.
+  CHECK_THROWS_WITH(load("notets", R"({"tissue": {"shape": "pad", "material": {}, "fixed": [{"min_m": [0, 0, 0],
+      "max_m": [1, 1, 1]}]}, "pose_source": {"kind": "strokes", "strokes": [{}]}})"),
+                    Contains("tissue.material: needs tissue.tets"));
+  // The physics' keys without a material.
+  CHECK_THROWS_WITH(load("gravityonly", padScenario("", R"(, "gravity_m_per_s2": [0, -9.81, 0])")),
+                    Contains("gravity_m_per_s2: is only for a simulated tissue (give tissue.material)"));
+  CHECK_THROWS_WITH(load("rateonly", padScenario("", R"(, "physics_rate_hz": 100)")),
+                    Contains("physics_rate_hz: is only for a simulated tissue"));
+  CHECK_THROWS_WITH(load("fixedonly", padScenario(R"(, "fixed": [{"min_m": [0, 0, 0], "max_m": [1, 1, 1]}])")),
+                    Contains("tissue.fixed: is only for a simulated tissue"));
+  // At most the frame rate; an unknown key in the material is refused like any other.
+  CHECK_THROWS_WITH(load("fastphysics", padScenario(kMaterial, R"(, "physics_rate_hz": 2000)")),
+                    Contains("physics_rate_hz: 2000 is outside [10, 1000]"));
+  CHECK_THROWS_WITH(load("typo", padScenario(materialWith("\"poisson_ratio\"", "\"poisson\""))),
+                    Contains("tissue.material.poisson"));
+}
+
+TEST_CASE("tissue physics: a boundary that holds no node is refused when the world is made", "[sim]") {
+  sim::Scenario s = load("heldnothing", padScenario(R"(, "material": {}, "fixed": [{"min_m": [5, 5, 5],
+      "max_m": [6, 6, 6]}])"));
+  CHECK_THROWS_AS(sim::World(sim::loadTissue(s), s.world), std::invalid_argument);
+}
+
+TEST_CASE("tissue physics: steps at its rate of simulated time, cuts reach the model in their frame", "[sim]") {
+  test::ShippedScenario l = test::loadShipped("pad-tension");
+  sim::World& world = *l.world;
+  REQUIRE(world.physics() != nullptr);
+  const std::int64_t period_us = l.scenario.periodUs();
+  const double dt_s = static_cast<double>(period_us) * 1e-6, t0_s = l.poses.front().time_s;
+  std::size_t fed = 0;
+  std::int64_t frames = 0, frames_with_new_nodes = 0;
+  int last_nodes = world.physics()->model().nodeCount();
+  const double end_s = l.poses.back().time_s;
+  for (std::int64_t k = 0; t0_s + static_cast<double>(k) * dt_s <= end_s; ++k, ++frames) {
+    const double t_s = t0_s + static_cast<double>(k) * dt_s;
+    std::size_t first = fed;
+    while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) ++fed;
+    world.step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
+    // Every node of every piece the cutter holds is in the model after the frame that made it.
+    int used_max = -1;
+    const tets::TetCutter& tets = *world.tets();
+    for (int b = 0; b < tets.baseTetCount(); ++b)
+      for (const tets::TetChild& c : tets.children(b))
+        used_max = std::max({used_max, c.nodes[0], c.nodes[1], c.nodes[2], c.nodes[3]});
+    REQUIRE(used_max < world.physics()->model().nodeCount());
+    if (world.physics()->model().nodeCount() != last_nodes) ++frames_with_new_nodes;
+    last_nodes = world.physics()->model().nodeCount();
+  }
+  CHECK(frames_with_new_nodes > 10);  // the cut arrives column by column, not at the end
+  // Step k at t0 + k / rate: frames 0 .. frames-1 cover (frames - 1) ms, 10 ms a step.
+  const std::int64_t expected = (frames - 1) * period_us / 10000;
+  CHECK(world.physics()->counters().steps == expected);
+  CHECK(world.physics()->counters().non_finite == 0);
+  CHECK(world.physics()->counters().pieces_refused == 0);
+  CHECK(world.physics()->counters().reserve_overflows == 0);
+  CHECK(world.physics()->counters().cuts_applied > 10);
+}
+
+TEST_CASE("tissue physics: a cut in a tensioned, held pad gapes by itself; untensioned it does not", "[sim][slow]") {
+  const PadRun tense = replayPad();
+  const sim::TissuePhysics& physics = *tense.run.world->physics();
+  REQUIRE(tense.run.world->incisions() == 1);
+  const mesh::SurfaceMesh& rest = tense.run.world->tissue();
+  const mesh::SurfaceMesh deformed = physics.deformedSurface(rest);
+  const double rest_width_m = woundWidthM(rest, rest), width_m = woundWidthM(rest, deformed);
+  const Eigen::Vector3d none(1.0, 1.0, 1.0);
+  const PadRun slack = replayPad(&none);
+  const mesh::SurfaceMesh& slack_rest = slack.run.world->tissue();
+  const double slack_width_m = woundWidthM(slack_rest, slack.run.world->physics()->deformedSurface(slack_rest));
+  INFO("wound " << width_m * 1e3 << " mm wide tensioned, " << slack_width_m * 1e3 << " mm without tension, "
+                << rest_width_m * 1e3 << " mm at rest");
+  CHECK(rest_width_m < 0.0003);   // the kernel's 0.2 mm opening
+  CHECK(width_m > 0.002);         // the lips pulled apart by the tissue: ten times the kernel's opening
+  CHECK(slack_width_m < 0.0003);  // without tension the tissue holds the kernel's opening
+  CHECK(physics.counters().max_inverted == 0);
+  // The held boxes (the base, the two side walls) stay where they are, every other node is free to move.
+  const auto rest_x = physics.model().restPositions_m();
+  const auto x = physics.model().positions_m();
+  int held = 0;
+  for (std::size_t n = 0; n < rest_x.size(); ++n) {
+    const Eigen::Vector3d& r = rest_x[n];
+    if (!(r.y() <= -0.0099 || std::abs(r.x()) >= 0.0199)) continue;
+    REQUIRE(physics.model().isHeld(static_cast<int>(n)));
+    REQUIRE((x[n] - r).norm() == 0.0);
+    ++held;
+  }
+  CHECK(held > 100);
+
+  // The skin follows its own lip: vertices near the cut on top move away from the cut plane, each on its side.
+  const double plane_x = cutPlaneX(rest);
+  int lip_vertices = 0;
+  for (const auto v : rest.mesh().vertices()) {
+    const Eigen::Vector3d r = mesh::toEigen(rest.mesh().point(v));
+    if (std::abs(r.x() - plane_x) > 0.001 || r.y() < -1e-4 || std::abs(r.z()) > 0.006) continue;
+    const Eigen::Vector3d d = mesh::toEigen(deformed.mesh().point(v));
+    INFO("vertex " << v.idx() << " at rest x " << r.x() << ", simulated x " << d.x() << ", plane " << plane_x);
+    REQUIRE((d.x() - plane_x) * (r.x() - plane_x) > 0.0);
+    REQUIRE(std::abs(d.x() - plane_x) > std::abs(r.x() - plane_x));
+    ++lip_vertices;
+  }
+  CHECK(lip_vertices > 10);
+}
+
+TEST_CASE("tissue physics: real time and fast replays give the same simulated tissue", "[sim][slow]") {
+  const PadRun fast = replayPad();
+  const PadRun realtime = replayPad(nullptr, sim::ReplayPace::RealTime);
+  CHECK(fast.frames == realtime.frames);
+  CHECK(fast.run.world->physics()->counters().steps == realtime.run.world->physics()->counters().steps);
+  CHECK(fast.run.world->physics()->positionsHash() == realtime.run.world->physics()->positionsHash());
+}
+
+TEST_CASE("tissue physics: a geometry stream reading the same tet journal changes nothing in the model",
+          "[sim][slow]") {
+  // The stream clears the tets' journal every frame; the physics reads it first, past where it last read.
+  const PadRun alone = replayPad();
+  test::ShippedScenario l = test::loadShipped("pad-tension");
+  sim::GeometryStream stream;
+  sim::ReplayOptions options;
+  options.period_us = l.scenario.periodUs();
+  options.settle_s = l.scenario.settle_s;
+  options.geometry = &stream;
+  sim::replay(*l.world, l.poses, options);
+  CHECK(l.world->physics()->counters().cuts_applied == alone.run.world->physics()->counters().cuts_applied);
+  CHECK(l.world->physics()->model().nodeCount() == alone.run.world->physics()->model().nodeCount());
+  CHECK(l.world->physics()->positionsHash() == alone.run.world->physics()->positionsHash());
+}
