@@ -112,7 +112,7 @@ TEST_CASE("hid_pen_calibration: the corners go onto the target's rectangle, in e
   CHECK(m.hover_m == target.hover_m);
 }
 
-TEST_CASE("hid_pen_calibration: without pressure the dead band and curve stay; bad presses are refused",
+TEST_CASE("hid_pen_calibration: without pressure the dead band and curve stay, bad presses are refused",
           "[devices][hid]") {
   PenMapping target = tabletOverArea().pen;
   target.curve = 1.7;

@@ -309,7 +309,7 @@ TEST_CASE("hid_pen: what is missing, and where the rest is", "[devices][hid]") {
                       "byte 3 is relative)") != std::string::npos);
 }
 
-TEST_CASE("hid_pen: a touch screen is touch; a descriptor of feature reports only has no input", "[devices][hid]") {
+TEST_CASE("hid_pen: a touch screen is touch, a descriptor of feature reports only has no input", "[devices][hid]") {
   const HidDescriptor dth = parseHidDescriptor(loadShippedDescriptor("wacom_dth2452_touch_056a_0383.txt"));
   const HidPenSearch touch = findHidPen(dth);
   CHECK_FALSE(touch.pen.has_value());

@@ -122,7 +122,7 @@ TEST_CASE("jigsaws: a quarter turn about z, frames at 30 Hz, the tip as recorded
   }
 }
 
-TEST_CASE("jigsaws: scale then offset on the tip; another frame rate", "[devices]") {
+TEST_CASE("jigsaws: scale then offset on the tip, another frame rate", "[devices]") {
   TempDir dir;
   Row row = baseRow();
   setArm(row, JigsawsArm::PsmRight, Eigen::Vector3d(0.1, -0.02, 0.05), kIdentity, 0.5);

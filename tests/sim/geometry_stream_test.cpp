@@ -314,7 +314,7 @@ TEST_CASE("geometry_stream: a reader thread follows a real-time tet replay and r
   requireSameTetBoundary(mirror, *l.world->tets());
 }
 
-TEST_CASE("geometry_stream: a second incision keeps the tets' numbering; the reader follows it and ends exact",
+TEST_CASE("geometry_stream: a second incision keeps the tets' numbering, the reader follows it and ends exact",
           "[sim][tets]") {
   Loaded l = load("bunny-tets");
   l.poses = devices::TraceReader::readAll(std::string(INCISE_SCENARIOS_DIR) + "/traces/bunny-crossing.csv");

@@ -66,7 +66,7 @@ TEST_CASE("plan: bad plans are refused naming the file and the point", "[score]"
   CHECK_THAT(refusal("plan-nan", R"({"points_m": [[0, 0, 0], [0, "x", 0]]})"), Contains("plan.points_m[1]"));
 }
 
-TEST_CASE("plan: a pad tissue is made, not read; a mesh and a shape together are refused", "[score]") {
+TEST_CASE("plan: a pad tissue is made, not read, a mesh and a shape together are refused", "[score]") {
   const auto pad = incise::test::scenarioDir().scenario(
       "pad-only", R"({"tissue": {"shape": "pad"}, "pose_source": {"kind": "strokes", "strokes": [{}]}})");
   const incise::sim::Scenario s = incise::sim::loadScenario(pad);

@@ -114,7 +114,7 @@ TEST_CASE("score: a session that cut nothing does not look like success", "[scor
   CHECK(json["plan"]["share_uncut"] == 1.0);
 }
 
-TEST_CASE("score: the same trace scores to the same bytes; the JSON has units in its keys", "[score]") {
+TEST_CASE("score: the same trace scores to the same bytes, the JSON has units in its keys", "[score]") {
   const Score a = scoreStrokes(padScenario(), {stroke(-0.025, 0.05, 0.001)});
   const Score b = scoreStrokes(padScenario(), {stroke(-0.025, 0.05, 0.001)});
   CHECK(incise::sim::scoreJson(a) == incise::sim::scoreJson(b));
@@ -245,7 +245,7 @@ TEST_CASE("depth: a tip ramped from 1 to 5 mm cuts a sloped floor within 0.5 mm 
   requireFloorFollows(s, 0.01, 0.04, 0.0005, [](double s_m) { return 0.001 + 0.004 * (s_m - 0.005) / 0.04; });
 }
 
-TEST_CASE("depth: a tip deeper than incision.depth_m cuts that deep; one that scratches cuts nothing",
+TEST_CASE("depth: a tip deeper than incision.depth_m cuts that deep, one that scratches cuts nothing",
           "[score][depth]") {
   StrokeSpec deep = stroke(-0.025, 0.05);
   deep.depth_m = 0.009;  // the pad's clamp: 4 mm

@@ -118,7 +118,7 @@ TEST_CASE("simulation: a pose pushed is taken in the next frame and published wi
   CHECK(simulation.posesDropped() == 0);
 }
 
-TEST_CASE("simulation: a full queue drops the pose and counts it; a frame takes at most kMaxPosesPerFrame", "[sim]") {
+TEST_CASE("simulation: a full queue drops the pose and counts it, a frame takes at most kMaxPosesPerFrame", "[sim]") {
   sim::World world(slab(), noCutting());
   sim::Simulation simulation(world, nullptr, 1000, 0.0);
   constexpr auto capacity = static_cast<int>(sim::Simulation::kQueueCapacity);
@@ -251,7 +251,7 @@ PausedStroke pausedStroke(std::int64_t pause_before, int pause_frames) {
 
 }  // namespace
 
-TEST_CASE("simulation: pose-to-visible counts each cut once, from the frame its pose came; idle frames add nothing",
+TEST_CASE("simulation: pose-to-visible counts each cut once, from the frame its pose came, idle frames add nothing",
           "[sim]") {
   // Without a pause first; then 300 frames without a pose before a pose that makes columns final (the
   // middle one of the run without a pause: one pose a frame from frame 0, so frame k took pose k).

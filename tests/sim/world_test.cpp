@@ -157,7 +157,7 @@ TEST_CASE("world: bad parameters are refused at construction", "[sim]") {
   REQUIRE_THROWS_WITH(sim::World(tissue, bad), Contains("depth_m = 0"));
 }
 
-TEST_CASE("world: a tet tissue too coarse for the lattice is refused at load; a fine one is not refined", "[sim]") {
+TEST_CASE("world: a tet tissue too coarse for the lattice is refused at load, a fine one is not refined", "[sim]") {
   // Local refinement does not bisect tets, so a tet tissue must come fine enough, and its surface
   // is never refined (it must keep matching the tets' boundary).
   sim::WorldOptions options;

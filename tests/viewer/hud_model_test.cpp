@@ -98,7 +98,7 @@ TEST_CASE("hud_model: latency on screen in milliseconds and display frames", "[v
   CHECK(h.screen_latency_display_frames_max == Approx(40.0 / 33.0));
 }
 
-TEST_CASE("hud_model: each snapshot counts once on screen; redraws after the run ended change nothing", "[viewer]") {
+TEST_CASE("hud_model: each snapshot counts once on screen, redraws after the run ended change nothing", "[viewer]") {
   // A 3 s run at 60 display frames a second, each showing a new snapshot whose sim frame began 12 ms (first
   // half) or 20 ms (second half) before; then the window stays open 2 s on the last snapshot, then 5 s more.
   HudModel hud(1000.0, 300.0, 5.0);

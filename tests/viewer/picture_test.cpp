@@ -105,7 +105,7 @@ viewer::RgbImage requireWallsAlongStroke(const char* name, bool tets) {
 
 }  // namespace
 
-TEST_CASE("picture: the cut shows its walls along the stroke only; elsewhere before and after agree",
+TEST_CASE("picture: the cut shows its walls along the stroke only, elsewhere before and after agree",
           "[viewer][pixels]") {
   const viewer::RgbImage a = requireWallsAlongStroke("bunny-straight", false);
   test::TempDir dir;

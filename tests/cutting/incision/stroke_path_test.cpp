@@ -76,7 +76,7 @@ TEST_CASE("stroke_path: samples at speed x period spacing, on the surface, one p
   REQUIRE(stroke.samples.back().point_m.x() == Approx(-0.03 + o.length_m).margin(1e-12));
 }
 
-TEST_CASE("stroke_path: the blade direction is the travel direction across the rays; a bend bulges sideways",
+TEST_CASE("stroke_path: the blade direction is the travel direction across the rays, a bend bulges sideways",
           "[cutting]") {
   const mesh::SurfaceMesh mesh = slab();
   StrokePathOptions o = exactOptions();

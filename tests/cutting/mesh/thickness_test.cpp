@@ -29,7 +29,7 @@ TEST_CASE("thickness: every vertex inside a 3 mm slab's top face has the slab un
   REQUIRE(inside == 19 * 19);
 }
 
-TEST_CASE("thickness: a sphere is its diameter thick; beyond max_m there is none", "[mesh][thickness]") {
+TEST_CASE("thickness: a sphere is its diameter thick, beyond max_m there is none", "[mesh][thickness]") {
   const double radius_m = 0.01;
   const SurfaceMesh sphere = makeSphere(Vector3d(0.001, -0.002, 0.003), radius_m, 3);
   const TriMesh& m = sphere.mesh();

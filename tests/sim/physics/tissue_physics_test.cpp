@@ -205,7 +205,7 @@ TEST_CASE("tissue physics: steps at its rate of simulated time, cuts reach the m
   CHECK(world.physics()->counters().cuts_applied > 10);
 }
 
-TEST_CASE("tissue physics: a cut in a tensioned, held pad gapes by itself; untensioned it does not", "[sim][slow]") {
+TEST_CASE("tissue physics: a cut in a tensioned, held pad gapes by itself, untensioned it does not", "[sim][slow]") {
   const PadRun tense = replayPad();
   const sim::TissuePhysics& physics = *tense.run.world->physics();
   REQUIRE(tense.run.world->incisions() == 1);
