@@ -83,6 +83,14 @@ int runCut(CutArgs& a) {
       1e3 * totalGroove_m(stats.figures), 1e3 * totalStroke_m(stats.figures), summary.vertices, summary.faces,
       summary.wall_faces, summary.closed_two_manifold ? "yes" : "NO", job->eulerBefore(), summary.euler_characteristic,
       timingSummary(job->sampleUs())["p99_us"].get<double>(), a.out.c_str());
+  for (const incision::IncisionFigures& f : stats.figures) {
+    if (f.through != incision::ThroughCut::Made) continue;
+    std::printf("incise cut: the blade went through the tissue (%d samples): %d closed piece%s", f.through_samples,
+                f.pieces, f.pieces == 1 ? "" : "s");
+    for (int i = 0; i < std::min(f.pieces, incision::IncisionFigures::kListedPieces); ++i)
+      std::printf("%s%.1f cm^3", i == 0 ? ", volumes " : ", ", 1e6 * f.piece_volumes_m3[static_cast<std::size_t>(i)]);
+    std::printf("\n");
+  }
   if (!failure.empty()) std::fprintf(stderr, "incise cut: the cut failed: %s\n", failure.c_str());
   return job->ok(summary) ? 0 : 1;
 }

@@ -74,7 +74,7 @@ void CutJob::run(const std::function<void(std::size_t, std::size_t)>& progress) 
     if (progress) progress(k + 1, stroke_.samples.size());
   }
   cutter_->finish();
-  cutter_->advance(stroke_.samples.empty() ? stroke_.first.time_s : stroke_.samples.back().time_s);
+  cutter_->settle();  // the wound at its final opening; where the blade went through, cut through
 }
 
 std::string CutJob::failure() const {
@@ -84,7 +84,12 @@ std::string CutJob::failure() const {
 }
 
 bool CutJob::ok(const mesh::MeshSummary& cut) const {
-  return cut.closed_two_manifold && cut.euler_characteristic == euler_before_ && failure().empty();
+  // A cut through the tissue adds a handle (a slot) or a piece (one cut free): the Euler characteristic
+  // changes; the surface must still be closed.
+  bool through = false;
+  for (const incision::IncisionFigures& f : cutter_->stats().figures)
+    through = through || f.through == incision::ThroughCut::Made;
+  return cut.closed_two_manifold && (through || cut.euler_characteristic == euler_before_) && failure().empty();
 }
 
 nlohmann::json CutJob::summary(const mesh::MeshSummary& cut) const {

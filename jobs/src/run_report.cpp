@@ -21,7 +21,10 @@ nlohmann::json latencyJson(const sim::SampleSummary& s) {
 
 nlohmann::json incisionFiguresJson(const std::vector<incision::IncisionFigures>& figures) {
   nlohmann::json list = nlohmann::json::array();
-  for (const incision::IncisionFigures& f : figures)
+  for (const incision::IncisionFigures& f : figures) {
+    nlohmann::json volumes = nlohmann::json::array();
+    for (int i = 0; i < std::min(f.pieces, incision::IncisionFigures::kListedPieces); ++i)
+      volumes.push_back(f.piece_volumes_m3[static_cast<std::size_t>(i)]);
     list.push_back({{"stroke_length_m", f.stroke_length_m},
                     {"groove_length_m", f.groove_length_m},
                     {"groove_start_m", f.groove_start_m},
@@ -33,8 +36,13 @@ nlohmann::json incisionFiguresJson(const std::vector<incision::IncisionFigures>&
                     {"refined_faces", f.refined_faces},
                     {"thickness_limited_samples", f.thickness_limited_samples},
                     {"depth_clamped_samples", f.depth_clamped_samples},
+                    {"through_samples", f.through_samples},
+                    {"through", incision::toString(f.through)},
+                    {"pieces", f.pieces},
+                    {"piece_volumes_m3", volumes},
                     {"shortfall", incision::toString(f.shortfall)},
                     {"why", incision::describeShortfall(f)}});
+  }
   return list;
 }
 

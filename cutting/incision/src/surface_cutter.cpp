@@ -176,6 +176,8 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   failed_ = false;
   jumped_ = false;
   thickness_ = {};
+  through_.clear();
+  through_last_ = through_done_ = false;
   CutStep step;
   no_contact_ = !onSurface(first.point_m);
   if (no_contact_) {
@@ -183,6 +185,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
     incision_->finish();
   } else if (StrokeSample limited = first; limitToThickness(limited)) {
     incision_->restart(limited, blade_direction);  // checked above: cannot throw
+    noteThrough();
   }
   return process(step);
 }
@@ -192,7 +195,12 @@ bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
   if (sample.depth_m > kClampedOver * o.depth_m) ++stats_.figures.back().depth_clamped_samples;
   const double want_m = sample.depth_m >= 0.0 ? std::clamp(sample.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
   const double thickness_m = thicknessBelow(sample);
+  through_last_ = false;
   if (!(want_m > kFloorOfThickness * thickness_m)) return false;
+  if (want_m >= thickness_m) {
+    through_last_ = true;
+    last_through_ = ThroughSample{sample.point_m, sample.normal, want_m, thickness_m};
+  }
   sample.depth_m = std::max(o.min_depth_m, kFloorOfThickness * thickness_m);
   ++stats_.figures.back().thickness_limited_samples;
   return true;
@@ -255,6 +263,7 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin o
     limitToThickness(limited);
     step.sample = incision_->extend(limited);
     if (step.sample == SampleStatus::Accepted) {
+      noteThrough();
       time_s_ = std::max(time_s_, sample.time_s);
       stats_.figures.back().stroke_length_m += (sample.point_m - last_accepted_m_).norm();
       last_accepted_m_ = sample.point_m;
@@ -318,6 +327,9 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
       promoteInterior(step);
     }
     redeform(step);
+    // The wound at its final opening: where the blade went through, its path is cut through now (at the
+    // same simulated time whatever the frames' timing: the first call after the last station settles).
+    if (allColumnsDone() && incision_->woundSettled() && !through_done_ && !through_.empty()) cutThrough();
   } catch (const std::exception& e) {  // allocation failure or a broken invariant: stop, never throw
     fail(std::string("SurfaceCutter: ") + e.what());
   }

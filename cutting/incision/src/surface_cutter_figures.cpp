@@ -67,6 +67,18 @@ std::string reason(const IncisionFigures& f) {
 
 }  // namespace
 
+const char* toString(ThroughCut through) noexcept {
+  switch (through) {
+    case ThroughCut::None:
+      return "none";
+    case ThroughCut::Made:
+      return "made";
+    case ThroughCut::Failed:
+      return "failed";
+  }
+  return "unknown";
+}
+
 const char* toString(Shortfall shortfall) noexcept {
   switch (shortfall) {
     case Shortfall::None:

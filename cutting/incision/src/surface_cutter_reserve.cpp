@@ -29,6 +29,7 @@ void SurfaceCutter::reserveIncisionArrays() {
   cell_vertex_.reserve(bound);
   for (auto* v : {&all_bound_, &seam_created_, &dirty_, &fresh_}) v->reserve(bound);
   for (auto* v : {&candidates_, &query_}) v->reserve(bound);
+  through_.reserve(16 * columns);
   changed_columns_.reserve(columns);
   stencil_count_.reserve(bound);
   stencil_first_.reserve(2 * bound);
@@ -140,12 +141,13 @@ bool SurfaceCutter::reindexStep(core::WorkBudget& budget) {
   for (; reindexed_moves_ < all_bound_.size(); ++reindexed_moves_) {
     if (!budget.takeEvery(reindexed_moves_, kReindexMovesPerUnit)) return false;
     const mesh::TriMesh::VertexHandle v = all_bound_[reindexed_moves_];
+    if (m.status(v).deleted()) continue;  // removed by a through-cut, and from the grid with it
     grid_.move(v.idx(), data(v).rest_m, mesh::toEigen(m.point(v)));
   }
   if (options_.refine == CutterOptions::Refine::Off) return true;
   for (; reindexed_coarse_ < all_bound_.size(); ++reindexed_coarse_) {
     if (!budget.takeEvery(reindexed_coarse_, kReindexCoarsePerUnit)) return false;
-    updateCoarseAround(all_bound_[reindexed_coarse_], true);
+    if (!m.status(all_bound_[reindexed_coarse_]).deleted()) updateCoarseAround(all_bound_[reindexed_coarse_], true);
   }
   return true;
 }

@@ -76,6 +76,11 @@ class Incision {
   // options), reusing its storage: no allocation, so a cutter keeps one spare incision for the sim thread.
   // Throws std::invalid_argument for a bad first sample or direction, as the constructor does.
   void restart(const StrokeSample& first, const Eigen::Vector3d& blade_direction);
+  // Finished, and every station's opening at its final width (retraction_time_s after its time): the
+  // displacement no longer changes with time.
+  bool woundSettled() const noexcept { return finished_ && first_unsettled_ >= stationCount(); }
+  // The blade's direction of travel it started with (a unit vector), as given to the constructor or restart().
+  const Eigen::Vector3d& bladeDirection() const noexcept { return blade_direction_; }
 
   // The option checks of the constructor alone (load time): throws std::invalid_argument as it does.
   static void validateOptions(const IncisionOptions& options);

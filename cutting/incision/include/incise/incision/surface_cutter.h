@@ -90,6 +90,12 @@ class SurfaceCutter {
   // that are coarser than the lattice are bisected along their longest edges (surface_cutter_refine.cpp), so a
   // coarse model is cut without subdividing all of it; the faces elsewhere stay as they were, bit for bit.
   // Then every vertex whose displacement changed is moved to rest + D(u, v, w) (Incision::displacementAt).
+  // Where the blade's tip went past the tissue's far side (its depth >= the thickness there), the groove
+  // stops at kFloorOfThickness of the thickness and, once the wound has its final opening (the first call
+  // after it settles, or settle()), the blade's path below it is removed through the far side
+  // (cutThrough(): a kerf kKerfM wide, CGAL's Boolean difference): the far skin is split too, a piece cut
+  // free is a closed piece of its own, and IncisionFigures::through, pieces and piece_volumes_m3 say so.
+  // That step is not budgeted: one corefinement of the mesh, O(mesh) (the call that makes it takes that long).
   // When an incision's work is done its IncisionFigures say where the groove runs along the stroke and, if
   // it is much shorter than the stroke, why (Shortfall: no contact, a mesh coarser than the lattice, ...):
   // a cut that did nothing never passes for one that did.
@@ -143,6 +149,12 @@ class SurfaceCutter {
   void clearChanges() noexcept { changes_.clear(); }
   static constexpr size_t kReservedChanges = 1 << 16;
   const CutStats& stats() const noexcept { return stats_; }
+  // A cut through the tissue (IncisionFigures::through): the blade's path removed below the groove is a
+  // kerf this wide across the cut (m), reaching this many sample spacings beyond the run's first and last
+  // through samples (the blade was within a spacing of them: a stroke leaving the tissue across its edge
+  // severs it).
+  static constexpr double kKerfM = 1e-4;
+  static constexpr double kKerfReachSpacings = 2.0;
   const mesh::SurfaceMesh& surface() const noexcept { return mesh_; }
   // Per-vertex data of the current incision: parameters (u, v, w) and rest position, if bound.
   struct Binding {
@@ -255,7 +267,26 @@ class SurfaceCutter {
   // depth / kFloorOfThickness along -normal, at rest), the depth becomes kFloorOfThickness of the
   // thickness: the walls end inside the tissue instead of passing through its far side. Counted in the
   // incision's figures (thickness_limited_samples). True if it changed the sample.
+  // Sets last_through_ when the blade's tip reached the far side (its depth >= the thickness there).
   bool limitToThickness(StrokeSample& sample) noexcept;
+  // Where the blade went through the tissue (surface_cutter_through.cpp): the accepted samples whose tip
+  // passed the far side, at rest, with the blade's depth and the tissue's thickness there.
+  struct ThroughSample {
+    Eigen::Vector3d point_m, normal;
+    double depth_m, thickness_m;
+  };
+  std::vector<ThroughSample> through_;  // this incision's, in stroke order (reserved at construction)
+  ThroughSample last_through_{};        // limitToThickness(): the last sample's, valid when through_last_
+  bool through_last_ = false;
+  bool through_done_ = false;  // cutThrough() has run for the current incision
+  void noteThrough();          // an accepted sample: keeps last_through_ if through_last_
+  // Once the incision has settled (its wound at its final opening) and some of its samples went through:
+  // the blade's path is removed from the tissue down through its far side, a run of through samples at a
+  // time (a thin kerf swept along the run, mesh::subtractSolid), so that a piece cut free is a closed piece
+  // of its own; the figures get the pieces and their volumes. The groove above stays the DFFD's. Then the
+  // grid indexes the new vertices. Not budgeted: one CGAL corefinement of the mesh per run (O(mesh)).
+  void cutThrough();
+  bool subtractKerf(std::size_t first, std::size_t last);  // through_[first, last): one run
   // The tissue's thickness below a sample (infinity: no far side within depth_m / kFloorOfThickness): the
   // least thickness_below_m_ of the loaded mesh's vertices within a mean edge of it (within the longest
   // edge when none is that near). One small grid query, or none within a lattice spacing of the last one.

@@ -2,6 +2,7 @@
 // a header without OpenMesh so that sim's public headers can hold them. Units: metres; counts per call.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -97,6 +98,12 @@ const char* toString(Shortfall shortfall) noexcept;
 // What one incision made, for a user to check that the cut did what the scalpel did. The counts are this
 // incision's; the last fields are set once its work is done (the shortfall test: the groove is shorter
 // than the stroke by more than max(4 spacing_m, 20 %), or is 0 while the stroke is not).
+// A cut through the tissue: None (the blade never reached the far side), Made (the blade's path was removed
+// down through the far side), Failed (the Boolean difference was refused: the groove stays as deep as the
+// tissue allowed; CutStats::failure says why).
+enum class ThroughCut : std::uint8_t { None, Made, Failed };
+const char* toString(ThroughCut through) noexcept;
+
 struct IncisionFigures {
   double stroke_length_m = 0.0;       // arc length of the stroke in contact: the incision's accepted samples
   double groove_length_m = 0.0;       // arc length, at rest, of the seam opened: the chain of seam vertices from
@@ -106,6 +113,7 @@ struct IncisionFigures {
   int crossings_outside = 0;          // crossing edges outside the blade's window (not split)
   int uncapped_ends = 0;              // ends of the seam that no face beside them could carry to the cut's end
   int thickness_limited_samples = 0;  // samples cut shallower than the blade went: the tissue below was thinner
+  int through_samples = 0;            // of those, samples whose blade reached the far side: the cut goes through
   int depth_clamped_samples = 0;      // samples over 5% deeper than incision.depth_m, cut that deep
   int refined_vertices = 0;           // vertices the local refinement added ahead of the cut (one an edge bisected)
   int refined_faces = 0;              // faces it added (two an edge bisected on a closed mesh)
@@ -121,6 +129,11 @@ struct IncisionFigures {
   double lattice_width_m = 0.0;   // the lattice's extent across the cut ((l - 1) alpha)
   double min_stroke_m = 0.0;      // the shortest stroke that opens a groove (about order spacings)
   Shortfall shortfall = Shortfall::None;
+  // Set when the incision settles, for a cut through the tissue (through_samples > 0):
+  ThroughCut through = ThroughCut::None;
+  int pieces = 0;  // closed pieces the tissue is made of afterwards (a piece cut free is one more)
+  static constexpr int kListedPieces = 4;
+  std::array<double, kListedPieces> piece_volumes_m3{};  // the largest pieces' volumes, largest first
 };
 
 // A sentence for a user: why the groove is short and where along the stroke ("" for Shortfall::None),
@@ -131,7 +144,8 @@ std::string describeShortfall(const IncisionFigures& figures);
 // The mesh elements a cutter changed, for a reader that mirrors the mesh (sim's GeometryStream): indices
 // (OpenMesh handle indices) of every vertex added or moved and of every face added, changed (its vertices
 // or kind) or deleted, in the order of the changes; an index may repeat. Filled only while recording is on
-// (SurfaceCutter::recordChanges); the consumer clears it. Vertices are never deleted by the cutter.
+// (SurfaceCutter::recordChanges); the consumer clears it. Vertices are deleted only by a cut through the
+// tissue (IncisionFigures::through): they keep their index and position, with no face.
 struct MeshChanges {
   std::vector<int> vertices;
   std::vector<int> faces;

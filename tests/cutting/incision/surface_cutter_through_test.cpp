@@ -1,0 +1,127 @@
+// Cuts through the tissue: a blade deeper than the tissue is thick splits its far side too, and a piece cut
+// free is a closed piece of its own with its volume.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "incise/incision/surface_cutter.h"
+#include "incise/mesh/self_intersection.h"
+#include "incise/mesh/shapes.h"
+#include "incise/mesh/solid.h"
+#include "stroke_fixture.h"
+
+using namespace incise;
+using namespace incise::incision;
+
+namespace {
+
+constexpr double kSlabM = 0.003, kSideM = 0.04, kGridM = 0.001;
+
+mesh::SurfaceMesh slab() { return mesh::makeSkinPad(Eigen::Vector3d(kSideM, kSlabM, kSideM), kGridM); }
+
+// A stroke along +x at z = z_m from x0_m to x1_m, the blade's tip depth going linearly from depth0_m to
+// depth1_m.
+Stroke strokeAcross(const mesh::SurfaceMesh& tissue, double x0_m, double x1_m, double z_m, double depth0_m,
+                    double depth1_m) {
+  StrokePathOptions path;
+  path.start_m = Eigen::Vector3d(x0_m, 0.0, z_m);
+  path.length_m = x1_m - x0_m;
+  Stroke stroke = strokeAlongPath(tissue, path);
+  const auto depthAt = [&](const StrokeSample& s) {
+    return depth0_m + (depth1_m - depth0_m) * (s.point_m.x() - x0_m) / (x1_m - x0_m);
+  };
+  stroke.first.depth_m = depthAt(stroke.first);
+  for (StrokeSample& s : stroke.samples) s.depth_m = depthAt(s);
+  return stroke;
+}
+
+CutterOptions throughOptions() {
+  CutterOptions options;
+  options.incision.depth_m = 0.005;
+  options.incision.beta_m = 0.0025;  // lattice below the skin: (normal_controls / 2) beta >= depth / 0.8
+  return options;
+}
+
+const IncisionFigures& cut(mesh::SurfaceMesh& tissue, const Stroke& stroke) {
+  static CutterOptions options = throughOptions();
+  auto cutter = std::make_unique<SurfaceCutter>(tissue, options);
+  cutter->begin(stroke.first, stroke.blade_direction);
+  cutter->extend(stroke.samples);
+  cutter->settle();
+  INFO(cutter->stats().failure);
+  REQUIRE(cutter->stats().failure.empty());
+  static IncisionFigures figures;
+  figures = cutter->stats().figures.back();
+  return figures;
+}
+
+void requireValidSolid(const mesh::SurfaceMesh& tissue, int euler) {
+  const mesh::ManifoldReport report = mesh::checkManifold(tissue.mesh());
+  INFO(report.first_problem);
+  REQUIRE(report.closed_two_manifold);
+  REQUIRE(report.euler_characteristic == euler);
+  REQUIRE(mesh::findSelfIntersections(tissue.mesh()).empty());
+}
+
+}  // namespace
+
+TEST_CASE("A stroke through a 3 mm slab from edge to edge leaves two closed pieces with the slab's halves' volumes",
+          "[surface_cutter][through]") {
+  mesh::SurfaceMesh tissue = slab();
+  const double z_m = 0.0003;  // off the grid lines
+  const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.0199, 0.0199, z_m, 0.004, 0.004));
+  REQUIRE(f.through_samples > 0);
+  REQUIRE(f.through == ThroughCut::Made);
+  REQUIRE(f.pieces == 2);
+  requireValidSolid(tissue, 4);  // two spheres
+  const std::vector<mesh::Piece> parts = mesh::pieces(tissue.mesh());
+  REQUIRE(parts.size() == 2);
+  // The halves z < z_m and z > z_m, less half the kerf's width each, and less the wound's V: the DFFD's
+  // opening pushes the lips aside (opening_m / 2 wide at the skin, 0 at the floor 2.4 mm down), into the
+  // tissue around them, whose volume it does not keep: about 1.5% of each half here.
+  const double big_m3 = (0.5 * kSideM + z_m - 0.5 * SurfaceCutter::kKerfM) * kSideM * kSlabM;
+  const double small_m3 = (0.5 * kSideM - z_m - 0.5 * SurfaceCutter::kKerfM) * kSideM * kSlabM;
+  CHECK(parts[0].volume_m3 == Approx(big_m3).epsilon(0.02));
+  CHECK(parts[1].volume_m3 == Approx(small_m3).epsilon(0.02));
+  // Their difference places the cut: 2 z_m across the slab.
+  CHECK(parts[0].volume_m3 - parts[1].volume_m3 == Approx(2.0 * z_m * kSideM * kSlabM).epsilon(0.03));
+  CHECK(f.piece_volumes_m3[0] == parts[0].volume_m3);
+  CHECK(f.piece_volumes_m3[1] == parts[1].volume_m3);
+}
+
+TEST_CASE("A through stroke inside the slab leaves one piece with a slot through it", "[surface_cutter][through]") {
+  mesh::SurfaceMesh tissue = slab();
+  const double volume_m3 = mesh::pieces(tissue.mesh()).at(0).volume_m3;
+  const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.01, 0.01, 0.0003, 0.004, 0.004));
+  REQUIRE(f.through == ThroughCut::Made);
+  REQUIRE(f.pieces == 1);
+  requireValidSolid(tissue, 0);  // a torus: the slot goes through
+  CHECK(f.piece_volumes_m3[0] < volume_m3);
+  CHECK(f.piece_volumes_m3[0] == Approx(volume_m3).epsilon(0.01));
+}
+
+TEST_CASE("A stroke whose tip goes through only along its second half slots the slab there only",
+          "[surface_cutter][through]") {
+  mesh::SurfaceMesh tissue = slab();
+  // 1 mm deep at x = -10 mm to 5 mm at x = +10 mm: through (>= 3 mm) from x = 0 on.
+  const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.01, 0.01, 0.0003, 0.001, 0.005));
+  REQUIRE(f.through == ThroughCut::Made);
+  REQUIRE(f.pieces == 1);
+  requireValidSolid(tissue, 0);
+  // The far side is split only under the through part (x > 0, and the kerf's reach before it).
+  const mesh::TriMesh& m = tissue.mesh();
+  double far_split_min_x = 1.0;
+  for (const auto v : m.vertices())
+    if (tissue.kind(v) != mesh::VertexKind::Original && m.point(v)[1] < -kSlabM + 1e-9)
+      far_split_min_x = std::min(far_split_min_x, m.point(v)[0]);
+  CHECK(far_split_min_x > -2.0 * SurfaceCutter::kKerfReachSpacings * throughOptions().incision.spacing_m);
+  CHECK(far_split_min_x < 0.002);
+}
+
+TEST_CASE("A stroke that stays above the far side cuts nothing through", "[surface_cutter][through]") {
+  mesh::SurfaceMesh tissue = slab();
+  const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.01, 0.01, 0.0003, 0.002, 0.002));
+  CHECK(f.through_samples == 0);
+  CHECK(f.through == ThroughCut::None);
+  requireValidSolid(tissue, 2);
+}
