@@ -165,6 +165,7 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   all_bound_.clear();
   reindexed_moves_ = reindexed_coarse_ = 0;
   seam_created_.clear();
+  column_seam_begin_ = previous_seam_begin_ = 0;
   chain_.reset(4 * static_cast<std::size_t>(options_.incision.max_columns));
   wall_columns_used_ = 0;
   strips_used_ = 0;
@@ -384,6 +385,7 @@ bool SurfaceCutter::processColumn(int column, core::WorkBudget& budget, CutStep&
     if (!budget.affords(last_query_units_)) return false;
     column_started_ = true;
     ++step.columns;
+    previous_seam_begin_ = std::exchange(column_seam_begin_, seam_created_.size());
     candidates_.clear();
     fresh_.clear();
     next_candidate_ = 0;
@@ -409,6 +411,7 @@ bool SurfaceCutter::processColumn(int column, core::WorkBudget& budget, CutStep&
   if (!budget.affords(finish_units)) return false;
   budget.take(finish_units);
   splitCrossings(fresh_, step);
+  relieveSlivers(previous_seam_begin_);
   column_started_ = false;
   return true;
 }

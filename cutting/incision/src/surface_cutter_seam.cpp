@@ -62,6 +62,71 @@ VH SurfaceCutter::crossBeyond(VH end) {
   return VH();
 }
 
+namespace {
+
+// A triangle's area over its longest edge squared: 0.433 equilateral, 0 degenerate.
+double triangleQuality(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return longest2 > 0.0 ? 0.5 * (b - a).cross(c - a).norm() / longest2 : 0.0;
+}
+
+// Below this quality a face with its widest angle at a seam vertex is a sliver worth a flip (an equilateral
+// face split a tenth of the way along an edge, the snap's limit, leaves about 0.04).
+constexpr double kSliverQuality = 0.1;
+constexpr int kMaxFlipsPerSeamVertex = 8;
+
+}  // namespace
+
+bool SurfaceCutter::sideVertex(VH v) const {
+  if (!bound(v) || data(v).seam || mesh_.kind(v) != mesh::VertexKind::Original) return false;
+  return data(v).side == -1 || data(v).side == 1;
+}
+
+void SurfaceCutter::relieveSlivers(std::size_t first_seam) {
+  mesh::TriMesh& m = mesh_.mesh();
+  for (std::size_t i = first_seam; i < seam_created_.size(); ++i) {
+    const VH p = seam_created_[i];
+    if (m.status(p).deleted() || !bound(p) || !data(p).seam || data(p).doubled) continue;
+    // A flip changes the faces around p: the walk starts over after each, a few times at most.
+    for (int flips = 0; flips < kMaxFlipsPerSeamVertex; ++flips) {
+      bool flipped = false;
+      for (auto h = m.voh_iter(p); h.is_valid() && !flipped; ++h)
+        if (!m.is_boundary(*h)) flipped = flipSliver(p, m.next_halfedge_handle(*h));
+      if (!flipped) break;
+    }
+  }
+}
+
+bool SurfaceCutter::flipSliver(VH p, mesh::TriMesh::HalfedgeHandle ab) {
+  mesh::TriMesh& m = mesh_.mesh();
+  const auto ba = m.opposite_halfedge_handle(ab);
+  if (m.is_boundary(ab) || m.is_boundary(ba)) return false;
+  const FH f = m.face_handle(ab), g = m.face_handle(ba);
+  if (mesh_.kind(f) == mesh::FaceKind::Wall || mesh_.kind(g) == mesh::FaceKind::Wall) return false;
+  const VH a = m.from_vertex_handle(ab), b = m.to_vertex_handle(ab), d = m.to_vertex_handle(m.next_halfedge_handle(ba));
+  // d and the off-seam ends of a-b on one side: the new edge p-d ends on the cut and crosses nothing.
+  if (!sideVertex(d) || (!sideVertex(a) && !sideVertex(b))) return false;
+  for (const VH v : {a, b})
+    if (sideVertex(v) ? data(v).side != data(d).side : !(bound(v) && data(v).seam)) return false;
+  const Eigen::Vector3d P = restPosition(p), A = restPosition(a), B = restPosition(b), D = restPosition(d);
+  const double ab2 = (B - A).squaredNorm();
+  const double q_old = triangleQuality(P, A, B);
+  if (q_old >= kSliverQuality || ab2 < (A - P).squaredNorm() || ab2 < (B - P).squaredNorm()) return false;
+  // Faces p a b and b a d become p a d and p d b, facing the way they did; the worse of the two improves
+  // (so flips cannot cycle).
+  const Eigen::Vector3d normal = (A - P).cross(B - P) + (A - B).cross(D - B);
+  if ((A - P).cross(D - P).dot(normal) <= 0.0 || (D - P).cross(B - P).dot(normal) <= 0.0) return false;
+  const double q_new = std::min(triangleQuality(P, A, D), triangleQuality(P, D, B));
+  if (q_new <= std::min(q_old, triangleQuality(B, A, D)) || !m.is_flip_ok(m.edge_handle(ab))) return false;
+  m.flip(m.edge_handle(ab));
+  for (const FH face : {f, g}) {
+    mesh_.setKind(face, mesh::FaceKind::Split);
+    faceChanged(face);
+  }
+  ++stats_.slivers_flipped;
+  return true;
+}
+
 VH SurfaceCutter::splitAtCut(mesh::TriMesh::EdgeHandle e) {
   mesh::TriMesh& m = mesh_.mesh();
   const auto h = m.halfedge_handle(e, 0);

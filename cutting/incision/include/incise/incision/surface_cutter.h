@@ -301,6 +301,17 @@ class SurfaceCutter {
   // The seam vertex where the cut's plane leaves a face of `end` (its far edge split there, or an end
   // point of that edge snapped onto the cut); invalid when no face of `end` is crossed.
   mesh::TriMesh::VertexHandle crossBeyond(mesh::TriMesh::VertexHandle end);
+  // After a column's splits: the skin faces around the seam vertices it and the column before made, where a
+  // seam vertex p lies nearly on the face's far edge a-b (the face a sliver, its widest angle at p: a split
+  // or snap next to an edge nearly along the cut leaves one). The opening moves p sideways more than a side
+  // vertex of a-b, and p would pass over a-b: the face folds over its neighbour or the wall's top. Edge a-b
+  // is flipped to p-d (d the far corner of the face across it, a bound vertex on a-b's side) when the worse
+  // of the two new faces is better than the worse of the two old ones and both keep the old orientation, at
+  // rest. Topology only: the vertices stay, no edge crosses the cut (p is on it), no allocation.
+  // O(faces around those seam vertices).
+  void relieveSlivers(std::size_t first_seam);
+  bool flipSliver(mesh::TriMesh::VertexHandle p, mesh::TriMesh::HalfedgeHandle far_edge);
+  bool sideVertex(mesh::TriMesh::VertexHandle v) const;  // bound, off the seam and the walls, side -1 or +1
   // Splits edge `e`, whose end points lie on the two sides, where it crosses u = 1/2: a new seam vertex.
   mesh::TriMesh::VertexHandle splitAtCut(mesh::TriMesh::EdgeHandle e);
   void promoteInterior(CutStep& step);
@@ -378,6 +389,8 @@ class SurfaceCutter {
   bool cellEmpty(int cell) const noexcept { return cell_first_[static_cast<std::size_t>(cell)] < 0; }
   std::vector<mesh::TriMesh::VertexHandle> all_bound_;     // every vertex bound to this incision
   std::vector<mesh::TriMesh::VertexHandle> seam_created_;  // seam vertices in order of creation
+  // seam_created_'s size when the current and the previous column's steps began (relieveSlivers)
+  std::size_t column_seam_begin_ = 0, previous_seam_begin_ = 0;
   Chain chain_;
   std::vector<WallColumn> wall_columns_;  // pool: [0, wall_columns_used_) this incision's
   std::size_t wall_columns_used_ = 0;

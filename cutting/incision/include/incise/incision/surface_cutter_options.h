@@ -163,6 +163,8 @@ struct CutStats {
   int skipped_crossings = 0;  // crossing edges outside the cut window (not split)
   int vertices_snapped = 0;   // vertices put on the cut (CutterOptions::snap_fraction), totals
   int splits_avoided = 0;     // crossings not split because they lay within the snap distance of an end
+  int slivers_flipped = 0;    // skin edges beside the seam flipped to leave no seam vertex nearly on a face's
+                              // far edge (SurfaceCutter::relieveSlivers), totals
   int refined_vertices = 0;   // vertices and faces the local refinement added, totals (CutterOptions::refine)
   int refined_faces = 0;
   int refine_refused = 0;     // faces left coarse: every edge that would refine them touches the current
