@@ -191,51 +191,6 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   return process(step);
 }
 
-bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
-  const IncisionOptions& o = options_.incision;
-  if (sample.depth_m > kClampedOver * o.depth_m) ++stats_.figures.back().depth_clamped_samples;
-  const double want_m = sample.depth_m >= 0.0 ? std::clamp(sample.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
-  const double thickness_m = thicknessBelow(sample);
-  through_last_ = false;
-  if (!(want_m > kFloorOfThickness * thickness_m)) return false;
-  if (want_m >= thickness_m) {
-    through_last_ = true;
-    last_through_ = ThroughSample{sample.point_m, sample.normal, want_m, thickness_m};
-  }
-  sample.depth_m = std::max(o.min_depth_m, kFloorOfThickness * thickness_m);
-  ++stats_.figures.back().thickness_limited_samples;
-  return true;
-}
-
-double SurfaceCutter::thicknessBelow(const StrokeSample& sample) noexcept {
-  // The last answer holds within a lattice spacing (the stations' own resolution).
-  ThicknessProbe& c = thickness_;
-  if (c.valid && (sample.point_m - c.at_m).norm() < options_.incision.spacing_m) return c.thickness_m;
-  constexpr double kNone = std::numeric_limits<double>::infinity();
-  const mesh::TriMesh& m = mesh_.mesh();
-  for (const double radius_m : {mean_edge_m_, longest_edge_m_}) {
-    const Eigen::Vector3d r = Eigen::Vector3d::Constant(radius_m);
-    query_.clear();
-    try {
-      grid_.query(Eigen::AlignedBox3d(sample.point_m - r, sample.point_m + r), query_);
-    } catch (...) {  // allocation in the grid query: leave the depth as it is
-      return kNone;
-    }
-    bool found = false;
-    double thinnest_m = kNone;
-    for (const int id : query_) {
-      if (static_cast<size_t>(id) >= thickness_below_m_.size() || m.status(VH(id)).deleted()) continue;
-      found = true;
-      thinnest_m = std::min(thinnest_m, static_cast<double>(thickness_below_m_[static_cast<size_t>(id)]));
-    }
-    if (found) {
-      c = {true, sample.point_m, thinnest_m};
-      return thinnest_m;
-    }
-  }
-  return kNone;
-}
-
 CutStep SurfaceCutter::extend(const StrokeSample& sample) noexcept { return extend(std::span(&sample, 1)); }
 
 CutStep SurfaceCutter::extend(std::span<const StrokeSample> samples) noexcept { return process(add(samples)); }

@@ -1,9 +1,11 @@
-// The surface cutter's cuts through the tissue (surface_cutter.h, cutThrough): where the blade's tip passed
-// the tissue's far side, its path is removed down through that side once the incision has settled, so the
-// far skin is split too and a piece cut free is closed on its own.
+// The surface cutter on thin tissue (surface_cutter.h): the groove's depth limited by the tissue's thickness
+// under the stroke (limitToThickness), and cuts through it (cutThrough): where the blade's tip passed the
+// tissue's far side, its path is removed down through that side once the incision has settled, so the far
+// skin is split too and a piece cut free is closed on its own.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "incise/incision/surface_cutter.h"
@@ -26,7 +28,8 @@ mesh::SurfaceMesh sweptKerf(const std::vector<Eigen::Vector3d>& centres, const s
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d half = 0.5 * kerf_m * sides[i], top = centres[i] - top_m * down,
                           bottom = centres[i] + bottom_m[i] * down;
-    for (const Eigen::Vector3d& p : std::array<Eigen::Vector3d, 4>{top - half, top + half, bottom + half, bottom - half})
+    for (const Eigen::Vector3d& p :
+         std::array<Eigen::Vector3d, 4>{top - half, top + half, bottom + half, bottom - half})
       kerf.addVertex(p);
   }
   std::vector<std::array<int, 3>> faces;
@@ -56,6 +59,51 @@ mesh::SurfaceMesh sweptKerf(const std::vector<Eigen::Vector3d>& centres, const s
 }
 
 }  // namespace
+
+bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
+  const IncisionOptions& o = options_.incision;
+  if (sample.depth_m > kClampedOver * o.depth_m) ++stats_.figures.back().depth_clamped_samples;
+  const double want_m = sample.depth_m >= 0.0 ? std::clamp(sample.depth_m, o.min_depth_m, o.depth_m) : o.depth_m;
+  const double thickness_m = thicknessBelow(sample);
+  through_last_ = false;
+  if (!(want_m > kFloorOfThickness * thickness_m)) return false;
+  if (want_m >= thickness_m) {
+    through_last_ = true;
+    last_through_ = ThroughSample{sample.point_m, sample.normal, want_m, thickness_m};
+  }
+  sample.depth_m = std::max(o.min_depth_m, kFloorOfThickness * thickness_m);
+  ++stats_.figures.back().thickness_limited_samples;
+  return true;
+}
+
+double SurfaceCutter::thicknessBelow(const StrokeSample& sample) noexcept {
+  // The last answer holds within a lattice spacing (the stations' own resolution).
+  ThicknessProbe& c = thickness_;
+  if (c.valid && (sample.point_m - c.at_m).norm() < options_.incision.spacing_m) return c.thickness_m;
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  const mesh::TriMesh& m = mesh_.mesh();
+  for (const double radius_m : {mean_edge_m_, longest_edge_m_}) {
+    const Eigen::Vector3d r = Eigen::Vector3d::Constant(radius_m);
+    query_.clear();
+    try {
+      grid_.query(Eigen::AlignedBox3d(sample.point_m - r, sample.point_m + r), query_);
+    } catch (...) {  // allocation in the grid query: leave the depth as it is
+      return kNone;
+    }
+    bool found = false;
+    double thinnest_m = kNone;
+    for (const int id : query_) {
+      if (static_cast<size_t>(id) >= thickness_below_m_.size() || m.status(VH(id)).deleted()) continue;
+      found = true;
+      thinnest_m = std::min(thinnest_m, static_cast<double>(thickness_below_m_[static_cast<size_t>(id)]));
+    }
+    if (found) {
+      c = {true, sample.point_m, thinnest_m};
+      return thinnest_m;
+    }
+  }
+  return kNone;
+}
 
 void SurfaceCutter::noteThrough() {
   if (!through_last_) return;
@@ -99,8 +147,8 @@ bool SurfaceCutter::subtractKerf(std::size_t first, std::size_t last) {
     centres.push_back(s.point_m);
     bottom_m.push_back(std::max(s.depth_m, 1.25 * s.thickness_m + 1e-4));
   }
-  Eigen::Vector3d ahead = centres.size() > 1 ? across(centres.back() - centres.front())
-                                             : across(incision_->bladeDirection());
+  Eigen::Vector3d ahead =
+      centres.size() > 1 ? across(centres.back() - centres.front()) : across(incision_->bladeDirection());
   if (ahead.norm() < 1e-12) return true;  // the blade went straight down: nothing to sweep
   ahead.normalize();
   const double reach_m = kKerfReachSpacings * spacing_m;

@@ -96,7 +96,8 @@ void removeSlivers(CgalMesh& out, const OriginMap& origin, const TriMesh& tissue
   std::vector<Face> near;
   for (const Face f : out.faces()) {
     bool touches = origin[f] == kFromSolid;
-    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out)) touches = touches || !old.count(key(out.point(v)));
+    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out))
+      touches = touches || !old.count(key(out.point(v)));
     if (touches) near.push_back(f);
   }
   constexpr double kCapCosine = -0.94;  // an angle over about 160 degrees
@@ -129,7 +130,8 @@ void apply(SurfaceMesh& tissue, const CgalMesh& out, const OriginMap& origin, Su
   for (const Face f : out.faces()) {
     std::array<TriMesh::VertexHandle, 3> c;
     int i = 0;
-    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out)) c[static_cast<std::size_t>(i++ % 3)] = vertex[static_cast<std::size_t>(v.idx())];
+    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out))
+      c[static_cast<std::size_t>(i++ % 3)] = vertex[static_cast<std::size_t>(v.idx())];
     if (i != 3) throw MeshError("CGAL's difference has a face with " + std::to_string(i) + " corners");
     bool same = c[0].is_valid() && c[1].is_valid() && c[2].is_valid();
     if (same) {
@@ -159,9 +161,10 @@ void apply(SurfaceMesh& tissue, const CgalMesh& out, const OriginMap& origin, Su
   }
   for (const Face f : added) {
     std::vector<TriMesh::VertexHandle> c;
-    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out)) c.push_back(vertex[static_cast<std::size_t>(v.idx())]);
+    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out))
+      c.push_back(vertex[static_cast<std::size_t>(v.idx())]);
     const int from = origin[f];
-    const FaceKind kind = from == kFromSolid                                            ? FaceKind::Wall
+    const FaceKind kind = from == kFromSolid                                                        ? FaceKind::Wall
                           : from >= 0 && old_kind[static_cast<std::size_t>(from)] == FaceKind::Wall ? FaceKind::Wall
                                                                                                     : FaceKind::Split;
     const auto made = tissue.addFace(c[0], c[1], c[2], kind);

@@ -18,11 +18,11 @@ namespace incise::mesh {
 // What subtractSolid did. On failure (`ok` false) the mesh is as it was, element for element.
 struct SubtractResult {
   bool ok = false;
-  std::string message;      // why it failed ("" when ok)
-  int faces_removed = 0;    // faces of the tissue deleted (replaced or inside the solid)
-  int faces_added = 0;      // faces added: the tissue's faces split along the solid, and the solid's walls
-  int vertices_added = 0;   // vertices added (where the surfaces cross, and the solid's corners inside)
-  int vertices_removed = 0; // vertices of the tissue inside the solid (deleted, not garbage-collected)
+  std::string message;       // why it failed ("" when ok)
+  int faces_removed = 0;     // faces of the tissue deleted (replaced or inside the solid)
+  int faces_added = 0;       // faces added: the tissue's faces split along the solid, and the solid's walls
+  int vertices_added = 0;    // vertices added (where the surfaces cross, and the solid's corners inside)
+  int vertices_removed = 0;  // vertices of the tissue inside the solid (deleted, not garbage-collected)
 };
 
 // Removes the closed solid `solid` (outward oriented) from the closed two-manifold `tissue`: afterwards
@@ -36,8 +36,8 @@ struct SubtractResult {
 // Failure (CGAL refuses: self-intersection, a non-manifold result; OpenMesh refuses a face) leaves the mesh
 // unchanged and says why. Cost O((V + F) log (V + F)) over both meshes (the copies), plus CGAL's
 // corefinement near the solid.
-SubtractResult subtractSolid(SurfaceMesh& tissue, const SurfaceMesh& solid, std::vector<int>* changed_vertices = nullptr,
-                             std::vector<int>* changed_faces = nullptr);
+SubtractResult subtractSolid(SurfaceMesh& tissue, const SurfaceMesh& solid,
+                             std::vector<int>* changed_vertices = nullptr, std::vector<int>* changed_faces = nullptr);
 
 // One connected piece of a closed surface: its faces, and the volume it encloses (the divergence theorem
 // over its faces: positive for an outward-oriented closed piece).
