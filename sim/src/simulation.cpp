@@ -404,7 +404,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
     // Its steps on their own thread; a fast replay waits for it rather than defer a cut to a later step.
     PhysicsThreadOptions physics;
     physics.wait_for_room = options.pace == ReplayPace::Fast;
-    physics.wall_per_simulated_s = 1.0 / options.speed;
+    physics.wall_per_simulated_s = options.pace == ReplayPace::Fast ? 0.0 : 1.0 / options.speed;
     physics.before_step = options.physics_before_step;
     sim.startPhysicsThread(std::move(physics));
   }

@@ -1,6 +1,8 @@
 // The physics thread of a simulated tissue (tissue_physics.h): the handoff from the sim thread (a step
 // message per due step, change buffers given back once applied) and the thread's loop.
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 
@@ -11,6 +13,12 @@
 namespace incise::sim {
 
 namespace {
+
+constexpr std::int64_t kNeverLateNs = std::numeric_limits<std::int64_t>::max();  // not against the clock
+
+// How often a fast replay's frame looks for room in the handoff (sleeping leaves the core to the physics
+// thread).
+constexpr std::chrono::microseconds kRoomPoll{50};
 
 std::int64_t nowNs() noexcept {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
@@ -30,7 +38,7 @@ void TissuePhysics::startThread(PhysicsThreadOptions options) {
   if (worker_) throw std::logic_error("TissuePhysics: startThread() while the physics thread runs");
   auto w = std::make_unique<Worker>();
   const double period_s = options.wall_per_simulated_s / options_.rate_hz;
-  w->period_ns = static_cast<std::int64_t>(period_s * 1e9);
+  w->period_ns = period_s > 0.0 ? static_cast<std::int64_t>(std::min(period_s * 1e9, 1e15)) : kNeverLateNs;
   w->options = std::move(options);
   const physics::CutChanges& first = slots_[collecting_];
   for (std::size_t i = 0; i < kChangeSlots; ++i) {
@@ -79,7 +87,7 @@ void TissuePhysics::handOver(std::int64_t step, std::int64_t due_ns) noexcept {
       if (!slots_[collecting_].empty()) ++deferred_;
       return;
     }
-    std::this_thread::yield();
+    std::this_thread::sleep_for(kRoomPoll);
   }
   w.has_held = false;
   StepMessage m{step, step, -1, due_ns};
@@ -87,7 +95,7 @@ void TissuePhysics::handOver(std::int64_t step, std::int64_t due_ns) noexcept {
     std::size_t fresh = 0;
     bool got = w.free_slots.tryPop(fresh);
     while (!got && wait) {
-      std::this_thread::yield();
+      std::this_thread::sleep_for(kRoomPoll);
       got = w.free_slots.tryPop(fresh);
     }
     if (got) {
@@ -103,7 +111,7 @@ void TissuePhysics::handOver(std::int64_t step, std::int64_t due_ns) noexcept {
       w.has_held = true;
       return;
     }
-    std::this_thread::yield();
+    std::this_thread::sleep_for(kRoomPoll);
   }
 }
 
@@ -131,7 +139,7 @@ void TissuePhysics::runWorker() noexcept {
       const std::int64_t start_ns = nowNs();
       stepOnce();
       const std::int64_t end_ns = nowNs();
-      const bool late = end_ns > m.due_ns + (k - m.first_step + 1) * w.period_ns;
+      const bool late = w.period_ns < kNeverLateNs && end_ns > m.due_ns + (k - m.first_step + 1) * w.period_ns;
       if (late) {
         ++counters_.late;
         late_.fetch_add(1, std::memory_order_relaxed);

@@ -338,7 +338,8 @@ TEST_CASE("tissue physics: a physics thread slower than its rate is counted late
   CHECK(slow.run.world->physics()->counters().late == slow.report.latency.physics_late);
   CHECK(slow.run.world->physics()->counters().deferred == 0);
   CHECK(simulatedBytes(*fast.run.world) == simulatedBytes(*slow.run.world));
-  CHECK(fast.report.latency.physics_late == fast.run.world->physics()->counters().late);
+  CHECK(fast.report.latency.physics_late == 0);  // not against the clock: no step is late
+  CHECK(fast.run.world->physics()->counters().late == 0);
 }
 
 TEST_CASE("tissue physics: a geometry stream reading the same tet journal changes nothing in the model",

@@ -20,7 +20,8 @@
 // a full queue holds the step back to go with the next one, a missing free buffer leaves the changes to go
 // with a later step (counted: PhysicsCounters::deferred; only then can a real-time run differ from a fast
 // one). A step is late (PhysicsCounters::late) when it finished more than one physics period of wall time
-// (1 / rate_hz x wall_per_simulated_s) after the frame that made it due began.
+// (1 / rate_hz x wall_per_simulated_s) after the frame that made it due handed it over (never in a fast
+// replay: wall_per_simulated_s 0).
 //
 // Units: SI (m, s, Hz). Threads: the owner (the sim thread) calls everything but the hook; between
 // startThread() and stopThread() the model, its readers (model(), deformedSurface(), deform(),
@@ -89,7 +90,9 @@ struct PhysicsThreadOptions {
   // The handoff full (the thread behind): advance() waits for room (a fast replay, whose caller may wait)
   // instead of deferring the changes. Never for a run against the clock.
   bool wait_for_room = false;
-  double wall_per_simulated_s = 1.0;  // wall seconds per simulated second (1 / a replay's speed)
+  // Wall seconds per simulated second (1 / a replay's speed); 0: not against the clock (a fast replay), no
+  // step is late.
+  double wall_per_simulated_s = 1.0;
   // Test hook: called on the physics thread before step k (e.g. to slow it down). Empty: none.
   std::function<void(std::int64_t step)> before_step;
 };
