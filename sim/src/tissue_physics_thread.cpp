@@ -48,6 +48,11 @@ void TissuePhysics::startThread(PhysicsThreadOptions options) {
     w->free_slots.tryPush(i);
   }
   step_times_.reserve(kStoredStepTimes);
+  if (!states_) {
+    PhysicsState initial;
+    initial.x_m.resize(static_cast<std::size_t>(model_->nodeCount() + model_->options().reserve_nodes));
+    states_ = std::make_unique<TripleBuffer<PhysicsState>>(initial);
+  }
   worker_ = std::move(w);
   try {
     worker_->thread = std::thread([this] { runWorker(); });
@@ -67,6 +72,13 @@ void TissuePhysics::stopThread() {
   w.wake.notify_all();
   w.thread.join();
   worker_.reset();
+}
+
+const PhysicsState* TissuePhysics::latestState() noexcept {
+  if (!states_) return nullptr;
+  states_->update();
+  const PhysicsState& s = states_->read();
+  return s.step > 0 ? &s : nullptr;
 }
 
 bool TissuePhysics::pushMessage(const StepMessage& m) noexcept {
@@ -146,6 +158,10 @@ void TissuePhysics::runWorker() noexcept {
       }
       if (step_times_.size() < step_times_.capacity())
         step_times_.push_back({static_cast<float>(1e-3 * static_cast<double>(end_ns - start_ns)), late});
+      PhysicsState& state = states_->writeSlot();
+      state.step = k;
+      state.nodes = model_->copyPositions(state.x_m);
+      states_->publish();
     }
   }
 }

@@ -357,3 +357,35 @@ TEST_CASE("tissue physics: a geometry stream reading the same tet journal change
   CHECK(l.world->physics()->model().nodeCount() == alone.run.world->physics()->model().nodeCount());
   CHECK(l.world->physics()->positionsHash() == alone.run.world->physics()->positionsHash());
 }
+
+TEST_CASE("tissue physics: the physics thread publishes each step's node positions, read without waiting", "[sim]") {
+  test::ShippedScenario l = test::loadShipped("pad-tension");
+  sim::World& world = *l.world;
+  sim::TissuePhysics& physics = *world.physics();
+  physics.startThread({});
+  REQUIRE(physics.latestState() == nullptr);  // no step yet
+  const std::int64_t period_us = l.scenario.periodUs();
+  const double dt_s = static_cast<double>(period_us) * 1e-6, t0_s = l.poses.front().time_s;
+  std::size_t fed = 0;
+  std::int64_t last_seen = 0, reads = 0;
+  for (std::int64_t k = 0; t0_s + static_cast<double>(k) * dt_s <= l.poses.back().time_s; ++k) {
+    const double t_s = t0_s + static_cast<double>(k) * dt_s;
+    const std::size_t first = fed;
+    while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) ++fed;
+    world.step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
+    if (const sim::PhysicsState* s = physics.latestState()) {
+      REQUIRE(s->step >= last_seen);  // never older than what was read before
+      REQUIRE(s->step <= physics.stepsDue());
+      REQUIRE(s->nodes > 1000);
+      last_seen = s->step, ++reads;
+    }
+  }
+  physics.stopThread();
+  const sim::PhysicsState* s = physics.latestState();
+  REQUIRE(s != nullptr);
+  CHECK(reads > 0);
+  CHECK(s->step == physics.counters().steps);  // the last step's state
+  const auto x = physics.model().positions_m();
+  REQUIRE(s->nodes == x.size());
+  for (std::size_t n = 0; n < x.size(); ++n) REQUIRE(s->x_m[n] == x[n]);
+}

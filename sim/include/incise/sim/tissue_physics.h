@@ -26,7 +26,8 @@
 // Units: SI (m, s, Hz). Threads: the owner (the sim thread) calls everything but the hook; between
 // startThread() and stopThread() the model, its readers (model(), deformedSurface(), deform(),
 // positionsHash()) and counters() belong to the physics thread: read them after stopThread(); stepsDone()
-// and lateSteps() may be read from any thread. Cost: advance() O(changes) + a step per due tick inline (a
+// and lateSteps() may be read from any thread, latestState() from one reader thread (a triple buffer the
+// physics thread publishes the node positions into after every step). Cost: advance() O(changes) + a step per due tick inline (a
 // step is O(elements + CG iterations x matrix entries): docs/benchmarks.md), O(1) per due tick threaded.
 // Allocation: the model and the change buffers at construction and startThread(); none after, within their
 // reserves (growth is counted in PhysicsCounters::reserve_overflows), on either thread. Failure: the
@@ -45,6 +46,7 @@
 #include "incise/physics/cut_changes.h"
 #include "incise/physics/embedding.h"
 #include "incise/physics/material.h"
+#include "incise/sim/triple_buffer.h"
 #include "incise/tets/tet_mesh.h"
 
 // No OpenMesh in sim's public headers: the model (physics/tissue_model.h) and the surface through pointers.
@@ -97,6 +99,13 @@ struct PhysicsThreadOptions {
   std::function<void(std::int64_t step)> before_step;
 };
 
+// The model's state after a step, as the physics thread publishes it (TissuePhysics::latestState).
+struct PhysicsState {
+  std::int64_t step = 0;             // the step it is after (0: none yet)
+  std::size_t nodes = 0;             // x_m[0, nodes) are the model's nodes' positions
+  std::vector<Eigen::Vector3d> x_m;  // sized once (the model's nodes and the cuts' reserve), never grown
+};
+
 // A threaded step's wall time (us) and whether it was late; one per step, in step order.
 struct PhysicsStepTime {
   float us = 0.0f;
@@ -124,6 +133,9 @@ class TissuePhysics {
   // waits). Returns at once when no thread runs.
   void stopThread();
   bool threaded() const noexcept { return worker_ != nullptr; }
+  // Threaded: the newest state the physics thread published (after each step), never waiting for it;
+  // nullptr before the first. One reader thread (the owner's or another). Valid until its next call.
+  const PhysicsState* latestState() noexcept;
   // Steps made due so far (the owner's thread).
   std::int64_t stepsDue() const noexcept { return next_step_ - 1; }
   // Steps finished so far (either way), and those late: any thread, never blocks.
@@ -186,7 +198,8 @@ class TissuePhysics {
   PhysicsCounters counters_;
   std::int64_t collect_failed_ = 0, collect_overflows_ = 0, deferred_ = 0;
   std::atomic<std::int64_t> steps_done_{0}, late_{0};
-  std::vector<PhysicsStepTime> step_times_;  // the physics thread's; reserved kStoredStepTimes
+  std::vector<PhysicsStepTime> step_times_;             // the physics thread's; reserved kStoredStepTimes
+  std::unique_ptr<TripleBuffer<PhysicsState>> states_;  // made by startThread(): the physics thread writes
   std::unique_ptr<Worker> worker_;
 };
 
