@@ -110,9 +110,10 @@ nlohmann::json tetsReport(const tets::TetCutter& tets, const tets::TetView& defo
           {"failure", stats.failure}};
 }
 
-// A simulated tissue's figures: its rate and steps, their time on the sim thread, and what the model met.
+// A simulated tissue's figures: its rate and steps, their time on the physics thread (late: finished more
+// than a period after they were due), cuts deferred to a later step (a full handoff), what the model met.
 nlohmann::json physicsReport(const sim::TissuePhysics& physics, const sim::LatencySummary& latency) {
-  const sim::PhysicsCounters& c = physics.counters();
+  const sim::PhysicsCounters c = physics.counters();
   return {{"physics_rate_hz", physics.rateHz()},
           {"steps", c.steps},
           {"physics_step_us",
@@ -120,6 +121,7 @@ nlohmann::json physicsReport(const sim::TissuePhysics& physics, const sim::Laten
             {"p99", latency.physics_step_us.p99},
             {"max", latency.physics_step_us.max}}},
           {"physics_late", latency.physics_late},
+          {"physics_deferred", c.deferred},
           {"cg_limited_steps", c.cg_limited},
           {"non_finite_steps", c.non_finite},
           {"cuts_applied", c.cuts_applied},

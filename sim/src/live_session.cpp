@@ -36,11 +36,16 @@ LiveSession::LiveSession(World& world, const LiveOptions& options, ForceSink* si
 
 LiveSession::~LiveSession() {
   if (started_.load() && !stopped_) loop_.stop();
+  try {
+    sim_.finishPhysics();
+  } catch (...) {  // the physics thread could not be joined: the world's destructor tries again
+  }
 }
 
 void LiveSession::start() {
   if (started_.exchange(true)) throw std::logic_error("LiveSession: start() called twice");
   start_ = std::chrono::steady_clock::now();
+  sim_.startPhysicsThread({});  // a simulated tissue steps on its own thread; the frame never waits for it
   loop_.start([this](const FrameInfo& info) { frame(info); });
 }
 
@@ -79,6 +84,7 @@ ReplayReport LiveSession::stop() {
   while (loop_.running()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   loop_.stop();
   stopped_ = true;
+  sim_.finishPhysics();
   fillReport(report_, sim_, loop_.counters(), options_.period_us);
   report_.wall_s = nowS();
   if (options_.geometry) {  // the loop has stopped: this thread is the stream's writer now

@@ -152,7 +152,8 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   const auto cut_end = Clock::now();
   // A simulated tissue: the frame's tet changes applied and the physics steps due at t_s (simulated time).
   auto physics_end = cut_end;
-  if (world_.physics() && world_.stepPhysics(t_s) > 0) {
+  const TissuePhysics* physics = world_.physics();
+  if (physics && world_.stepPhysics(t_s) > 0 && !physics->threaded()) {
     physics_end = Clock::now();
     const double physics_us = microseconds(cut_end, physics_end);
     stats_->recordPhysicsStep(physics_us, physics_us > period_us_);
@@ -182,6 +183,11 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   s.profile.geometry_us = last_geometry_us_;
   s.deadline_misses = stats_->deadlineMisses();
   s.frame_start_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count();
+  if (physics) {
+    s.physics_steps_due = physics->stepsDue();
+    s.physics_steps_done = physics->stepsDone();
+    s.physics_late = physics->lateSteps();
+  }
   const auto publish_start = Clock::now();
   snapshots_.publish();
   const auto end = Clock::now();
@@ -205,6 +211,18 @@ void Simulation::frame(const FrameInfo& info) noexcept {
     times_->tryPush({info.frame, static_cast<float>(timing.frame_us), static_cast<float>(timing.haptic_us),
                      static_cast<float>(timing.cut_us), static_cast<float>(timing.geometry_us),
                      static_cast<std::int16_t>(std::min(visible, 32767)), timing.deadline_missed});
+}
+
+void Simulation::startPhysicsThread(PhysicsThreadOptions options) {
+  if (TissuePhysics* physics = world_.physics()) physics->startThread(std::move(options));
+}
+
+void Simulation::finishPhysics() {
+  TissuePhysics* physics = world_.physics();
+  if (!physics || !physics->threaded()) return;
+  physics->stopThread();
+  for (const PhysicsStepTime& s : physics->stepTimes()) stats_->recordPhysicsStep(s.us, s.late);
+  physics->clearStepTimes();
 }
 
 void Simulation::attachGeometry(GeometryStream* stream) {
@@ -383,6 +401,12 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
   if (world.physics()) {  // a simulated tissue: each pose in the frame of its time (holdPosesToTheirFrame)
     sim.holdPosesToTheirFrame(true);
     run.lead_s = kPoseLeadFrames * run.wall_period_s;
+    // Its steps on their own thread; a fast replay waits for it rather than defer a cut to a later step.
+    PhysicsThreadOptions physics;
+    physics.wait_for_room = options.pace == ReplayPace::Fast;
+    physics.wall_per_simulated_s = options.pace == ReplayPace::Fast ? 0.0 : 1.0 / options.speed;
+    physics.before_step = options.physics_before_step;
+    sim.startPhysicsThread(std::move(physics));
   }
   sim.attachGeometry(options.geometry);
   sim.attachTimes(options.times);
@@ -392,6 +416,7 @@ ReplayReport replay(World& world, std::span<const devices::PoseSample> trace, co
     replayFast(run);
   else
     replayRealTime(run);
+  sim.finishPhysics();  // the physics' last steps (the outputs need them) and their times
   report.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
   fillReport(report, sim, loop.counters(), options.period_us);
   report.stopped_early = run.stop.load();

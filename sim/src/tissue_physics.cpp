@@ -1,6 +1,7 @@
 #include "incise/sim/tissue_physics.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <new>
@@ -10,6 +11,7 @@
 #include "incise/mesh/surface_mesh.h"
 #include "incise/physics/tissue_model.h"
 #include "incise/tets/tet_cutter.h"
+#include "tissue_physics_worker.h"
 
 namespace incise::sim {
 
@@ -110,42 +112,52 @@ TissuePhysics::TissuePhysics(const tets::TetMesh& mesh, const PhysicsOptions& op
   physics::validate(options.material);
   model_ = std::make_unique<physics::TissueModel>(mesh, options.material, options.boundary, modelOptions(mesh));
   const std::size_t added = cutNodes(mesh);
-  changes_.reserve(mesh.nodes_m.size() + added, mesh.tets.size() + 8 * added, 16 * added);
+  slots_[0].reserve(mesh.nodes_m.size() + added, mesh.tets.size() + 8 * added, 16 * added);
 }
-
-TissuePhysics::~TissuePhysics() = default;
 
 void TissuePhysics::collect(const tets::TetCutter& cutter) noexcept {
   const tets::TetChanges& journal = cutter.changes();
   if (journal.nodes.size() == read_nodes_ && journal.base_tets.size() == read_base_tets_) return;
-  const std::size_t node_capacity = changes_.node_entry.capacity() + changes_.nodes.capacity();
-  const std::size_t piece_capacity = changes_.pieces.capacity() + changes_.base_entry.capacity();
+  physics::CutChanges& changes = slots_[collecting_];
+  const std::size_t node_capacity = changes.node_entry.capacity() + changes.nodes.capacity();
+  const std::size_t piece_capacity = changes.pieces.capacity() + changes.base_entry.capacity();
   try {
     collectCutChanges(cutter, std::span(journal.nodes).subspan(read_nodes_),
-                      std::span(journal.base_tets).subspan(read_base_tets_), changes_);
+                      std::span(journal.base_tets).subspan(read_base_tets_), changes);
   } catch (const std::bad_alloc&) {
-    ++counters_.failed_applies;
+    ++collect_failed_;
   }
-  if (changes_.node_entry.capacity() + changes_.nodes.capacity() != node_capacity ||
-      changes_.pieces.capacity() + changes_.base_entry.capacity() != piece_capacity)
-    ++counters_.reserve_overflows;
+  if (changes.node_entry.capacity() + changes.nodes.capacity() != node_capacity ||
+      changes.pieces.capacity() + changes.base_entry.capacity() != piece_capacity)
+    ++collect_overflows_;
   read_nodes_ = journal.nodes.size();
   read_base_tets_ = journal.base_tets.size();
 }
 
-int TissuePhysics::advance(double t_s) noexcept {
-  if (!changes_.empty()) {
-    const int overflows = model_->reserveOverflows();
-    try {
-      const physics::ChangeStats applied = model_->apply(changes_);
-      counters_.pieces_refused += applied.pieces_refused;
-      ++counters_.cuts_applied;
-    } catch (const std::bad_alloc&) {
-      ++counters_.failed_applies;
-    }
-    counters_.reserve_overflows += model_->reserveOverflows() - overflows;
-    changes_.clear();
+void TissuePhysics::applyChanges(physics::CutChanges& changes) noexcept {
+  if (changes.empty()) return;
+  const int overflows = model_->reserveOverflows();
+  try {
+    const physics::ChangeStats applied = model_->apply(changes);
+    counters_.pieces_refused += applied.pieces_refused;
+    ++counters_.cuts_applied;
+  } catch (const std::bad_alloc&) {
+    ++counters_.failed_applies;
   }
+  counters_.reserve_overflows += model_->reserveOverflows() - overflows;
+  changes.clear();
+}
+
+void TissuePhysics::stepOnce() noexcept {
+  const physics::StepStats s = model_->step(stepS());
+  ++counters_.steps;
+  if (s.status == physics::StepStatus::IterationLimit) ++counters_.cg_limited;
+  if (s.status == physics::StepStatus::NonFinite) ++counters_.non_finite;
+  counters_.max_inverted = std::max(counters_.max_inverted, s.inverted_elements);
+  steps_done_.store(counters_.steps, std::memory_order_release);
+}
+
+int TissuePhysics::advance(double t_s) noexcept {
   if (!started_) {
     started_ = true;
     t_first_s_ = t_s;
@@ -153,13 +165,25 @@ int TissuePhysics::advance(double t_s) noexcept {
   int taken = 0;
   // Step k is due at t_first + k / rate; the tick's time computed from k (no accumulated sum).
   while (t_first_s_ + static_cast<double>(next_step_) / options_.rate_hz <= t_s + 1e-9 / options_.rate_hz) {
-    const physics::StepStats s = model_->step(stepS());
-    ++next_step_, ++taken, ++counters_.steps;
-    if (s.status == physics::StepStatus::IterationLimit) ++counters_.cg_limited;
-    if (s.status == physics::StepStatus::NonFinite) ++counters_.non_finite;
-    counters_.max_inverted = std::max(counters_.max_inverted, s.inverted_elements);
+    if (worker_) {
+      handOver(next_step_,
+               std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+                   .count());
+    } else {
+      applyChanges(slots_[collecting_]);
+      stepOnce();
+    }
+    ++next_step_, ++taken;
   }
   return taken;
+}
+
+PhysicsCounters TissuePhysics::counters() const noexcept {
+  PhysicsCounters c = counters_;
+  c.failed_applies += collect_failed_;
+  c.reserve_overflows += collect_overflows_;
+  c.deferred = deferred_;
+  return c;
 }
 
 }  // namespace incise::sim

@@ -178,3 +178,35 @@ TEST_CASE("alloc: in real time the loop thread allocates nothing after its first
   REQUIRE(sink.calls() > 1000);
   CHECK(sink.allocations() == 0);
 }
+
+TEST_CASE("alloc: a simulated tissue in real time: no allocation on the loop thread nor on its physics thread",
+          "[alloc][threads]") {
+  // pad-tension against the clock: the loop thread hands the physics steps over; the physics thread applies
+  // the cut's changes and steps. The physics thread is counted from its second step's start to its last
+  // step's start (the hook runs on it before each step).
+  auto l = incise::test::loadShipped("pad-tension");
+  incise::sim::ReplayOptions options;
+  options.pace = incise::sim::ReplayPace::RealTime;
+  options.settle_s = l.scenario.settle_s;
+  std::optional<CountAllocations> counting;
+  std::int64_t at_second = 0, physics_allocations = 0, last_step = 0;
+  options.physics_before_step = [&](std::int64_t k) {
+    if (k == 2) {
+      counting.emplace(true);
+      at_second = allocationsOnThisThread().calls;
+    }
+    if (k >= 2) physics_allocations = allocationsOnThisThread().calls - at_second;
+    last_step = k;
+  };
+  CountingSink sink;
+  const auto report = incise::sim::replay(*l.world, l.poses, options, &sink);
+  counting.reset();  // on this thread now: restores its flag (the physics thread has ended)
+  INFO(report.frames << " frames, " << sink.calls() << " forces; " << sink.allocations()
+                     << " allocations on the loop thread after frame 0; " << physics_allocations
+                     << " on the physics thread from step 2 to step " << last_step);
+  REQUIRE(l.world->incisions() >= 1);
+  REQUIRE(last_step > 100);
+  REQUIRE(l.world->physics()->counters().cuts_applied > 10);
+  CHECK(sink.allocations() == 0);
+  CHECK(physics_allocations == 0);
+}

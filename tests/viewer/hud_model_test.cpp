@@ -153,3 +153,17 @@ TEST_CASE("hud_model: a replay's source is playing, paused, then finished", "[vi
   source.setPaused(false);
   CHECK(source.status(snapshotAt(1500)).state == "finished");
 }
+
+TEST_CASE("hud_model: a simulated tissue's physics steps, those behind and late, as the sim published them",
+          "[viewer]") {
+  HudModel hud(1000.0, 300.0, 1.0);
+  feed(hud, 0, 10);
+  CHECK(hud.figures().physics_steps_due == 0);  // no simulated tissue: the panel shows no physics row
+  Snapshot s = snapshotAt(10);
+  s.physics_steps_due = 120, s.physics_steps_done = 117, s.physics_late = 4;
+  hud.add(s);
+  const auto h = hud.figures();
+  CHECK(h.physics_steps_due == 120);
+  CHECK(h.physics_steps_done == 117);
+  CHECK(h.physics_late == 4);
+}

@@ -75,6 +75,9 @@ HudFigures HudModel::figures() const {
   h.cut_budget_used = h.cut_us.p99 / cut_budget_us_;
   h.force_N = newest_.haptic.force_N.norm();
   h.incisions = newest_.incisions;
+  h.physics_steps_due = newest_.physics_steps_due;
+  h.physics_steps_done = newest_.physics_steps_done;
+  h.physics_late = newest_.physics_late;
   std::vector<double> latency;
   for (const Shown& s : shown_) latency.push_back(s.latency_ms);
   const Percentiles l = percentiles(std::move(latency)), run = percentiles(run_latency_ms_);

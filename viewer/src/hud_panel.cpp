@@ -48,6 +48,10 @@ void drawHudPanel(const HudFigures& h, const PoseSourceStatus& source, const std
   ImGui::Text("deadline misses: %lld (%lld in the window)", static_cast<long long>(h.deadline_misses),
               static_cast<long long>(h.window_misses));
   ImGui::Text("force %.2f N   incisions %d", h.force_N, h.incisions);
+  if (h.physics_steps_due > 0)
+    ImGui::Text("physics: %lld steps, %lld behind, %lld late", static_cast<long long>(h.physics_steps_done),
+                static_cast<long long>(h.physics_steps_due - h.physics_steps_done),
+                static_cast<long long>(h.physics_late));
   if (h.pose_to_visible_frames_max >= 0)
     ImGui::Text("pose to visible: cut %d sim frames (max)", h.pose_to_visible_frames_max);
   else

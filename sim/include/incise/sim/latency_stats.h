@@ -70,9 +70,9 @@ struct LatencySummary {
   std::int64_t overrun_misses = 0;
   std::int64_t preempted_misses = 0;
   std::int64_t late_wakeup_misses = 0;
-  // A simulated tissue's physics (recordPhysicsStep: one sample per frame that stepped it): the frame's
-  // physics time, the frames that stepped it, and those whose physics alone took longer than the frame's
-  // period (the physics could not keep its rate inside the frame).
+  // A simulated tissue's physics (recordPhysicsStep: one sample per step on its own thread, or per frame
+  // that stepped it inline): the step's time, the samples, and those late (threaded: finished more than a
+  // physics period after they were due; inline: the frame's physics alone took longer than its period).
   SampleSummary physics_step_us;
   std::int64_t physics_frames = 0;
   std::int64_t physics_late = 0;
@@ -91,8 +91,8 @@ class LatencyStats {
   // Sim thread: a cut became visible `frames` frames after the frame its pose arrived in (>= 0; simulation.h
   // says which pose). Once per cut, in the frame it became visible. O(1), never allocates.
   void recordPoseToVisible(int frames) noexcept;
-  // Sim thread: a frame stepped the tissue's physics for `us` (late: longer than the frame's period). O(1),
-  // never allocates (samples past the capacity are counted, not stored).
+  // Sim thread (or its owner after the physics thread ended): the tissue's physics stepped for `us`, late or
+  // not (LatencySummary). O(1), never allocates (samples past the capacity are counted, not stored).
   void recordPhysicsStep(double us, bool late) noexcept;
 
   // Forgets every frame; keeps the reserved capacity. No allocation.

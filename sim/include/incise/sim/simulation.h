@@ -69,6 +69,9 @@ struct Snapshot {
   StepProfile profile;
   std::int64_t deadline_misses = 0;  // frames so far that missed their deadline
   std::int64_t frame_start_ns = 0;   // steady_clock time this frame began (a reader's latency on screen)
+  // A simulated tissue: steps made due by this frame's time, steps the physics has finished, and those
+  // finished late (TissuePhysics::lateSteps); 0 without one.
+  std::int64_t physics_steps_due = 0, physics_steps_done = 0, physics_late = 0;
 };
 
 // Also a devices::PoseSink: a live source (devices::HidPoseSource) pushes into the pose queue directly.
@@ -87,7 +90,9 @@ class Simulation final : public devices::PoseSink {
   // 2. World::updateTool, the haptic part alone (contact against the world's ContactProxy, force) ->
   // ForceSink (timed: haptic_us); 3. World::cut at the frame's time: the poses' stroke samples and all the
   // cutting work, under the budget (timed: cut_us); 3b. a simulated tissue's World::stepPhysics at the
-  // frame's time (timed, when it stepped: LatencyStats::recordPhysicsStep); 4. when a GeometryStream is attached, the frame's mesh
+  // frame's time: with its physics thread running (startPhysicsThread) the due steps are only handed over,
+  // inline they are taken here (timed, when it stepped: LatencyStats::recordPhysicsStep); 4. when a
+  // GeometryStream is attached, the frame's mesh
   // changes into it (timed: geometry_us; geometry_stream.h), then publish the Snapshot (timed: publish_us);
   // 5. record the frame in LatencyStats (a deadline missed by the frame's own time over the period is an
   // overrun, one missed by starting late a late wake-up). Frame k's time is t0 + k * period: simulated,
@@ -103,8 +108,16 @@ class Simulation final : public devices::PoseSink {
   // Before the first frame: a frame takes only the queued poses whose time is at most its own (a later one
   // waits for its frame), so each pose is handled in the frame of its time however early it was pushed.
   // A real-time replay of a simulated tissue feeds poses a few frames early with this on, so that its cuts
-  // reach the physics in the same frames as a fast replay's. Off by default (a pose is handled when it comes).
+  // are made in the same frames as a fast replay's and so reach the same physics steps (a pose handled a
+  // frame late can move its cut past a step's time, which changes the tissue's motion). Off by default (a
+  // pose is handled when it comes).
   void holdPosesToTheirFrame(bool on) noexcept { hold_ = on; }
+  // Before the first frame: a simulated tissue steps on its own thread from now on (TissuePhysics::
+  // startThread; allocates); the frame only hands the due steps over. No-op without a simulated tissue.
+  void startPhysicsThread(PhysicsThreadOptions options);
+  // After the last frame, on the owner's thread: waits for the physics thread to take every step handed to
+  // it, ends it, and records its steps' times into the statistics (physics_step_us, physics_late).
+  void finishPhysics();
   // Before the first frame: push every frame's timings into `queue` (one reader thread pops them). nullptr
   // detaches. The queue must outlive the simulation's frames.
   void attachTimes(FrameTimesQueue* queue) noexcept { times_ = queue; }
@@ -194,6 +207,9 @@ struct ReplayOptions {
   // Real time only. While *pause is true no frame runs (the simulated time stands still) and no pose is
   // released; afterwards every pose comes that much later, so the frames see the same poses. nullptr: none.
   const std::atomic<bool>* pause = nullptr;
+  // Test hook: called on the physics thread before each step k of a simulated tissue (e.g. to slow it
+  // down: PhysicsThreadOptions::before_step). Empty: none.
+  std::function<void(std::int64_t step)> physics_before_step;
   // Real time only: wall-clock speed (the loop's period is period_us / speed, poses come at their times /
   // speed); the simulated frames, and so the outputs, are the same. In [0.01, 100].
   double speed = 1.0;

@@ -1,28 +1,52 @@
 // The simulated tissue in the world: the physics module's finite-element model (physics/tissue_model.h) on
 // the tet cutter's tets, fed the cutter's change journal and stepped at a fixed rate of simulated time.
-// World owns it (a tissue with `material`); the sim thread does everything here, inside the frame.
+// World owns it (a tissue with `material`). It steps either on the calling thread (advance() takes the due
+// steps itself: World::step, tests, bindings) or, between startThread() and stopThread(), on a physics thread
+// of its own (Simulation's replays and live sessions): then advance() only hands each due step over and the
+// sim thread never waits for a step.
 //
 // Stepping: step k (k = 1, 2, ...) is due at t_first + k / rate_hz, t_first the time of the first frame
-// advance() saw; advance(t_s) takes every step due at or before t_s, each of 1 / rate_hz. It depends on the
-// frames' simulated times only, never on a clock: `replay --fast` and a real-time replay give the same bytes.
-// Cuts: collect() reads the cutter's journal past what it read before (the journal may be shared with a
-// geometry stream that clears it: journalCleared()), and advance() applies what was collected before its
-// steps, in the frame the cut was made (physics/cut_changes.h).
+// advance() saw; advance(t_s) makes every step due at or before t_s, each of 1 / rate_hz. Cuts: collect()
+// reads the cutter's journal past what it read before (the journal may be shared with a geometry stream that
+// clears it: journalCleared()) into a change buffer; the changes collected before step k became due are
+// applied right before step k (physics/cut_changes.h), on whichever thread steps. So step k's inputs are the
+// cuts of the frames up to its time, whatever the clock: `replay --fast`, a real-time replay and an inline
+// run give the same bytes.
 //
-// Units: SI (m, s, Hz). Threads: the sim thread. Cost: advance() O(changes) + a step per due tick (a step
-// is O(elements + CG iterations x matrix entries): docs/benchmarks.md). Allocation: the model and the
-// change buffer at construction; none after, within their reserves (growth is counted in
-// PhysicsCounters::reserve_overflows). Failure: the constructor throws std::invalid_argument (a bad
-// material, a boundary that holds no node: the model's message); collect() and advance() never throw.
+// The handoff (threaded): per due step one message {step, change buffer or none, wall time due} into a
+// fixed SPSC queue (kQueuedSteps), the change buffer one of kChangeSlots reserved at startThread() and given
+// back by the physics thread once applied. Neither end allocates or locks. When the handoff is full the sim
+// thread either waits (PhysicsThreadOptions::wait_for_room: fast replays, never in real time) or does not:
+// a full queue holds the step back to go with the next one, a missing free buffer leaves the changes to go
+// with a later step (counted: PhysicsCounters::deferred; only then can a real-time run differ from a fast
+// one). A step is late (PhysicsCounters::late) when it finished more than one physics period of wall time
+// (1 / rate_hz x wall_per_simulated_s) after the frame that made it due handed it over (never in a fast
+// replay: wall_per_simulated_s 0).
+//
+// Units: SI (m, s, Hz). Threads: the owner (the sim thread) calls everything but the hook; between
+// startThread() and stopThread() the model, its readers (model(), deformedSurface(), deform(),
+// positionsHash()) and counters() belong to the physics thread: read them after stopThread(); stepsDone()
+// and lateSteps() may be read from any thread, latestState() from one reader thread (a triple buffer the
+// physics thread publishes the node positions into after every step). Cost: advance() O(changes) + a step per due tick inline (a
+// step is O(elements + CG iterations x matrix entries): docs/benchmarks.md), O(1) per due tick threaded.
+// Allocation: the model and the change buffers at construction and startThread(); none after, within their
+// reserves (growth is counted in PhysicsCounters::reserve_overflows), on either thread. Failure: the
+// constructor throws std::invalid_argument (a bad material, a boundary that holds no node: the model's
+// message), startThread() std::system_error (no thread); collect() and advance() never throw.
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "incise/physics/cut_changes.h"
 #include "incise/physics/embedding.h"
 #include "incise/physics/material.h"
+#include "incise/sim/triple_buffer.h"
 #include "incise/tets/tet_mesh.h"
 
 // No OpenMesh in sim's public headers: the model (physics/tissue_model.h) and the surface through pointers.
@@ -56,6 +80,36 @@ struct PhysicsCounters {
   std::int64_t reserve_overflows = 0;  // growth past the model's or the change buffer's reserve
   std::int64_t failed_applies = 0;     // applies that ran out of memory (their changes are lost)
   int max_inverted = 0;                // the most inverted elements at the start of a step
+  // Threaded only: steps finished more than a physics period of wall time after they became due, and cut
+  // changes that reached the model at a later step than theirs because the handoff was full (the only way a
+  // real-time run's bytes can differ from a fast one's).
+  std::int64_t late = 0;
+  std::int64_t deferred = 0;
+};
+
+// How the physics thread runs (TissuePhysics::startThread).
+struct PhysicsThreadOptions {
+  // The handoff full (the thread behind): advance() waits for room (a fast replay, whose caller may wait)
+  // instead of deferring the changes. Never for a run against the clock.
+  bool wait_for_room = false;
+  // Wall seconds per simulated second (1 / a replay's speed); 0: not against the clock (a fast replay), no
+  // step is late.
+  double wall_per_simulated_s = 1.0;
+  // Test hook: called on the physics thread before step k (e.g. to slow it down). Empty: none.
+  std::function<void(std::int64_t step)> before_step;
+};
+
+// The model's state after a step, as the physics thread publishes it (TissuePhysics::latestState).
+struct PhysicsState {
+  std::int64_t step = 0;             // the step it is after (0: none yet)
+  std::size_t nodes = 0;             // x_m[0, nodes) are the model's nodes' positions
+  std::vector<Eigen::Vector3d> x_m;  // sized once (the model's nodes and the cuts' reserve), never grown
+};
+
+// A threaded step's wall time (us) and whether it was late; one per step, in step order.
+struct PhysicsStepTime {
+  float us = 0.0f;
+  bool late = false;
 };
 
 class TissuePhysics {
@@ -68,8 +122,31 @@ class TissuePhysics {
   void collect(const tets::TetCutter& cutter) noexcept;
   // The journal was cleared by its owner: read it from its start next time.
   void journalCleared() noexcept { read_nodes_ = read_base_tets_ = 0; }
-  // Applies the collected changes, then takes every step due at or before t_s. Returns the steps taken.
+  // Every step due at or before t_s, each after the changes collected before it became due: taken here
+  // (inline), or handed to the physics thread (threaded). Returns the steps made due by this call.
   int advance(double t_s) noexcept;
+
+  // Starts the physics thread (allocates the change buffers, the queue and the thread). Not running.
+  void startThread(PhysicsThreadOptions options);
+  // Waits until the physics thread has taken every step handed to it, then ends it: the model is the
+  // caller's again and later advance() calls step inline. The caller's thread, never the frame's (it
+  // waits). Returns at once when no thread runs.
+  void stopThread();
+  bool threaded() const noexcept { return worker_ != nullptr; }
+  // Threaded: the newest state the physics thread published (after each step), never waiting for it;
+  // nullptr before the first. One reader thread (the owner's or another). Valid until its next call.
+  const PhysicsState* latestState() noexcept;
+  // Steps made due so far (the owner's thread).
+  std::int64_t stepsDue() const noexcept { return next_step_ - 1; }
+  // Steps finished so far (either way), and those late: any thread, never blocks.
+  std::int64_t stepsDone() const noexcept { return steps_done_.load(std::memory_order_acquire); }
+  std::int64_t lateSteps() const noexcept { return late_.load(std::memory_order_relaxed); }
+  // Every threaded step's time so far, in step order (read after stopThread(); up to kStoredStepTimes).
+  std::span<const PhysicsStepTime> stepTimes() const noexcept { return step_times_; }
+  void clearStepTimes() noexcept { step_times_.clear(); }
+  static constexpr std::size_t kQueuedSteps = 16384;       // 164 s of simulated time at 100 Hz
+  static constexpr std::size_t kChangeSlots = 4;           // change buffers: one filling, three in flight
+  static constexpr std::size_t kStoredStepTimes = 262144;  // 44 min at 100 Hz (2 MB)
 
   // The surface's vertices embedded in the tets at rest (the surface's positions are the tets' rest: both
   // are the cut as the incision left it), each on its own side of every cut: the side of the tet holding a
@@ -92,17 +169,38 @@ class TissuePhysics {
   // The model (include incise/physics/tissue_model.h to use it).
   const physics::TissueModel& model() const noexcept { return *model_; }
   physics::TissueModel& model() noexcept { return *model_; }
-  const PhysicsCounters& counters() const noexcept { return counters_; }
+  // The model's counters and the handoff's (after stopThread() when threaded).
+  PhysicsCounters counters() const noexcept;
 
  private:
+  struct Worker;
+  struct StepMessage {
+    std::int64_t first_step = 0, last_step = 0;  // steps [first, last], the changes before the first
+    int slot = -1;                               // the change buffer to apply first; -1: none
+    std::int64_t due_ns = 0;                     // steady clock when the first became due
+  };
+  void applyChanges(physics::CutChanges& changes) noexcept;  // the stepping thread
+  void stepOnce() noexcept;                                  // the stepping thread
+  void handOver(std::int64_t step, std::int64_t due_ns) noexcept;
+  bool pushMessage(const StepMessage& m) noexcept;
+  void runWorker() noexcept;  // the physics thread's loop
+
   PhysicsOptions options_;
   std::unique_ptr<physics::TissueModel> model_;
-  physics::CutChanges changes_;
+  // The change buffers: slots_[collecting_] is the one collect() fills (only slot 0 until startThread()).
+  std::array<physics::CutChanges, kChangeSlots> slots_;
+  std::size_t collecting_ = 0;
   std::size_t read_nodes_ = 0, read_base_tets_ = 0;
   bool started_ = false;
   double t_first_s_ = 0.0;
   std::int64_t next_step_ = 1;
+  // The stepping thread's counters (the model's), and the owner's (collect() and the handoff).
   PhysicsCounters counters_;
+  std::int64_t collect_failed_ = 0, collect_overflows_ = 0, deferred_ = 0;
+  std::atomic<std::int64_t> steps_done_{0}, late_{0};
+  std::vector<PhysicsStepTime> step_times_;             // the physics thread's; reserved kStoredStepTimes
+  std::unique_ptr<TripleBuffer<PhysicsState>> states_;  // made by startThread(): the physics thread writes
+  std::unique_ptr<Worker> worker_;
 };
 
 }  // namespace incise::sim

@@ -1,8 +1,10 @@
 // The simulated world: the tissue (a surface mesh, and with `tets` a tet mesh too, cut by local DFFD
 // incisions, paper §4; with `physics` the tets are simulated, tissue_physics.h) and the scalpel, advanced one
 // frame at a time by the sim thread in calls that the caller times apart without the world reading a clock:
-// updateTool() (the haptic part), cut() (the cut phase), then stepPhysics() (a simulated tissue's steps). The cut depends only on the pose samples and their order, never on which frame handled them: a
-// trace replayed as fast as possible or in real time gives the same geometry (ARCHITECTURE.md, "One frame").
+// updateTool() (the haptic part), cut() (the cut phase), then stepPhysics() (a simulated tissue's steps,
+// inline or handed to its physics thread). The cut depends only on the pose samples and their order, never on
+// which frame handled them: a trace replayed as fast as possible or in real time gives the same geometry
+// (ARCHITECTURE.md, "One frame").
 //
 // Units: metres, seconds, newtons. The blade points along the tool's local -z axis (the tip is the pose
 // position) and its cutting edge faces the local +x axis (the stroke direction at first contact).
@@ -166,12 +168,15 @@ class World {
   // would make that depend on the machine's speed too.
   incision::CutStep cut(
       double t_s, core::WorkBudget::Clock::time_point deadline = core::WorkBudget::Clock::time_point::max()) noexcept;
-  // The simulated tissue's part of the frame, after cut(): the tets' changes cut() collected applied to the
-  // model, then every physics step due at t_s (tissue_physics.h). Returns the steps taken (0 without a
-  // simulated tissue). Never throws.
+  // The simulated tissue's part of the frame, after cut(): every physics step due at t_s, each after the
+  // tets' changes cut() collected before it (tissue_physics.h): taken here, or handed to the physics thread
+  // when one runs (TissuePhysics::startThread). Returns the steps made due (0 without a simulated tissue).
+  // Never throws.
   int stepPhysics(double t_s) noexcept { return physics_ ? physics_->advance(t_s) : 0; }
-  // The simulated tissue; nullptr unless options.physics.enabled.
+  // The simulated tissue; nullptr unless options.physics.enabled. The mutable one starts and stops its
+  // thread (Simulation's replays and live sessions).
   const TissuePhysics* physics() const noexcept { return physics_.get(); }
+  TissuePhysics* physics() noexcept { return physics_.get(); }
   // Cutting work left for later frames: queued poses, an incision waiting to begin, or columns not cut.
   bool pending() const noexcept;
   // Poses the haptic part took (HapticState::poses) that the cut phase has not handled yet: how far the cut

@@ -67,6 +67,9 @@ struct HudFigures {
   double cut_budget_used = 0.0;      // cut p99 / cut_budget_us
   double force_N = 0.0;
   int incisions = 0;
+  // A simulated tissue (the newest snapshot's; all 0 without one): physics steps due by the sim's time,
+  // finished by the physics thread, and finished late (more than a physics period after they were due).
+  std::int64_t physics_steps_due = 0, physics_steps_done = 0, physics_late = 0;
   int pose_to_visible_frames_max = -1;  // sim frames, over the window (-1: no cut became visible in it)
   // A snapshot's frame start -> the first display frame showing it, over the snapshots of the window (those
   // whose frame began within the window before the newest one's), and over the whole run; the maxima also
