@@ -206,7 +206,7 @@ double Incision::sampleDepth(const StrokeSample& sample) const noexcept {
 void Incision::startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction) {
   blade_direction_ = blade_direction.normalized();
   last_sample_ = first;
-  addStation({first.point_m, first.normal.normalized(), first.time_s, sampleDepth(first)});
+  addStation({first.point_m, first.normal.normalized(), first.time_s, sampleDepth(first), first.through});
   to_next_station_m_ = options_.spacing_m;
 }
 
@@ -250,7 +250,8 @@ SampleStatus Incision::extend(const StrokeSample& sample) noexcept {
     addStation({last_sample_.point_m + f * step,
                 normal.norm() > 1e-12 ? normal.normalized() : sample.normal.normalized(),
                 last_sample_.time_s + f * (sample.time_s - last_sample_.time_s),
-                (1.0 - f) * sampleDepth(last_sample_) + f * sampleDepth(sample)});
+                (1.0 - f) * sampleDepth(last_sample_) + f * sampleDepth(sample),
+                f < 0.5 ? last_sample_.through : sample.through});
     along_m += options_.spacing_m;
   }
   to_next_station_m_ = along_m - length_m;
@@ -328,6 +329,12 @@ int Incision::finalColumns() const noexcept {
 double Incision::finalEndV() const noexcept { return static_cast<double>(finalColumns()); }
 
 double Incision::startV() const noexcept { return (options_.order - 1) + 0.5 * options_.order; }
+
+bool Incision::throughAt(double v) const noexcept {
+  if (stations_.empty() || !std::isfinite(v)) return false;
+  const double s = std::clamp(std::round(v - startV()), 0.0, static_cast<double>(stationCount() - 1));
+  return stations_[static_cast<size_t>(s)].through;
+}
 
 double Incision::lastStationV() const noexcept { return startV() + (stationCount() - 1); }
 

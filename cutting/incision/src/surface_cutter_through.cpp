@@ -68,7 +68,7 @@ bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
   through_last_ = false;
   if (!(want_m > kFloorOfThickness * thickness_m)) return false;
   if (want_m >= thickness_m) {
-    through_last_ = true;
+    through_last_ = sample.through = true;
     last_through_ = ThroughSample{sample.point_m, sample.normal, want_m, thickness_m};
   }
   sample.depth_m = std::max(o.min_depth_m, kFloorOfThickness * thickness_m);

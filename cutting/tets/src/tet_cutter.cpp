@@ -360,8 +360,10 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
 
 bool TetCutter::insideCut(const incision::Incision& in, const Eigen::Vector3d& uvw) const {
   // As SurfaceCutter::splitCrossings: after the stroke's start, above the blade's depth, up to the last
-  // station once finished.
-  const double w_limit = in.bottomW() - 0.05 * (in.bottomW() - in.surfaceW());
+  // station once finished. Where the blade went through the tissue (the surface's groove stops short of
+  // the far side and the surface cutter cuts through it), down through the whole lattice, which reaches
+  // the far side there (its rows scale with the floor's depth, kept at 0.8 of the thickness).
+  const double w_limit = in.throughAt(uvw[1]) ? 1.0 : in.bottomW() - 0.05 * (in.bottomW() - in.surfaceW());
   return uvw[1] >= in.startV() && uvw[2] <= w_limit && (!in.finished() || uvw[1] <= in.lastStationV());
 }
 

@@ -2,12 +2,18 @@
 // free is a closed piece of its own with its volume.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <vector>
 
+#include "incise/core/union_find.h"
 #include "incise/incision/surface_cutter.h"
 #include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
 #include "incise/mesh/solid.h"
+#include "incise/tets/tet_cutter.h"
+#include "incise/tets/tetrahedralize.h"
 #include "stroke_fixture.h"
 
 using namespace incise;
@@ -124,4 +130,62 @@ TEST_CASE("A stroke that stays above the far side cuts nothing through", "[surfa
   CHECK(f.through_samples == 0);
   CHECK(f.through == ThroughCut::None);
   requireValidSolid(tissue, 2);
+}
+
+namespace {
+
+// The tets' pieces (tets joined through shared nodes) and their volumes at rest, largest first.
+std::vector<double> tetPieceVolumes(const tets::TetMesh& m) {
+  std::vector<int> storage;
+  core::detail::UnionFind sets(storage, m.nodes_m.size());
+  for (const auto& t : m.tets)
+    for (int i = 1; i < 4; ++i) sets.unite(t[0], t[static_cast<std::size_t>(i)]);
+  std::map<int, double> by_root;
+  for (const auto& t : m.tets) {
+    const auto& a = m.nodes_m[static_cast<std::size_t>(t[0])];
+    by_root[sets.find(t[0])] += (m.nodes_m[static_cast<std::size_t>(t[1])] - a)
+                                    .cross(m.nodes_m[static_cast<std::size_t>(t[2])] - a)
+                                    .dot(m.nodes_m[static_cast<std::size_t>(t[3])] - a) /
+                                6.0;
+  }
+  std::vector<double> out;
+  for (const auto& [root, volume] : by_root) out.push_back(volume);
+  std::sort(out.rbegin(), out.rend());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("The tets follow a cut through the slab: two pieces with the halves' volumes", "[surface_cutter][through]") {
+  mesh::SurfaceMesh tissue = slab();
+  tets::TetrahedralizeOptions o;
+  o.max_volume_m3 = 2e-9;
+  const tets::TetMesh volume = tets::tetrahedralize(tissue, o);
+  const CutterOptions options = throughOptions();
+  SurfaceCutter cutter(tissue, options);
+  tets::TetCutter follower(volume, tets::TetCutterOptions{});
+  const double z_m = 0.0003;
+  const Stroke stroke = strokeAcross(tissue, -0.0199, 0.0199, z_m, 0.004, 0.004);
+  cutter.begin(stroke.first, stroke.blade_direction);
+  for (const StrokeSample& s : stroke.samples) {
+    cutter.extend(s);
+    follower.follow(*cutter.incision(), cutter.stats().incisions);
+  }
+  cutter.finish();
+  cutter.settle();
+  follower.follow(*cutter.incision(), cutter.stats().incisions, tets::TetBudget::All);
+  REQUIRE_FALSE(follower.pending());
+  INFO(follower.stats().failure);
+  REQUIRE(follower.stats().failure.empty());
+  const tets::TetView rest = follower.view(tets::TetShape::Rest);
+  REQUIRE(rest.inverted_tets == 0);
+  const std::vector<double> pieces = tetPieceVolumes(rest.mesh);
+  REQUIRE(pieces.size() == 2);
+  // The tets are split on the cut's plane (no kerf), whose nodes within the snap tolerance lie on it: the
+  // halves to within that, and together the whole slab.
+  INFO("snap tolerance " << follower.snapToleranceM() << " m");
+  const double slice_m3 = follower.snapToleranceM() * kSideM * kSlabM;
+  CHECK(std::abs(pieces[0] - (0.5 * kSideM + z_m) * kSideM * kSlabM) <= slice_m3);
+  CHECK(std::abs(pieces[1] - (0.5 * kSideM - z_m) * kSideM * kSlabM) <= slice_m3);
+  CHECK(pieces[0] + pieces[1] == Approx(kSideM * kSideM * kSlabM).epsilon(1e-9));
 }

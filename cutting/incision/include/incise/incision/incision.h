@@ -49,6 +49,7 @@ struct StrokeSample {
   Eigen::Vector3d normal;
   double time_s = 0.0;
   double depth_m = -1.0;  // the blade tip's depth below point_m along -normal (at rest); < 0: options' depth_m
+  bool through = false;   // the tip passed the tissue's far side (the caller's measure: SurfaceCutter's)
 };
 
 enum class SampleStatus : std::uint8_t {
@@ -143,6 +144,8 @@ class Incision {
   // The parameter range whose F0 is final: v < finalEndV().
   double finalEndV() const noexcept;
   // v of the stroke's first station, and of its last one (the cut's end once finished).
+  // Whether the blade went through the tissue at parameter v (the station nearest v: StrokeSample::through).
+  bool throughAt(double v) const noexcept;
   double startV() const noexcept;
   double lastStationV() const noexcept;
   // The groove's floor below the newest station (m; the blade's depth there, clamped), 0 before the first.
@@ -180,6 +183,7 @@ class Incision {
     Eigen::Vector3d point, normal;
     double time_s;
     double depth_m;  // clamped to [min_depth_m, depth_m]
+    bool through;    // the nearer sample's StrokeSample::through
   };
   struct Frame {  // zero until the column is first written, the same in a new and a restarted incision
     Eigen::Vector3d g = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
