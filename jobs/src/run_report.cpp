@@ -100,6 +100,7 @@ nlohmann::json tetsReport(const tets::TetCutter& tets, const tets::TetView& defo
           {"min_split_volume_m3", finite(deformed.min_split_volume_m3)},
           {"inverted_tets", deformed.inverted_tets},
           {"tets_cut", stats.tets_cut},
+          {"piece_volumes_m3", tets::pieceVolumes(deformed.mesh)},
           {"edge_points", stats.edge_points},
           {"duplicated_nodes", stats.duplicated_nodes},
           {"snapped_nodes", stats.snapped_nodes},

@@ -1,5 +1,7 @@
 #include "incise/tets/tet_cutter.h"
 
+#include "incise/incision/surface_cutter.h"
+
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -361,10 +363,16 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
 bool TetCutter::insideCut(const incision::Incision& in, const Eigen::Vector3d& uvw) const {
   // As SurfaceCutter::splitCrossings: after the stroke's start, above the blade's depth, up to the last
   // station once finished. Where the blade went through the tissue (the surface's groove stops short of
-  // the far side and the surface cutter cuts through it), down through the whole lattice, which reaches
-  // the far side there (its rows scale with the floor's depth, kept at 0.8 of the thickness).
-  const double w_limit = in.throughAt(uvw[1]) ? 1.0 : in.bottomW() - 0.05 * (in.bottomW() - in.surfaceW());
-  return uvw[1] >= in.startV() && uvw[2] <= w_limit && (!in.finished() || uvw[1] <= in.lastStationV());
+  // the far side and the surface cutter cuts through it), down the whole lattice (its rows scale with the
+  // floor's depth, 0.8 of the thickness, so it reaches the far side where the thickness is the least of the
+  // neighbourhood's, not where a rim thins it: there a bridge of tets can stay), and as far beyond a through
+  // end as the surface's kerf reaches.
+  const double v = uvw[1];
+  const double reach = incision::SurfaceCutter::kKerfReachSpacings;  // in spacings: v's units
+  const double first_v = in.startV() - (in.throughAt(in.startV()) ? reach : 0.0);
+  const double last_v = in.lastStationV() + (in.throughAt(in.lastStationV()) ? reach : 0.0);
+  const double w_limit = in.throughAt(v) ? 1.0 : in.bottomW() - 0.05 * (in.bottomW() - in.surfaceW());
+  return v >= first_v && uvw[2] <= w_limit && (!in.finished() || v <= last_v);
 }
 
 Eigen::Vector3d TetCutter::crossingUvw(int a, int b, double& lambda) const {

@@ -1,9 +1,11 @@
 #include "incise/tets/tet_mesh.h"
 #include "incise/core/atomic_file.h"
 #include "incise/core/format.h"
+#include "incise/core/union_find.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -154,6 +156,26 @@ double volume(const TetMesh& mesh) {
   double sum = 0;
   for (size_t t = 0; t < mesh.tets.size(); ++t) sum += tetVolume(mesh, static_cast<int>(t));
   return sum;
+}
+
+std::vector<double> pieceVolumes(const TetMesh& mesh) {
+  requireValidIndices(mesh);
+  std::vector<int> storage;
+  core::detail::UnionFind sets(storage, mesh.nodes_m.size());
+  for (const auto& t : mesh.tets)
+    for (size_t i = 1; i < 4; ++i) sets.unite(t[0], t[i]);
+  std::vector<double> by_root(mesh.nodes_m.size(), 0.0);
+  std::vector<std::uint8_t> used(mesh.nodes_m.size(), 0);
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto root = static_cast<size_t>(sets.find(mesh.tets[t][0]));
+    by_root[root] += tetVolume(mesh, static_cast<int>(t));
+    used[root] = 1;
+  }
+  std::vector<double> out;
+  for (size_t n = 0; n < by_root.size(); ++n)
+    if (used[n]) out.push_back(by_root[n]);
+  std::sort(out.rbegin(), out.rend());
+  return out;
 }
 
 double minDihedralAngleDeg(const TetMesh& mesh) {

@@ -4,10 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <vector>
 
-#include "incise/core/union_find.h"
 #include "incise/incision/surface_cutter.h"
 #include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
@@ -132,30 +130,6 @@ TEST_CASE("A stroke that stays above the far side cuts nothing through", "[surfa
   requireValidSolid(tissue, 2);
 }
 
-namespace {
-
-// The tets' pieces (tets joined through shared nodes) and their volumes at rest, largest first.
-std::vector<double> tetPieceVolumes(const tets::TetMesh& m) {
-  std::vector<int> storage;
-  core::detail::UnionFind sets(storage, m.nodes_m.size());
-  for (const auto& t : m.tets)
-    for (int i = 1; i < 4; ++i) sets.unite(t[0], t[static_cast<std::size_t>(i)]);
-  std::map<int, double> by_root;
-  for (const auto& t : m.tets) {
-    const auto& a = m.nodes_m[static_cast<std::size_t>(t[0])];
-    by_root[sets.find(t[0])] += (m.nodes_m[static_cast<std::size_t>(t[1])] - a)
-                                    .cross(m.nodes_m[static_cast<std::size_t>(t[2])] - a)
-                                    .dot(m.nodes_m[static_cast<std::size_t>(t[3])] - a) /
-                                6.0;
-  }
-  std::vector<double> out;
-  for (const auto& [root, volume] : by_root) out.push_back(volume);
-  std::sort(out.rbegin(), out.rend());
-  return out;
-}
-
-}  // namespace
-
 TEST_CASE("The tets follow a cut through the slab: two pieces with the halves' volumes", "[surface_cutter][through]") {
   mesh::SurfaceMesh tissue = slab();
   tets::TetrahedralizeOptions o;
@@ -179,7 +153,7 @@ TEST_CASE("The tets follow a cut through the slab: two pieces with the halves' v
   REQUIRE(follower.stats().failure.empty());
   const tets::TetView rest = follower.view(tets::TetShape::Rest);
   REQUIRE(rest.inverted_tets == 0);
-  const std::vector<double> pieces = tetPieceVolumes(rest.mesh);
+  const std::vector<double> pieces = tets::pieceVolumes(rest.mesh);
   REQUIRE(pieces.size() == 2);
   // The tets are split on the cut's plane (no kerf), whose nodes within the snap tolerance lie on it: the
   // halves to within that, and together the whole slab.

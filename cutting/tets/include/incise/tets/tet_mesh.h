@@ -50,6 +50,10 @@ double tetMinDihedralAngleDeg(const TetMesh& mesh, int tet);
 // Sum of the signed tet volumes (m^3). O(T).
 double volume(const TetMesh& mesh);
 
+// The volumes (m^3) of the mesh's pieces (tets joined through shared nodes), largest first: a tissue cut
+// through falls into several. O(T).
+std::vector<double> pieceVolumes(const TetMesh& mesh);
+
 // Smallest interior dihedral angle over all tets, in degrees (180 for an empty mesh; 0 for a flat tet).
 // O(T).
 double minDihedralAngleDeg(const TetMesh& mesh);
