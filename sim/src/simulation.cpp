@@ -126,6 +126,40 @@ int Simulation::takePoses(double t_s) noexcept {
   return count;
 }
 
+// The frame's snapshot for the readers (viewer, HUD), published through the triple buffer.
+void Simulation::publishSnapshot(std::int64_t frame, double t_s, const HapticState& haptic, int poses, double haptic_us,
+                                 double cut_us, std::int64_t start_ns) noexcept {
+  const incision::SurfaceCutter& cutter = world_.cutter();
+  Snapshot& s = snapshots_.writeSlot();
+  s.frame = frame;
+  s.t_s = t_s;
+  s.haptic = haptic;
+  s.incisions = world_.incisions();
+  s.columns_final = cutter.columnsFinal();
+  s.columns_done = cutter.columnsDone();
+  s.edges_split = cutter.stats().edges_split;
+  s.seam_vertices_opened = cutter.stats().vertices_duplicated;
+  s.groove_depth_m = cutter.active() ? cutter.incision()->frontDepthM() : 0.0;
+  s.profile.haptic_us = haptic_us;
+  s.profile.cut_us = cut_us;
+  s.profile.poses = poses;
+  s.profile.queue_backlog = static_cast<int>(queue_.sizeApprox());
+  // A snapshot cannot hold its own publish time: it carries the previous frame's publish and frame times.
+  s.profile.publish_us = last_publish_us_;
+  s.profile.frame_us = last_frame_us_;
+  s.profile.geometry_us = last_geometry_us_;
+  s.deadline_misses = stats_->deadlineMisses();
+  s.frame_start_ns = start_ns;
+  if (const TissuePhysics* physics = world_.physics()) {
+    s.physics_steps_due = physics->stepsDue();
+    s.physics_steps_done = physics->stepsDone();
+    s.physics_late = physics->lateSteps();
+  }
+  const auto publish_start = Clock::now();
+  snapshots_.publish();
+  last_publish_us_ = microseconds(publish_start, Clock::now());
+}
+
 void Simulation::frame(const FrameInfo& info) noexcept {
   const std::int64_t cpu_start_ns = info.against_clock ? threadCpuNs() : -1;  // a system call: the clock only
   const auto start = Clock::now();
@@ -141,7 +175,6 @@ void Simulation::frame(const FrameInfo& info) noexcept {
 
   // The cut phase takes the poses and makes lattice columns final; remember when the oldest pose it handled
   // came (poses numbered in arrival order), to measure when the columns are cut.
-  const incision::SurfaceCutter& cutter = world_.cutter();
   // Against the clock the surface's budgeted work also stops at its share of cut_budget_us (work_budget.h);
   // not for a simulated tissue, whose model takes each cut in the frame it is made: where the work stops
   // would change its motion (it keeps to the inversion budget, as the tets do).
@@ -163,35 +196,9 @@ void Simulation::frame(const FrameInfo& info) noexcept {
   if (geometry_) geometry_->publish(world_, info.frame);
   const auto geometry_end = Clock::now();
 
-  Snapshot& s = snapshots_.writeSlot();
-  s.frame = info.frame;
-  s.t_s = t_s;
-  s.haptic = haptic;
-  s.incisions = world_.incisions();
-  s.columns_final = cutter.columnsFinal();
-  s.columns_done = cutter.columnsDone();
-  s.edges_split = cutter.stats().edges_split;
-  s.seam_vertices_opened = cutter.stats().vertices_duplicated;
-  s.groove_depth_m = cutter.active() ? cutter.incision()->frontDepthM() : 0.0;
-  s.profile.haptic_us = microseconds(start, haptic_end);
-  s.profile.cut_us = microseconds(haptic_end, cut_end);
-  s.profile.poses = count;
-  s.profile.queue_backlog = static_cast<int>(queue_.sizeApprox());
-  // A snapshot cannot hold its own publish time: it carries the previous frame's publish and frame times.
-  s.profile.publish_us = last_publish_us_;
-  s.profile.frame_us = last_frame_us_;
-  s.profile.geometry_us = last_geometry_us_;
-  s.deadline_misses = stats_->deadlineMisses();
-  s.frame_start_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count();
-  if (physics) {
-    s.physics_steps_due = physics->stepsDue();
-    s.physics_steps_done = physics->stepsDone();
-    s.physics_late = physics->lateSteps();
-  }
-  const auto publish_start = Clock::now();
-  snapshots_.publish();
+  publishSnapshot(info.frame, t_s, haptic, count, microseconds(start, haptic_end), microseconds(haptic_end, cut_end),
+                  std::chrono::duration_cast<std::chrono::nanoseconds>(start.time_since_epoch()).count());
   const auto end = Clock::now();
-  last_publish_us_ = microseconds(publish_start, end);
 
   FrameTiming timing;
   timing.haptic_us = microseconds(start, haptic_end);  // not from `s`: the reader owns that slot now

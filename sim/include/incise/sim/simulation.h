@@ -136,6 +136,8 @@ class Simulation final : public devices::PoseSink {
   void resetOnNewIncision() noexcept;
   int takePoses(double t_s) noexcept;
   void noteArrivals(int accepted, std::int64_t frame) noexcept;
+  void publishSnapshot(std::int64_t frame, double t_s, const HapticState& haptic, int poses, double haptic_us,
+                       double cut_us, std::int64_t start_ns) noexcept;  // sim thread
   void notePending(std::int64_t frame) noexcept;
   std::int64_t arrivalFrame(std::int64_t pose, std::int64_t frame) noexcept;
 
