@@ -152,6 +152,7 @@ void TetCutter::reserveHeadroom() {
   dirty_.reserve(kHeadroomNodes);
   for (auto* v : {&candidates_, &affected_, &cut_points_, &scratch_, &scratch2_, &parent_}) v->reserve(4096);
   fresh_.reserve(kHeadroomNodes);
+  waiting_.reserve(kHeadroomNodes);
   faces_.reserve(4096);
   group_seen_.reserve(4096);
 }
@@ -188,6 +189,7 @@ void TetCutter::startIncision(int incision_number) {
     cell.reserve(kReservedCellNodes);
   }
   stencil_basis_.reserve(kHeadroomNodes * 2 * static_cast<size_t>(incision_->stencilSize()));
+  waiting_.clear();
   ++stats_.incisions;
 }
 
@@ -250,6 +252,7 @@ bool TetCutter::processColumn(const incision::Incision& in, int column, core::Wo
     next_candidate_ = next_fresh_ = 0;
     next_fresh_tet_ = -1;
     node_grid_.query(in.columnBox(column), candidates_);  // the nodes under this column
+    retryWaiting();
   }
   // Nodes first: each one bound here becomes "fresh".
   for (; next_candidate_ < candidates_.size(); ++next_candidate_)
@@ -283,6 +286,13 @@ bool TetCutter::processColumn(const incision::Incision& in, int column, core::Wo
   for (const int x : cut_points_) separate(x);
   column_started_ = false;
   return true;
+}
+
+void TetCutter::retryWaiting() {
+  // A node that waits is tried at every column until it is bound or known to lie beyond the lattice, also
+  // once no later column's box holds it (else its tets would never be decided: a bridge at the cut's rim).
+  std::erase_if(waiting_, [this](int n) { return nodes_[static_cast<size_t>(n)].state != NodeState::Waiting; });
+  candidates_.insert(candidates_.end(), waiting_.begin(), waiting_.end());
 }
 
 bspline::InversionResult TetCutter::canonicalInversion(const incision::Incision& in, const Eigen::Vector3d& x,
@@ -320,9 +330,11 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
     return Resolve::Done;
   };
   if (guess[0] <= 0.0 || guess[0] >= 1.0 || guess[2] <= 0.0 || guess[2] >= 1.0) return outside();
-  if (guess[1] >= column + 1.5) {  // a later slab's node: not before that slab's column
+  // The last column of a finished incision: a node no inversion reached lies beyond the lattice.
+  const bool last_column = in.finished() && column + 1 >= in.finalColumns();
+  if (guess[1] >= column + 1.5 && !last_column) {  // a later slab's node: not before that slab's column
     touchNode(n);
-    d.state = NodeState::Waiting;
+    wait(n);
     d.retry = std::max(column + 1, static_cast<int>(std::floor(guess[1] - 1.5)) + 1);
     return Resolve::Later;
   }
@@ -354,10 +366,16 @@ TetCutter::Resolve TetCutter::resolveNode(const incision::Incision& in, int n, i
     return Resolve::Done;
   }
   // Still no convergence `order` columns after the slab the guess points to: beyond the lattice.
-  if (column >= guess[1] + in.options().order) return outside();
-  d.state = NodeState::Waiting;
+  if (column >= guess[1] + in.options().order || last_column) return outside();
+  wait(n);
   d.retry = column + 1;
   return Resolve::Later;
+}
+
+void TetCutter::wait(int n) {
+  Node& d = nodes_[static_cast<size_t>(n)];
+  if (d.state != NodeState::Waiting) waiting_.push_back(n);
+  d.state = NodeState::Waiting;
 }
 
 bool TetCutter::insideCut(const incision::Incision& in, const Eigen::Vector3d& uvw) const {

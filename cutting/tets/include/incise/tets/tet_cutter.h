@@ -200,6 +200,8 @@ class TetCutter {
   // (the same bits whatever the column); `found` if that does not converge there.
   bspline::InversionResult canonicalInversion(const incision::Incision& in, const Eigen::Vector3d& x, int column,
                                               const bspline::InversionResult& found) const;
+  void wait(int node);  // the node waits for a later column (waiting_)
+  void retryWaiting();  // the column's candidates gain the nodes still waiting
   bool decideCut(const incision::Incision& in, int tet);
   int edgePoint(int edge);
   Eigen::Vector3d crossingUvw(int a, int b, double& lambda) const;
@@ -224,7 +226,8 @@ class TetCutter {
   bool column_started_ = false;
   size_t next_candidate_ = 0, next_fresh_ = 0;
   int next_fresh_tet_ = -1;
-  std::vector<int> fresh_;  // nodes bound during the current column, in order
+  std::vector<int> fresh_;    // nodes bound during the current column, in order
+  std::vector<int> waiting_;  // nodes waiting for a later column, in the order they began to wait
   int last_final_columns_ = 0;
   std::vector<int> candidates_, affected_, cut_points_, scratch_, scratch2_, parent_;
   std::vector<std::array<int, 3>> faces_;  // separate(): (node, node, element) per face through the node
