@@ -6,10 +6,13 @@
 #include "incise/tets/tetrahedralize.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <semaphore>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace incise::sim {
 
@@ -60,6 +63,35 @@ void requireFineTets(const mesh::SurfaceMesh& tissue, const tets::TetCutter& tet
 
 }  // namespace
 
+// A thread that computes the surface cutter's through-cuts (SurfaceCutter::computeThrough: one CGAL
+// Boolean difference, O(mesh), allocating) while the sim thread goes on with its frames; the sim thread
+// applies the result in a later frame. post() wakes it (a semaphore's release: no wait, no allocation).
+class World::ThroughWorker {
+ public:
+  explicit ThroughWorker(incision::SurfaceCutter& cutter) : cutter_(cutter), thread_([this] { run(); }) {}
+  ~ThroughWorker() {
+    stop_.store(true, std::memory_order_release);
+    wake_.release();
+    thread_.join();
+  }
+  ThroughWorker(const ThroughWorker&) = delete;
+  ThroughWorker& operator=(const ThroughWorker&) = delete;
+  void post() noexcept { wake_.release(); }
+
+ private:
+  void run() {
+    while (true) {
+      wake_.acquire();
+      if (stop_.load(std::memory_order_acquire)) return;
+      cutter_.computeThrough();
+    }
+  }
+  incision::SurfaceCutter& cutter_;
+  std::counting_semaphore<> wake_{0};
+  std::atomic<bool> stop_{false};
+  std::thread thread_;  // last: started once the rest is built
+};
+
 World::World(mesh::SurfaceMesh tissue, const WorldOptions& options) : options_(options) {
   requireNonNegative(options.tissue.stiffness_N_per_m, "stiffness_N_per_m");
   requireNonNegative(options.tissue.damping_N_s_per_m, "damping_N_s_per_m");
@@ -77,6 +109,7 @@ World::World(mesh::SurfaceMesh tissue, const WorldOptions& options) : options_(o
   proxy_ = std::make_unique<ContactProxy>();
   tissue_ = std::make_unique<mesh::SurfaceMesh>(std::move(tissue));
   cutter_ = std::make_unique<incision::SurfaceCutter>(*tissue_, withBudget(options.cutter, options));
+  through_worker_ = std::make_unique<ThroughWorker>(*cutter_);
   if (options.physics.enabled && !options.tets.enabled)
     throw std::invalid_argument("World: a simulated tissue (physics) needs its tets (tets.enabled)");
   if (options.tets.enabled) {
@@ -92,7 +125,7 @@ World::World(mesh::SurfaceMesh tissue, const WorldOptions& options) : options_(o
   }
 }
 
-World::~World() = default;
+World::~World() { through_worker_.reset(); }
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
@@ -302,6 +335,10 @@ void World::refreshProxy() noexcept {
 
 incision::CutStep World::cut(double t_s, core::WorkBudget::Clock::time_point deadline) noexcept {
   cutter_->setDeadline(deadline);
+  // Against the clock a through-cut's Boolean runs on the worker (the frame goes on); else in the frame that
+  // makes it, at the same simulated time whatever the machine (a simulated tissue's motion depends on when
+  // the next incision begins).
+  cutter_->setThroughOnWorker(through_worker_ && deadline != core::WorkBudget::Clock::time_point::max());
   const std::size_t queued = queued_->sizeApprox();  // exact: this thread is both ends
   counters_.queue_peak = std::max(counters_.queue_peak, static_cast<int>(queued));
   const bool at_once = queued > kQueuedPoses / 2;  // the queue must not fill: do the waiting work now
@@ -316,6 +353,7 @@ incision::CutStep World::cut(double t_s, core::WorkBudget::Clock::time_point dea
     step = cutter_->advance(t_s);
     followTets(tets::TetBudget::PerCall);
   }
+  if (through_worker_ && cutter_->postThrough()) through_worker_->post();  // a through-cut to compute
   refreshProxy();  // again only when an incision began in this frame or PN refinement moved the skin
   collectTetChanges();
   if (step.deadline_hit) ++counters_.deadline_stops;

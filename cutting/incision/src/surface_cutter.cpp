@@ -256,6 +256,8 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
     step.failed = failed_;
     return step;
   }
+  // A through-cut outstanding: nothing else is done until it is applied (the worker reads the tissue).
+  if (!throughStep(unlimited_)) return step;
   try {
     // Column steps in order, each resumable: a call stops when its inversion budget is spent and the next
     // call carries on where it stopped, so the work done (and so the mesh) does not depend on the budget.
@@ -291,7 +293,8 @@ CutStep SurfaceCutter::process(CutStep step) noexcept {
   }
   stats_.seam_vertices = static_cast<int>(chain_.size());
   if (step.vertices_duplicated > 0) stats_.figures.back().groove_length_m = grooveLength();
-  if ((failed_ || allColumnsDone()) && !stats_.figures.back().done) diagnose();
+  const bool through_waits = through_state_.load(std::memory_order_acquire) != ThroughState::None;
+  if ((failed_ || allColumnsDone()) && !stats_.figures.back().done && !through_waits) diagnose();
   step.failed = failed_;
   return step;
 }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <thread>
 #include <vector>
 
 #include "incise/incision/surface_cutter.h"
@@ -19,23 +20,23 @@ using detail::VH;
 
 // The kerf: a thin box swept along `centres` (at rest, on the skin), its cross-section at each station a
 // rectangle across the stroke (`side`, kerf wide) from `top_m` above the skin down to `bottom_m[i]` along
-// `down`; closed by its two end rectangles, oriented outward.
-mesh::SurfaceMesh sweptKerf(const std::vector<Eigen::Vector3d>& centres, const std::vector<Eigen::Vector3d>& sides,
-                            const std::vector<double>& bottom_m, const Eigen::Vector3d& down, double top_m,
-                            double kerf_m) {
-  mesh::SurfaceMesh kerf;
+// `down`; closed by its two end rectangles, oriented outward. Appended to `solid` as a component of its own.
+void appendSweptKerf(mesh::SurfaceMesh& solid, const std::vector<Eigen::Vector3d>& centres,
+                     const std::vector<Eigen::Vector3d>& sides, const std::vector<double>& bottom_m,
+                     const Eigen::Vector3d& down, double top_m, double kerf_m) {
+  const int base = static_cast<int>(solid.mesh().n_vertices());
   const std::size_t n = centres.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d half = 0.5 * kerf_m * sides[i], top = centres[i] - top_m * down,
                           bottom = centres[i] + bottom_m[i] * down;
     for (const Eigen::Vector3d& p :
          std::array<Eigen::Vector3d, 4>{top - half, top + half, bottom + half, bottom - half})
-      kerf.addVertex(p);
+      solid.addVertex(p);
   }
   std::vector<std::array<int, 3>> faces;
-  const auto quad = [&faces](int a, int b, int c, int d) {
-    faces.push_back({a, b, c});
-    faces.push_back({a, c, d});
+  const auto quad = [&faces, base](int a, int b, int c, int d) {
+    faces.push_back({base + a, base + b, base + c});
+    faces.push_back({base + a, base + c, base + d});
   };
   for (int i = 0; i + 1 < static_cast<int>(n); ++i)
     for (int k = 0; k < 4; ++k) {
@@ -46,16 +47,14 @@ mesh::SurfaceMesh sweptKerf(const std::vector<Eigen::Vector3d>& centres, const s
   quad(3, 2, 1, 0);
   quad(last, last + 1, last + 2, last + 3);
   double volume = 0.0;
-  const mesh::TriMesh& m = kerf.mesh();
+  const mesh::TriMesh& m = solid.mesh();
   for (const auto& f : faces) {
     const Eigen::Vector3d a = mesh::toEigen(m.point(VH(f[0]))), b = mesh::toEigen(m.point(VH(f[1]))),
                           c = mesh::toEigen(m.point(VH(f[2])));
     volume += a.dot(b.cross(c));
   }
   for (const auto& f : faces)
-    volume > 0 ? kerf.addFace(VH(f[0]), VH(f[1]), VH(f[2])) : kerf.addFace(VH(f[0]), VH(f[2]), VH(f[1]));
-  kerf.mesh().update_normals();
-  return kerf;
+    volume > 0 ? solid.addFace(VH(f[0]), VH(f[1]), VH(f[2])) : solid.addFace(VH(f[0]), VH(f[2]), VH(f[1]));
 }
 
 }  // namespace
@@ -114,24 +113,73 @@ void SurfaceCutter::noteThrough() {
 
 void SurfaceCutter::cutThrough() {
   through_done_ = true;
-  IncisionFigures& figures = stats_.figures.back();
-  // Runs of through samples: a gap of more than twice the kerf's reach between two parts the runs.
-  const double gap_m = 2.0 * kKerfReachSpacings * options_.incision.spacing_m;
-  bool made = true;
-  for (std::size_t first = 0; first < through_.size();) {
-    std::size_t last = first + 1;
-    while (last < through_.size() && (through_[last].point_m - through_[last - 1].point_m).norm() <= gap_m) ++last;
-    made = subtractKerf(first, last) && made;
-    first = last;
+  if (through_on_worker_ && !unlimited_) {
+    through_state_.store(ThroughState::Due, std::memory_order_release);  // postThrough() hands it over
+    return;
   }
-  figures.through = made ? ThroughCut::Made : ThroughCut::Failed;
-  const std::vector<mesh::Piece> parts = mesh::pieces(mesh_.mesh());
-  figures.pieces = static_cast<int>(parts.size());
-  for (std::size_t i = 0; i < parts.size() && i < figures.piece_volumes_m3.size(); ++i)
-    figures.piece_volumes_m3[i] = parts[i].volume_m3;
+  computeThroughPatch();
+  applyThrough();
 }
 
-bool SurfaceCutter::subtractKerf(std::size_t first, std::size_t last) {
+bool SurfaceCutter::postThrough() noexcept {
+  ThroughState due = ThroughState::Due;
+  return through_state_.compare_exchange_strong(due, ThroughState::Posted, std::memory_order_acq_rel);
+}
+
+void SurfaceCutter::computeThrough() noexcept {
+  ThroughState posted = ThroughState::Posted;
+  if (!through_state_.compare_exchange_strong(posted, ThroughState::Running, std::memory_order_acq_rel)) return;
+  computeThroughPatch();
+  through_state_.store(ThroughState::Ready, std::memory_order_release);
+}
+
+bool SurfaceCutter::throughStep(bool unlimited) noexcept {
+  ThroughState state = through_state_.load(std::memory_order_acquire);
+  if (state == ThroughState::None) return true;
+  if (!unlimited && state != ThroughState::Ready) return false;
+  // Unlimited: not yet taken by the worker, it is computed here; taken, it is waited for.
+  while (state == ThroughState::Due || state == ThroughState::Posted) {
+    if (through_state_.compare_exchange_weak(state, ThroughState::Running, std::memory_order_acq_rel)) {
+      computeThroughPatch();
+      through_state_.store(ThroughState::Ready, std::memory_order_release);
+    }
+    state = through_state_.load(std::memory_order_acquire);
+  }
+  while (through_state_.load(std::memory_order_acquire) != ThroughState::Ready) std::this_thread::yield();
+  applyThrough();
+  through_state_.store(ThroughState::None, std::memory_order_release);
+  return true;
+}
+
+void SurfaceCutter::computeThroughPatch() noexcept {
+  try {
+    // Runs of through samples: a gap of more than twice the kerf's reach between two parts the runs; each
+    // run's kerf is a component of one solid, removed by one Boolean difference.
+    const double gap_m = 2.0 * kKerfReachSpacings * options_.incision.spacing_m;
+    mesh::SurfaceMesh kerfs;
+    for (std::size_t first = 0; first < through_.size();) {
+      std::size_t last = first + 1;
+      while (last < through_.size() && (through_[last].point_m - through_[last - 1].point_m).norm() <= gap_m) ++last;
+      appendKerf(kerfs, first, last);
+      first = last;
+    }
+    if (kerfs.mesh().n_faces() == 0) {  // the blade went straight down: nothing to sweep
+      through_patch_ = mesh::SolidDifference{};
+      through_patch_.ok = true;
+      through_patch_.vertices_before = static_cast<int>(mesh_.mesh().n_vertices());
+      through_patch_.faces_before = static_cast<int>(mesh_.mesh().n_faces());
+      through_patch_.pieces = mesh::pieces(mesh_.mesh());
+      return;
+    }
+    kerfs.mesh().update_normals();
+    through_patch_ = mesh::differenceOf(mesh_, kerfs);
+    if (!through_patch_.ok) through_patch_.pieces = mesh::pieces(mesh_.mesh());  // the tissue as it stays
+  } catch (const std::exception&) {                                              // allocation failure
+    through_patch_.ok = false;
+  }
+}
+
+void SurfaceCutter::appendKerf(mesh::SurfaceMesh& kerfs, std::size_t first, std::size_t last) const {
   const double spacing_m = options_.incision.spacing_m;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   for (std::size_t i = first; i < last; ++i) normal += through_[i].normal.normalized();
@@ -149,7 +197,7 @@ bool SurfaceCutter::subtractKerf(std::size_t first, std::size_t last) {
   }
   Eigen::Vector3d ahead =
       centres.size() > 1 ? across(centres.back() - centres.front()) : across(incision_->bladeDirection());
-  if (ahead.norm() < 1e-12) return true;  // the blade went straight down: nothing to sweep
+  if (ahead.norm() < 1e-12) return;
   ahead.normalize();
   const double reach_m = kKerfReachSpacings * spacing_m;
   centres.insert(centres.begin(), centres.front() - reach_m * ahead);
@@ -162,35 +210,45 @@ bool SurfaceCutter::subtractKerf(std::size_t first, std::size_t last) {
     sides.push_back(down.cross(tangent).normalized());
   }
   const double top_m = std::max(1e-3, options_.incision.opening_m);
-  const mesh::SurfaceMesh kerf = sweptKerf(centres, sides, bottom_m, down, top_m, kKerfM);
-  std::vector<int> vertices, faces;
-  const int old_vertices = static_cast<int>(mesh_.mesh().n_vertices());
-  // Where the grid holds each vertex: a bound one at rest until prepareBegin() re-indexes it.
-  std::vector<Eigen::Vector3d> held(static_cast<std::size_t>(old_vertices));
-  for (const auto v : mesh_.mesh().vertices())
-    held[static_cast<std::size_t>(v.idx())] = bound(v) ? data(v).rest_m : mesh::toEigen(mesh_.mesh().point(v));
-  const mesh::SubtractResult result = mesh::subtractSolid(mesh_, kerf, &vertices, &faces);
+  appendSweptKerf(kerfs, centres, sides, bottom_m, down, top_m, kKerfM);
+}
+
+void SurfaceCutter::applyThrough() noexcept {
+  IncisionFigures& figures = stats_.figures.back();
+  const mesh::SolidDifference& d = through_patch_;
+  const mesh::SubtractResult result = mesh::applyDifference(mesh_, d);
+  figures.through = result.ok ? ThroughCut::Made : ThroughCut::Failed;
+  figures.pieces = static_cast<int>(d.pieces.size());
+  for (std::size_t i = 0; i < d.pieces.size() && i < figures.piece_volumes_m3.size(); ++i)
+    figures.piece_volumes_m3[i] = d.pieces[i].volume_m3;
   if (!result.ok) {
-    if (stats_.failure.empty()) stats_.failure = "the cut through the tissue was refused: " + result.message;
-    return false;
+    if (stats_.failure.empty()) {
+      try {
+        stats_.failure = "the cut through the tissue was refused: " +
+                         (d.message.empty() ? std::string("the tissue changed while it was computed") : d.message);
+      } catch (...) {  // no memory for the message: the figure says it failed
+      }
+    }
+    return;
   }
+  // The grid indexes the new vertices and forgets the deleted ones (a bound one at rest until
+  // prepareBegin() re-indexes it).
   mesh::TriMesh& m = mesh_.mesh();
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  for (const int id : vertices) {
+  for (const int id : d.touched_vertices) {
     const VH v(id);
-    if (id >= old_vertices) {
+    if (id >= d.vertices_before) {
       if (!m.status(v).deleted()) {
         data(v) = VertexData{};
         grid_.insert(id, mesh::toEigen(m.point(v)));
       }
     } else if (m.status(v).deleted()) {
-      grid_.remove(id, held[static_cast<std::size_t>(id)]);
+      grid_.remove(id, bound(v) ? data(v).rest_m : mesh::toEigen(m.point(v)));
     }
     vertexChanged(v);
   }
-  for (const int id : faces) faceChanged(mesh::TriMesh::FaceHandle(id));
-  return true;
+  for (const int f : d.removed_faces) faceChanged(mesh::TriMesh::FaceHandle(f));
+  for (int i = 0; i < static_cast<int>(d.added_faces.size()); ++i)
+    faceChanged(mesh::TriMesh::FaceHandle(d.faces_before + i));
 }
 
 }  // namespace incise::incision

@@ -81,18 +81,24 @@ CgalMesh difference(const TriMesh& tissue, const TriMesh& solid, OriginMap& orig
   return out;
 }
 
+using PointIndex = std::unordered_map<std::array<double, 3>, int, PointHash>;
+
+PointIndex indexPoints(const TriMesh& tissue) {
+  PointIndex index;
+  index.reserve(tissue.n_vertices());
+  for (const auto v : tissue.vertices()) {
+    const auto& p = tissue.point(v);
+    index.emplace(std::array<double, 3>{p[0], p[1], p[2]}, v.idx());
+  }
+  return index;
+}
+
 // Where the solid's surface passes near a vertex or an edge of the tissue, the pieces of the tissue's faces
 // are needles and caps (two crossings of the cut a hair apart, a vertex a hair from the cut): among the faces
 // that touch the cut (a vertex of the result not in the tissue), CGAL collapses edges shorter than a
 // fiftieth of the tissue's mean edge `mean_edge_m` and flips caps that low. Nothing moves farther than that:
 // the cut stays where it was to within a fiftieth of an edge (the kerf the surface cutter removes is wider).
-void removeSlivers(CgalMesh& out, const OriginMap& origin, const TriMesh& tissue, double mean_edge_m) {
-  std::unordered_map<std::array<double, 3>, int, PointHash> old;
-  old.reserve(tissue.n_vertices());
-  for (const auto v : tissue.vertices()) {
-    const auto& p = tissue.point(v);
-    old.emplace(std::array<double, 3>{p[0], p[1], p[2]}, v.idx());
-  }
+void removeSlivers(CgalMesh& out, const OriginMap& origin, const PointIndex& old, double mean_edge_m) {
   std::vector<Face> near;
   for (const Face f : out.faces()) {
     bool touches = origin[f] == kFromSolid;
@@ -108,121 +114,148 @@ void removeSlivers(CgalMesh& out, const OriginMap& origin, const TriMesh& tissue
   out.collect_garbage();
 }
 
-// Applies `out` to `tissue` in place (see subtractSolid). Throws MeshError when OpenMesh refuses a face.
-void apply(SurfaceMesh& tissue, const CgalMesh& out, const OriginMap& origin, SubtractResult& result,
-           std::vector<int>* changed_vertices, std::vector<int>* changed_faces) {
-  TriMesh& m = tissue.mesh();
-  const int old_vertices = static_cast<int>(m.n_vertices());
-  std::unordered_map<std::array<double, 3>, int, PointHash> old_vertex;
-  old_vertex.reserve(m.n_vertices());
-  for (const auto v : m.vertices()) {
-    const auto& p = m.point(v);
-    old_vertex.emplace(std::array<double, 3>{p[0], p[1], p[2]}, v.idx());
-  }
-  std::vector<TriMesh::VertexHandle> vertex(out.num_vertices());
+// `out` (tissue minus solid) as changes to `tissue`: faces of the result that are faces of the tissue, same
+// corners in the same order, are kept; every other tissue face is removed, the result's other faces added.
+void describe(const SurfaceMesh& tissue, const PointIndex& old, const CgalMesh& out, const OriginMap& origin,
+              SolidDifference& d) {
+  const TriMesh& m = tissue.mesh();
+  d.vertices_before = static_cast<int>(m.n_vertices());
+  d.faces_before = static_cast<int>(m.n_faces());
+  std::vector<int> vertex(out.num_vertices(), -1);
   for (const auto v : out.vertices()) {
-    const auto found = old_vertex.find(key(out.point(v)));
-    if (found != old_vertex.end()) vertex[static_cast<std::size_t>(v.idx())] = TriMesh::VertexHandle(found->second);
+    const auto found = old.find(key(out.point(v)));
+    if (found != old.end()) {
+      vertex[static_cast<std::size_t>(v.idx())] = found->second;
+    } else {
+      const auto& p = out.point(v);
+      vertex[static_cast<std::size_t>(v.idx())] = d.vertices_before + static_cast<int>(d.added_points_m.size());
+      d.added_points_m.emplace_back(p.x(), p.y(), p.z());
+    }
   }
-  // Faces of the result that are faces of the tissue, same corners in the same order, are kept.
   std::vector<std::uint8_t> kept(m.n_faces(), 0);
-  std::vector<Face> added;
   for (const Face f : out.faces()) {
-    std::array<TriMesh::VertexHandle, 3> c;
+    std::array<int, 3> c{};
     int i = 0;
     for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out))
       c[static_cast<std::size_t>(i++ % 3)] = vertex[static_cast<std::size_t>(v.idx())];
     if (i != 3) throw MeshError("CGAL's difference has a face with " + std::to_string(i) + " corners");
-    bool same = c[0].is_valid() && c[1].is_valid() && c[2].is_valid();
-    if (same) {
-      const auto h = m.find_halfedge(c[0], c[1]);
-      same = h.is_valid() && m.face_handle(h).is_valid() && m.to_vertex_handle(m.next_halfedge_handle(h)) == c[2];
-      if (same) kept[static_cast<std::size_t>(m.face_handle(h).idx())] = 1;
+    if (c[0] < d.vertices_before && c[1] < d.vertices_before && c[2] < d.vertices_before) {
+      const auto h = m.find_halfedge(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]));
+      if (h.is_valid() && m.face_handle(h).is_valid() && m.to_vertex_handle(m.next_halfedge_handle(h)).idx() == c[2]) {
+        kept[static_cast<std::size_t>(m.face_handle(h).idx())] = 1;
+        continue;
+      }
     }
-    if (!same) added.push_back(f);
-  }
-  std::vector<FaceKind> old_kind(m.n_faces());
-  std::vector<TriMesh::VertexHandle> touched;
-  for (const auto f : m.faces()) {
-    old_kind[static_cast<std::size_t>(f.idx())] = tissue.kind(f);
-    if (kept[static_cast<std::size_t>(f.idx())]) continue;
-    for (const auto v : m.fv_range(f)) touched.push_back(v);
-    m.delete_face(f, false);
-    ++result.faces_removed;
-    if (changed_faces) changed_faces->push_back(f.idx());
-  }
-  for (const auto v : out.vertices()) {
-    auto& h = vertex[static_cast<std::size_t>(v.idx())];
-    if (h.is_valid()) continue;
-    const auto& p = out.point(v);
-    h = tissue.addVertex(Eigen::Vector3d(p.x(), p.y(), p.z()), VertexKind::Wall);
-    ++result.vertices_added;
-    if (changed_vertices) changed_vertices->push_back(h.idx());
-  }
-  for (const Face f : added) {
-    std::vector<TriMesh::VertexHandle> c;
-    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out))
-      c.push_back(vertex[static_cast<std::size_t>(v.idx())]);
     const int from = origin[f];
-    const FaceKind kind = from == kFromSolid                                                        ? FaceKind::Wall
-                          : from >= 0 && old_kind[static_cast<std::size_t>(from)] == FaceKind::Wall ? FaceKind::Wall
-                                                                                                    : FaceKind::Split;
-    const auto made = tissue.addFace(c[0], c[1], c[2], kind);
-    ++result.faces_added;
-    if (changed_faces) changed_faces->push_back(made.idx());
-    for (const auto v : c) touched.push_back(v);
+    const bool wall = from == kFromSolid || (from >= 0 && tissue.kind(TriMesh::FaceHandle(from)) == FaceKind::Wall);
+    d.added_faces.push_back(c);
+    d.added_kinds.push_back(wall ? FaceKind::Wall : FaceKind::Split);
+    d.touched_vertices.insert(d.touched_vertices.end(), c.begin(), c.end());
   }
-  for (const auto v : touched) {
+  for (const auto f : m.faces()) {
+    if (kept[static_cast<std::size_t>(f.idx())]) continue;
+    d.removed_faces.push_back(f.idx());
+    for (const auto v : m.fv_range(f)) d.touched_vertices.push_back(v.idx());
+  }
+  std::sort(d.touched_vertices.begin(), d.touched_vertices.end());
+  d.touched_vertices.erase(std::unique(d.touched_vertices.begin(), d.touched_vertices.end()), d.touched_vertices.end());
+}
+
+// Applies `d` (see applyDifference); throws MeshError when OpenMesh refuses a face.
+void apply(SurfaceMesh& tissue, const SolidDifference& d, SubtractResult& result) {
+  TriMesh& m = tissue.mesh();
+  for (const int f : d.removed_faces) m.delete_face(TriMesh::FaceHandle(f), false);
+  result.faces_removed = static_cast<int>(d.removed_faces.size());
+  for (const Eigen::Vector3d& p : d.added_points_m) tissue.addVertex(p, VertexKind::Wall);
+  result.vertices_added = static_cast<int>(d.added_points_m.size());
+  for (std::size_t i = 0; i < d.added_faces.size(); ++i) {
+    const std::array<int, 3>& c = d.added_faces[i];
+    const auto made = tissue.addFace(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]),
+                                     TriMesh::VertexHandle(c[2]), d.added_kinds[i]);
+    if (made.idx() != d.faces_before + static_cast<int>(i)) throw MeshError("a face of the difference was refused");
+    m.update_normal(made);
+  }
+  result.faces_added = static_cast<int>(d.added_faces.size());
+  for (const int id : d.touched_vertices) {
+    const TriMesh::VertexHandle v(id);
     if (m.status(v).deleted()) continue;
     if (m.is_isolated(v)) {
       m.delete_vertex(v, false);
       ++result.vertices_removed;
-    } else if (v.idx() >= old_vertices) {
+      continue;
+    }
+    if (id >= d.vertices_before) {
       bool all_wall = true;
       for (const auto f : m.vf_range(v)) all_wall = all_wall && tissue.kind(f) == FaceKind::Wall;
       tissue.setKind(v, all_wall ? VertexKind::Wall : VertexKind::Seam);
     }
-    if (changed_vertices) changed_vertices->push_back(v.idx());
+    m.update_normal(v);
   }
-  m.update_normals();
 }
 
 }  // namespace
 
-SubtractResult subtractSolid(SurfaceMesh& tissue, const SurfaceMesh& solid, std::vector<int>* changed_vertices,
-                             std::vector<int>* changed_faces) {
-  SubtractResult result;
-  OriginMap origin;
-  CgalMesh out;
+SolidDifference differenceOf(const SurfaceMesh& tissue, const SurfaceMesh& solid) {
+  SolidDifference d;
   try {
-    out = difference(tissue.mesh(), solid.mesh(), origin);
+    OriginMap origin;
+    CgalMesh out = difference(tissue.mesh(), solid.mesh(), origin);
+    origin = out.property_map<Face, int>("f:incise_origin").first;
+    const PointIndex old = indexPoints(tissue.mesh());
+    try {
+      removeSlivers(out, origin, old, edgeLengths(tissue.mesh()).mean_m);
+    } catch (const std::exception& e) {
+      d.message = std::string("CGAL could not remove the cut's slivers: ") + e.what();
+      return d;
+    }
+    describe(tissue, old, out, origin, d);
   } catch (const PMP::Corefinement::Self_intersection_exception&) {
-    result.message = "the tissue or the solid crosses itself where they meet";
-    return result;
+    d.message = "the tissue or the solid crosses itself where they meet";
+    return d;
   } catch (const std::exception& e) {
-    result.message = std::string("CGAL's difference failed: ") + e.what();
-    return result;
+    d.message = std::string("CGAL's difference failed: ") + e.what();
+    return d;
   }
-  origin = out.property_map<Face, int>("f:incise_origin").first;
+  // Applied to a copy first: what OpenMesh refuses is known here, so the owner's apply cannot fail.
+  SurfaceMesh copy = tissue;
+  SubtractResult tried;
   try {
-    removeSlivers(out, origin, tissue.mesh(), edgeLengths(tissue.mesh()).mean_m);
+    apply(copy, d, tried);
   } catch (const std::exception& e) {
-    result.message = std::string("CGAL could not remove the cut's slivers: ") + e.what();
-    return result;
+    d.message = std::string("the difference could not be applied: ") + e.what();
+    return d;
   }
-  const SurfaceMesh before = tissue;  // restored whole if OpenMesh refuses a face
-  const std::size_t vertices_journal = changed_vertices ? changed_vertices->size() : 0;
-  const std::size_t faces_journal = changed_faces ? changed_faces->size() : 0;
+  d.pieces = pieces(copy.mesh());
+  d.ok = true;
+  return d;
+}
+
+SubtractResult applyDifference(SurfaceMesh& tissue, const SolidDifference& d) noexcept {
+  SubtractResult result;
+  const TriMesh& m = tissue.mesh();
+  if (!d.ok || static_cast<int>(m.n_vertices()) != d.vertices_before || static_cast<int>(m.n_faces()) != d.faces_before)
+    return result;  // not this mesh's difference (or a failed one): nothing applied
   try {
-    apply(tissue, out, origin, result, changed_vertices, changed_faces);
-  } catch (const std::exception& e) {
-    tissue = before;
-    if (changed_vertices) changed_vertices->resize(vertices_journal);
-    if (changed_faces) changed_faces->resize(faces_journal);
-    const SubtractResult failed{false, std::string("the difference could not be applied: ") + e.what()};
-    return failed;
+    apply(tissue, d, result);
+  } catch (const std::exception&) {  // refused on the copy already: cannot happen
+    return result;
   }
   result.ok = true;
+  return result;
+}
+
+SubtractResult subtractSolid(SurfaceMesh& tissue, const SurfaceMesh& solid, std::vector<int>* changed_vertices,
+                             std::vector<int>* changed_faces) {
+  const SolidDifference d = differenceOf(tissue, solid);
+  if (!d.ok) return SubtractResult{false, d.message};
+  const SubtractResult result = applyDifference(tissue, d);
+  if (!result.ok) return SubtractResult{false, "the difference was computed on another mesh"};
+  if (changed_vertices)
+    changed_vertices->insert(changed_vertices->end(), d.touched_vertices.begin(), d.touched_vertices.end());
+  if (changed_faces) {
+    changed_faces->insert(changed_faces->end(), d.removed_faces.begin(), d.removed_faces.end());
+    for (int i = 0; i < static_cast<int>(d.added_faces.size()); ++i) changed_faces->push_back(d.faces_before + i);
+  }
   return result;
 }
 

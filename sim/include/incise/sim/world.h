@@ -230,6 +230,10 @@ class World {
   void collectTetChanges() noexcept;  // the tets' journal into the physics' change buffer
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
+  // The through-cut's worker (SurfaceCutter::setThroughOnWorker): first, so a move-assignment ends it
+  // before the cutter it reads is replaced; ~World() ends it before anything else.
+  class ThroughWorker;
+  std::unique_ptr<ThroughWorker> through_worker_;
   std::unique_ptr<mesh::SurfaceMesh> tissue_;  // stable address: the cutter keeps a reference
   std::unique_ptr<incision::SurfaceCutter> cutter_;
   std::unique_ptr<tets::TetCutter> tets_;

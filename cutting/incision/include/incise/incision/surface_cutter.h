@@ -15,6 +15,7 @@
 // status, and an internal topology failure stops the incision with `failed` set and the message in stats().
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -27,6 +28,7 @@
 #include "incise/core/work_budget.h"
 #include "incise/incision/incision.h"
 #include "incise/incision/surface_cutter_options.h"
+#include "incise/mesh/solid.h"
 #include "incise/mesh/surface_mesh.h"
 #include "incise/mesh/surface_query.h"
 #include "incise/mesh/vertex_grid.h"
@@ -138,7 +140,21 @@ class SurfaceCutter {
   // in the grown box + their faces); no allocation once warmed up; 0 for a non-finite or empty box.
   int skinNear(const Eigen::AlignedBox3d& box, std::span<mesh::SkinTriangle> out) const;
   // Work carried to a later call (max_inversions_per_call): columns that are final but not yet cut.
-  bool pending() const noexcept { return incision_ && !failed_ && next_column_ < incision_->finalColumns(); }
+  bool pending() const noexcept {
+    return incision_ && !failed_ &&
+           (next_column_ < incision_->finalColumns() ||
+            through_state_.load(std::memory_order_acquire) != ThroughState::None);
+  }
+  // The through-cut's Boolean difference on a worker thread the caller runs (off: computed in the call
+  // that makes it; not budgeted, O(mesh)). On: when an incision that went through has settled, the cutter
+  // marks its through-cut due and waits (pending(), so no new incision begins); the caller hands it over
+  // once with postThrough() (true: a job to give its worker) and the worker calls computeThrough() (any
+  // thread: reads the tissue, writes the cutter's result only); a later call of the owner (advance,
+  // prepareBegin) applies it, allocation-free within the reserved room; an unlimited one (settle(),
+  // prepareBegin(true)) computes it itself or waits for the worker. The mesh is the same either way.
+  void setThroughOnWorker(bool on) noexcept { through_on_worker_ = on; }
+  bool postThrough() noexcept;
+  void computeThrough() noexcept;
   const Incision* incision() const noexcept { return incision_.get(); }
   // The change journal (MeshChanges): off by default. On, every later change is appended (amortised
   // growth; room for kReservedChanges entries each is reserved when turned on); the consumer reads
@@ -281,12 +297,23 @@ class SurfaceCutter {
   bool through_done_ = false;  // cutThrough() has run for the current incision
   void noteThrough();          // an accepted sample: keeps last_through_ if through_last_
   // Once the incision has settled (its wound at its final opening) and some of its samples went through:
-  // the blade's path is removed from the tissue down through its far side, a run of through samples at a
-  // time (a thin kerf swept along the run, mesh::subtractSolid), so that a piece cut free is a closed piece
-  // of its own; the figures get the pieces and their volumes. The groove above stays the DFFD's. Then the
-  // grid indexes the new vertices. Not budgeted: one CGAL corefinement of the mesh per run (O(mesh)).
+  // the blade's path is removed from the tissue down through its far side (a thin kerf swept along each
+  // run of through samples, the runs' kerfs one solid, mesh::differenceOf), so that a piece cut free is a
+  // closed piece of its own; the figures get the pieces and their volumes. The groove above stays the
+  // DFFD's. Then the grid indexes the new vertices. The difference is computed at once
+  // (computeThroughPatch, then applyThrough), or with setThroughOnWorker(true) by the caller's worker:
+  // through_state_ goes Due -> Posted (postThrough) -> Running (computeThrough, or throughStep's caller
+  // when unlimited) -> Ready -> applied by throughStep on the owner's thread -> None. Nothing else in the
+  // cutter runs while it is not None (pending() is true), so the tissue the worker reads does not change.
   void cutThrough();
-  bool subtractKerf(std::size_t first, std::size_t last);  // through_[first, last): one run
+  void appendKerf(mesh::SurfaceMesh& kerfs, std::size_t first, std::size_t last) const;  // one run's
+  void computeThroughPatch() noexcept;        // any thread: reads the mesh and through_, writes through_patch_
+  void applyThrough() noexcept;               // the owner's thread: through_patch_ applied, grid and journal
+  bool throughStep(bool unlimited) noexcept;  // true when no through-cut waits (applies a Ready one)
+  enum class ThroughState : std::uint8_t { None, Due, Posted, Running, Ready };
+  bool through_on_worker_ = false;
+  std::atomic<ThroughState> through_state_{ThroughState::None};
+  mesh::SolidDifference through_patch_;  // written by whoever computes, read by applyThrough (acquire)
   // The tissue's thickness below a sample (infinity: no far side within depth_m / kFloorOfThickness): the
   // least thickness_below_m_ of the loaded mesh's vertices within a mean edge of it (within the longest
   // edge when none is that near). One small grid query, or none within a lattice spacing of the last one.

@@ -2,14 +2,19 @@
 // mesh in place so that the elements outside the cut keep their handles), and the pieces it is made of with
 // their volumes. Used by the surface cutter's through-cuts (a blade deeper than the tissue is thick).
 //
-// Shapes and units: SurfaceMesh in metres; volumes in m^3. Threads: any; calls on distinct meshes may run
-// concurrently. Allocates: a CGAL copy of both meshes and of the result (not for a real-time hot path).
+// Shapes and units: SurfaceMesh in metres; volumes in m^3. Threads: differenceOf reads its tissue only (a
+// worker may compute while the tissue's owner reads it), applyDifference writes it. Allocates: differenceOf
+// a CGAL copy of both meshes, of the result and of the tissue (not for a real-time hot path);
+// applyDifference nothing beyond the mesh's reserved room.
 // Paper: none (the DFFD of §4 opens a groove; where the tissue ends under the blade, the blade's swept
 // volume is removed instead, as a Boolean difference).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "incise/mesh/surface_mesh.h"
 
@@ -25,26 +30,49 @@ struct SubtractResult {
   int vertices_removed = 0;  // vertices of the tissue inside the solid (deleted, not garbage-collected)
 };
 
-// Removes the closed solid `solid` (outward oriented) from the closed two-manifold `tissue`: afterwards
-// `tissue` bounds (tissue minus solid), through CGAL::Polygon_mesh_processing::corefine_and_compute_difference
-// (exact predicates; the input must not cross itself where the solid meets it). The result is applied in
-// place: faces and vertices the difference keeps unchanged keep their handles; other faces are deleted, new
-// vertices and faces appended (OpenMesh's deleted status, no garbage collection: handles stay valid).
-// Kinds: a face on the solid's boundary is Wall; a piece of a tissue face keeps Wall if the face was a Wall
-// face, else it is Split; a new vertex is Wall if all its faces are, else Seam. Every vertex and face index
-// added, changed or deleted is appended to `changed_vertices` / `changed_faces` when they are given.
-// Failure (CGAL refuses: self-intersection, a non-manifold result; OpenMesh refuses a face) leaves the mesh
-// unchanged and says why. Cost O((V + F) log (V + F)) over both meshes (the copies), plus CGAL's
-// corefinement near the solid.
-SubtractResult subtractSolid(SurfaceMesh& tissue, const SurfaceMesh& solid,
-                             std::vector<int>* changed_vertices = nullptr, std::vector<int>* changed_faces = nullptr);
-
 // One connected piece of a closed surface: its faces, and the volume it encloses (the divergence theorem
 // over its faces: positive for an outward-oriented closed piece).
 struct Piece {
   int faces = 0;
   double volume_m3 = 0.0;
 };
+
+// The difference tissue minus solid as changes to the tissue (differenceOf), to be applied to the tissue as
+// it was then (applyDifference). Indices are the tissue's OpenMesh indices; the k-th added vertex will be
+// vertex `vertices_before` + k, the k-th added face face `faces_before` + k.
+struct SolidDifference {
+  bool ok = false;
+  std::string message;                          // why it failed ("" when ok)
+  int vertices_before = 0, faces_before = 0;    // the tissue's n_vertices() and n_faces() it was computed on
+  std::vector<int> removed_faces;               // tissue faces deleted (replaced, or inside the solid)
+  std::vector<Eigen::Vector3d> added_points_m;  // vertices added, in order
+  std::vector<std::array<int, 3>> added_faces;  // faces added (corners by index, added vertices included)
+  std::vector<FaceKind> added_kinds;            // their kinds
+  std::vector<int> touched_vertices;            // corners of removed and added faces, ascending, once each
+  std::vector<Piece> pieces;                    // the result's pieces (mesh::pieces), largest first
+};
+
+// Computes tissue minus the closed solid `solid` (outward oriented) through
+// CGAL::Polygon_mesh_processing::corefine_and_compute_difference (exact predicates; the input must not cross
+// itself where the solid meets it), and checks that it applies (on a copy of the tissue). Reads `tissue`
+// only: it may run on another thread while the owner of the tissue reads it too (never while it writes it).
+// Kinds: a face on the solid's boundary is Wall; a piece of a tissue face keeps Wall if the face was a Wall
+// face, else it is Split; a new vertex is Wall if all its faces are, else Seam. Failure (CGAL refuses:
+// self-intersection, a non-manifold result; OpenMesh refuses a face): `ok` false and why. Cost
+// O((V + F) log (V + F)) over both meshes (the copies), plus CGAL's corefinement near the solid.
+SolidDifference differenceOf(const SurfaceMesh& tissue, const SurfaceMesh& solid);
+
+// Applies an ok difference to the tissue it was computed on, in place: faces and vertices the difference
+// keeps keep their handles; removed faces and the vertices left without faces are deleted (OpenMesh's
+// deleted status, no garbage collection: handles stay valid), added vertices and faces appended, normals
+// updated around them. Allocates nothing when the mesh has room reserved for the added elements. Refuses
+// (`ok` false, the mesh unchanged) a difference computed on a mesh of another size. Cost O(changes).
+SubtractResult applyDifference(SurfaceMesh& tissue, const SolidDifference& difference) noexcept;
+
+// differenceOf, then applyDifference. Every vertex and face index added, changed or deleted is appended to
+// `changed_vertices` / `changed_faces` when they are given. On failure the mesh is unchanged.
+SubtractResult subtractSolid(SurfaceMesh& tissue, const SurfaceMesh& solid,
+                             std::vector<int>* changed_vertices = nullptr, std::vector<int>* changed_faces = nullptr);
 
 // The connected pieces (faces joined through shared vertices) of `mesh`'s non-deleted faces, largest volume
 // first. Cost O(V + F).
