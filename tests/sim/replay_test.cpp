@@ -19,6 +19,7 @@
 #include "incise/sim/scenario.h"
 #include "incise/sim/stroke_poses.h"
 #include "scenario_fixture.h"
+#include "shipped_scenario.h"
 
 using namespace incise;
 
@@ -206,6 +207,54 @@ TEST_CASE("replay: two crossing incisions through a tet tissue, real time on a l
   REQUIRE(tets::checkConforming(fast.tets.mesh).conforming);
   REQUIRE(fast.tets.inverted_tets == 0);
   requireSameTets(fast.tets, realtime.tets);
+}
+
+namespace {
+
+struct ThroughRun {
+  int incisions = 0, pieces = 0, on_worker = 0;
+  incision::ThroughCut through = incision::ThroughCut::None;
+  std::uint64_t hash = 0;
+};
+
+// slab-through's stroke (through the slab, edge to edge), then a shallow stroke beside it, which begins
+// only once the through-cut is applied.
+ThroughRun replayThroughAndAfter(sim::ReplayPace pace) {
+  incise::test::ShippedScenario l = incise::test::loadShipped("slab-through");
+  sim::StrokeSpec second = l.scenario.strokes.front();
+  second.start_m = Eigen::Vector3d(0.005, 0.01, -0.015);
+  second.direction = Eigen::Vector3d(0.0, 0.0, 1.0);
+  second.length_m = 0.01;
+  second.depth_m = 0.001;
+  const auto poses = sim::posesForStrokes(l.world->tissue(), {l.scenario.strokes.front(), second}, l.scenario.world,
+                                          l.scenario.rate_hz);
+  sim::ReplayOptions options;
+  options.pace = pace;
+  options.period_us = l.scenario.periodUs();
+  options.settle_s = l.scenario.settle_s;
+  const sim::ReplayReport report = sim::replay(*l.world, poses, options);
+  const incision::CutStats& stats = l.world->cutter().stats();
+  REQUIRE(mesh::checkManifold(l.world->tissue().mesh()).closed_two_manifold);
+  return ThroughRun{report.incisions, stats.figures.front().pieces, stats.through_on_worker,
+                    stats.figures.front().through, mesh::geometryHash(l.world->tissue())};
+}
+
+}  // namespace
+
+TEST_CASE("replay: a cut through the slab, its Boolean on the worker in real time, gives the fast bytes",
+          "[sim][threads]") {
+  // Fast, the frame that makes the through-cut computes it; in real time the world's worker does while the
+  // frames go on, and a later frame applies it. The second stroke waits for it in both.
+  const ThroughRun fast = replayThroughAndAfter(sim::ReplayPace::Fast);
+  const ThroughRun realtime = replayThroughAndAfter(sim::ReplayPace::RealTime);
+  CHECK(fast.on_worker == 0);
+  CHECK(realtime.on_worker == 1);
+  for (const ThroughRun& run : {fast, realtime}) {
+    CHECK(run.incisions == 2);
+    CHECK(run.through == incision::ThroughCut::Made);
+    CHECK(run.pieces == 2);
+  }
+  CHECK(fast.hash == realtime.hash);
 }
 
 TEST_CASE("replay: the crossing scenario gives the same geometry fast and in real time", "[sim][slow]") {

@@ -130,6 +130,7 @@ void SurfaceCutter::computeThrough() noexcept {
   ThroughState posted = ThroughState::Posted;
   if (!through_state_.compare_exchange_strong(posted, ThroughState::Running, std::memory_order_acq_rel)) return;
   computeThroughPatch();
+  through_by_worker_ = true;  // published with Ready
   through_state_.store(ThroughState::Ready, std::memory_order_release);
 }
 
@@ -146,6 +147,8 @@ bool SurfaceCutter::throughStep(bool unlimited) noexcept {
     state = through_state_.load(std::memory_order_acquire);
   }
   while (through_state_.load(std::memory_order_acquire) != ThroughState::Ready) std::this_thread::yield();
+  if (through_by_worker_) ++stats_.through_on_worker;
+  through_by_worker_ = false;
   applyThrough();
   through_state_.store(ThroughState::None, std::memory_order_release);
   return true;

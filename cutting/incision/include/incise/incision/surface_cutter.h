@@ -312,6 +312,7 @@ class SurfaceCutter {
   bool throughStep(bool unlimited) noexcept;  // true when no through-cut waits (applies a Ready one)
   enum class ThroughState : std::uint8_t { None, Due, Posted, Running, Ready };
   bool through_on_worker_ = false;
+  bool through_by_worker_ = false;  // the Ready patch came from computeThrough() (set before Ready)
   std::atomic<ThroughState> through_state_{ThroughState::None};
   mesh::SolidDifference through_patch_;  // written by whoever computes, read by applyThrough (acquire)
   // The tissue's thickness below a sample (infinity: no far side within depth_m / kFloorOfThickness): the

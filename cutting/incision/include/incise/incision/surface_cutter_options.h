@@ -171,6 +171,7 @@ struct CutStats {
                               // incision's bound vertices or a wall (the cut already passed there)
   int refine_limited = 0;     // columns whose refinement stopped at max_refine_splits_per_column or at the
                               // mesh's reserved headroom
+  int through_on_worker = 0;  // through-cuts whose Boolean a worker computed (SurfaceCutter::setThroughOnWorker)
   int reserve_overflows = 0;  // arrays an incision grew past CutterOptions::reserved_bound_vertices and the
                               // room reserved for its seam and walls (each an allocation on the sim thread)
   std::string failure;        // first internal failure, empty if none
