@@ -161,50 +161,10 @@ void describe(const SurfaceMesh& tissue, const PointIndex& old, const CgalMesh& 
   d.touched_vertices.erase(std::unique(d.touched_vertices.begin(), d.touched_vertices.end()), d.touched_vertices.end());
 }
 
-// OpenMesh's PolyConnectivity::delete_face(f, false) for a triangle, with fixed arrays in place of the two
-// std::vectors it allocates on every call: the same links and status bits. Its edges with no face left are
-// deleted, and the corners' outgoing halfedges adjusted; corners left without faces stay (isolated).
-void deleteTriangle(TriMesh& m, TriMesh::FaceHandle f) {
-  m.status(f).set_deleted(true);
-  std::array<TriMesh::EdgeHandle, 3> bare;  // edges left with no face on either side
-  std::array<TriMesh::VertexHandle, 3> corners;
-  std::size_t n_bare = 0, n_corners = 0;
-  for (auto it = m.fh_iter(f); it.is_valid() && n_corners < corners.size(); ++it) {
-    const TriMesh::HalfedgeHandle h = *it;
-    m.set_boundary(h);
-    if (m.is_boundary(m.opposite_halfedge_handle(h))) bare[n_bare++] = m.edge_handle(h);
-    corners[n_corners++] = m.to_vertex_handle(h);
-  }
-  for (std::size_t i = 0; i < n_bare; ++i) {
-    const TriMesh::HalfedgeHandle h0 = m.halfedge_handle(bare[i], 0), h1 = m.halfedge_handle(bare[i], 1);
-    const TriMesh::VertexHandle v0 = m.to_vertex_handle(h0), v1 = m.to_vertex_handle(h1);
-    const TriMesh::HalfedgeHandle next0 = m.next_halfedge_handle(h0), prev0 = m.prev_halfedge_handle(h0);
-    const TriMesh::HalfedgeHandle next1 = m.next_halfedge_handle(h1), prev1 = m.prev_halfedge_handle(h1);
-    m.set_next_halfedge_handle(prev0, next1);
-    m.set_next_halfedge_handle(prev1, next0);
-    m.status(bare[i]).set_deleted(true);
-    m.status(h0).set_deleted(true);
-    m.status(h1).set_deleted(true);
-    if (m.halfedge_handle(v0) == h1) {
-      if (next0 == h1)
-        m.set_isolated(v0);
-      else
-        m.set_halfedge_handle(v0, next0);
-    }
-    if (m.halfedge_handle(v1) == h0) {
-      if (next1 == h0)
-        m.set_isolated(v1);
-      else
-        m.set_halfedge_handle(v1, next1);
-    }
-  }
-  for (std::size_t i = 0; i < n_corners; ++i) m.adjust_outgoing_halfedge(corners[i]);
-}
-
 // Applies `d` (see applyDifference); throws MeshError when OpenMesh refuses a face.
 void apply(SurfaceMesh& tissue, const SolidDifference& d, SubtractResult& result) {
   TriMesh& m = tissue.mesh();
-  for (const int f : d.removed_faces) deleteTriangle(m, TriMesh::FaceHandle(f));
+  for (const int f : d.removed_faces) deleteTriangle(m, TriMesh::FaceHandle(f));  // OpenMesh's delete_face allocates
   result.faces_removed = static_cast<int>(d.removed_faces.size());
   for (const Eigen::Vector3d& p : d.added_points_m) tissue.addVertex(p, VertexKind::Wall);
   result.vertices_added = static_cast<int>(d.added_points_m.size());

@@ -131,4 +131,42 @@ SurfaceMesh subdivided(const SurfaceMesh& surface, int iterations) {
   return result;
 }
 
+void deleteTriangle(TriMesh& m, TriMesh::FaceHandle f) noexcept {
+  m.status(f).set_deleted(true);
+  TriMesh::EdgeHandle boundary_edges[3];
+  TriMesh::VertexHandle corners[3];
+  int n_boundary = 0, n_corners = 0;
+  for (auto h = m.fh_iter(f); h.is_valid() && n_corners < 3; ++h) {
+    m.set_boundary(*h);
+    if (m.is_boundary(m.opposite_halfedge_handle(*h))) boundary_edges[n_boundary++] = m.edge_handle(*h);
+    corners[n_corners++] = m.to_vertex_handle(*h);
+  }
+  for (int e = 0; e < n_boundary; ++e) {
+    const auto h0 = m.halfedge_handle(boundary_edges[e], 0), h1 = m.halfedge_handle(boundary_edges[e], 1);
+    const TriMesh::VertexHandle v0 = m.to_vertex_handle(h0), v1 = m.to_vertex_handle(h1);
+    const auto next0 = m.next_halfedge_handle(h0), prev0 = m.prev_halfedge_handle(h0);
+    const auto next1 = m.next_halfedge_handle(h1), prev1 = m.prev_halfedge_handle(h1);
+    m.set_next_halfedge_handle(prev0, next1);
+    m.set_next_halfedge_handle(prev1, next0);
+    if (m.has_edge_status()) m.status(boundary_edges[e]).set_deleted(true);
+    if (m.has_halfedge_status()) {
+      m.status(h0).set_deleted(true);
+      m.status(h1).set_deleted(true);
+    }
+    if (m.halfedge_handle(v0) == h1) {
+      if (next0 == h1)
+        m.set_isolated(v0);
+      else
+        m.set_halfedge_handle(v0, next0);
+    }
+    if (m.halfedge_handle(v1) == h0) {
+      if (next1 == h0)
+        m.set_isolated(v1);
+      else
+        m.set_halfedge_handle(v1, next1);
+    }
+  }
+  for (int i = 0; i < n_corners; ++i) m.adjust_outgoing_halfedge(corners[i]);
+}
+
 }  // namespace incise::mesh

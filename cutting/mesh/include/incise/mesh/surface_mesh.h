@@ -191,4 +191,10 @@ TriMesh subdivideLoop(const TriMesh& mesh, int iterations);
 // The same on a SurfaceMesh; every element of the result is Original.
 SurfaceMesh subdivided(const SurfaceMesh& mesh, int iterations);
 
+// Deletes the triangle f as OpenMesh's PolyConnectivity::delete_face(f, false) does (OpenMesh 9.0,
+// src/OpenMesh/Core/Mesh/PolyConnectivity.cc, BSD-3-Clause, RWTH Aachen: the same steps in the same order,
+// so the same connectivity), without its two std::vectors: allocation-free for the sim thread. The face's
+// vertices stay, even when isolated. f must be a valid, undeleted triangle. O(1).
+void deleteTriangle(TriMesh& m, TriMesh::FaceHandle f) noexcept;
+
 }  // namespace incise::mesh
