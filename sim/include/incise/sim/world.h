@@ -8,7 +8,8 @@
 //
 // Units: metres, seconds, newtons. The blade points along the tool's local -z axis (the tip is the pose
 // position) and its cutting edge faces the local +x axis (the stroke direction at first contact).
-// Threads: one owner, the sim thread. Cost: updateTool O(poses + ContactProxy::kCapacity); cut as
+// Threads: one owner, the sim thread; the world starts one worker of its own that computes a through-cut's
+// Boolean difference when cut() runs against the clock (ARCHITECTURE.md, "Data flow and threads"). Cost: updateTool O(poses + ContactProxy::kCapacity); cut as
 // SurfaceCutter under its budget plus one exact contact per pose and, now and then, a proxy refill.
 // Allocation: the queue and the proxy at construction; per frame none beyond the cutters' own. Failure: the
 // constructor throws (std::invalid_argument for bad parameters, mesh::MeshError for a tissue that is not a

@@ -97,7 +97,8 @@ class SurfaceCutter {
   // after it settles, or settle()), the blade's path below it is removed through the far side
   // (cutThrough(): a kerf kKerfM wide, CGAL's Boolean difference): the far skin is split too, a piece cut
   // free is a closed piece of its own, and IncisionFigures::through, pieces and piece_volumes_m3 say so.
-  // That step is not budgeted: one corefinement of the mesh, O(mesh) (the call that makes it takes that long).
+  // That step is one corefinement of the mesh, O(mesh), not budgeted: made by the call that reaches it, or
+  // by the caller's worker thread (setThroughOnWorker) and applied by a later call.
   // When an incision's work is done its IncisionFigures say where the groove runs along the stroke and, if
   // it is much shorter than the stroke, why (Shortfall: no contact, a mesh coarser than the lattice, ...):
   // a cut that did nothing never passes for one that did.
