@@ -251,7 +251,10 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
   }
   if (has_pose_) {  // the newest pose (with none new, the tool stays where it was)
     hapticContact(last_pose_, state);
+    noteToolMotion();
     haptic_tip_m_ = last_pose_.tip_m;
+    haptic_handle_m_ = handleOf(last_pose_);
+    haptic_time_s_ = last_pose_.time_s;
     has_haptic_tip_ = true;
   }
   state.force_N = force(state, velocity_m_per_s_);
@@ -315,8 +318,21 @@ bool World::takeQueuedPoses(bool at_once) noexcept {
   }
 }
 
+// How far the blade (tip or probe end) moved since the last haptic frame, at most as far as kProxySpeedMPerS
+// covers in the poses' time between them: a frame that starts late (the machine busy) finds the tool further
+// on, a jump faster than a hand (a trace's strokes, a device re-homing) is not a motion to follow.
+void World::noteToolMotion() noexcept {
+  tool_motion_m_ = 0.0;
+  if (!has_haptic_tip_) return;
+  const double moved_m =
+      std::max((last_pose_.tip_m - haptic_tip_m_).norm(), (handleOf(last_pose_) - haptic_handle_m_).norm());
+  const double gap_s = last_pose_.time_s - haptic_time_s_;
+  if (std::isfinite(moved_m) && gap_s > 0.0) tool_motion_m_ = std::min(moved_m, kProxySpeedMPerS * gap_s);
+}
+
 double World::proxyReachM() const noexcept {
-  return std::clamp(2.0 * kProxySpeedMPerS * (period_s_ + kProxyLateS), kProxyReachMinM, kProxyReachMaxM);
+  const double nominal_m = 2.0 * kProxySpeedMPerS * (period_s_ + kProxyLateS);
+  return std::clamp(std::max(nominal_m, 2.0 * tool_motion_m_), kProxyReachMinM, kProxyReachMaxM);
 }
 
 void World::refreshProxy() noexcept {

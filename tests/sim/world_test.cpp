@@ -332,6 +332,37 @@ TEST_CASE("world: a blade that goes through the skin within one frame is caught 
   REQUIRE(world.counters().swept_contacts == 1);
 }
 
+TEST_CASE("world: frames that start 30 ms late still find the contact: the reach follows the tool's motion", "[sim]") {
+  // The blade pressed 1 mm into the bunny's back and drawn along x at 0.1 m/s, its poses 1 ms apart, the
+  // frames each taking 30 of them (a busy machine's frames): 3 mm a frame, beyond the 2 mm reach at 1 kHz.
+  sim::WorldOptions options;
+  options.tool.cut_button = 0;
+  const mesh::SurfaceMesh tissue = bunny();
+  sim::World world(tissue, options);
+  std::vector<devices::PoseSample> poses;
+  for (int i = 0; i <= 300; ++i) {
+    const double x_m = -0.015 + 1e-4 * i;
+    poses.push_back(poseAt(surfaceAt(tissue, x_m, 0.015) - Eigen::Vector3d(0.0, 0.001, 0.0), 0.001 * i, 0));
+  }
+  frameOf(world, poses.front());
+  int frames = 0, in_contact = 0;
+  for (std::size_t first = 1; first < poses.size(); first += 30, ++frames) {
+    const sim::HapticState h = world.updateTool(std::span(poses).subspan(first, 30), 0.001);
+    world.cut(poses[first + 29].time_s);
+    if (h.contact && h.force_N.norm() > 0.1) ++in_contact;
+  }
+  REQUIRE(frames == 10);
+  // The first frame finds no proxy yet, the first late frame the tool beyond its region (refilled then,
+  // twice as wide as that frame's motion); every later one finds it within.
+  REQUIRE(world.counters().proxy_misses == 2);
+  REQUIRE(in_contact == 9);
+  REQUIRE(world.proxyReachM() == Approx(0.006).epsilon(0.1));
+  // A jump faster than a hand (2 cm in 1 ms) does not widen it: 0.5 mm, below the 2 mm the period gives.
+  const devices::PoseSample jump = poseAt(poses.back().tip_m + Eigen::Vector3d(0.02, 0.0, 0.0), 0.301, 0);
+  world.updateTool(std::span(&jump, 1), 0.001);
+  REQUIRE(world.proxyReachM() == Approx(0.002));
+}
+
 TEST_CASE("world: the proxy's reach follows the frame period (2 mm at 1 kHz, 1.25 mm at 4 kHz)", "[sim]") {
   sim::World world(bunny(), sim::WorldOptions{});
   REQUIRE(world.proxyReachM() == Approx(0.002));  // before any frame: 1 kHz

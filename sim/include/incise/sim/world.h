@@ -191,10 +191,14 @@ class World {
   // 2 mm at 1 kHz, 1.25 mm at 4 kHz. A refill's faces grow with the region's width squared (the probe plus
   // twice the reach): bunny-crossing's largest refill is 798 faces at a 4 mm reach and 417 at 2 mm, its
   // frame p99 290-300 and 220 us; at 0.5 mm (4 kHz) the tool leaves the region more often
-  // (docs/benchmarks.md, "the contact proxy's refill inside the deadline").
+  // (docs/benchmarks.md, "the contact proxy's refill inside the deadline"). A frame that starts later still
+  // (the machine busy) finds the tool moved further: the reach is at least twice the last frame's motion,
+  // that motion taken at most kProxySpeedMPerS over the poses' time (World::noteToolMotion), so the next
+  // frame, as late, still finds its contact.
   static constexpr double kProxySpeedMPerS = 0.5, kProxyLateS = 0.001;
   static constexpr double kProxyReachMinM = 0.0005, kProxyReachMaxM = 0.02;
-  double proxyReachM() const noexcept;  // from the period updateTool was last given (1 kHz before the first)
+  // From the period updateTool was last given (1 kHz before the first) and the tool's motion in that frame.
+  double proxyReachM() const noexcept;
 
   const mesh::SurfaceMesh& tissue() const noexcept { return *tissue_; }
   const incision::SurfaceCutter& cutter() const noexcept { return *cutter_; }
@@ -221,6 +225,7 @@ class World {
   Contact contactAt(const devices::PoseSample& pose, const Eigen::Vector3d& point_m,
                     const Eigen::Vector3d& normal) const noexcept;  // the tip's penetration at a skin point
   void hapticContact(const devices::PoseSample& pose, HapticState& state) noexcept;  // the proxy
+  void noteToolMotion() noexcept;               // tool_motion_m_ from last_pose_ and the last haptic frame
   bool takeQueuedPoses(bool at_once) noexcept;  // false: an incision waits for the previous one's work
   // A new incision from this sample, begun once the previous one's work is done (takeQueuedPoses).
   void queueBegin(const incision::StrokeSample& sample, const devices::PoseSample& pose) noexcept;
@@ -246,8 +251,11 @@ class World {
   devices::PoseSample last_pose_{};
   bool has_pose_ = false;
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();     // the tool as the last haptic frame saw it
+  Eigen::Vector3d haptic_handle_m_ = Eigen::Vector3d::Zero();  // its probe's other end
+  double haptic_time_s_ = 0.0;
   bool has_haptic_tip_ = false;
+  double tool_motion_m_ = 0.0;  // since the haptic frame before (noteToolMotion), for the proxy's reach
   std::unique_ptr<ContactProxy> proxy_;
   // The cut phase's queue (the project's PoseQueue, here with one thread at both ends) and the incision that
   // waits to begin.
