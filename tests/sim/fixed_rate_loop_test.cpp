@@ -165,8 +165,12 @@ TEST_CASE("fixed_rate_loop: with max_catch_up_frames the missed deadlines run la
   // Frame 26 runs for deadline 26 although it already passed >= 2 ms ago: it is late, not skipped.
   CHECK(trace.infos[26].period_error_us >= 1500.0);
   CHECK(trace.infos[26].dt_s == 0.001);
-  // Only a stall longer than 10 periods could have skipped anything.
-  CHECK(c.skipped_deadlines <= 5);
+  // Only a stall longer than 10 periods skips anything: the frame after one runs 9-10 periods late (the
+  // 10th deadline back). A busy machine may stall the thread that long; without such a frame none is skipped.
+  double latest_us = 0.0;
+  for (const FrameInfo& info : trace.infos) latest_us = std::max(latest_us, info.period_error_us);
+  if (latest_us < 9000.0) CHECK(c.skipped_deadlines == 0);
+  if (c.skipped_deadlines > 0) CHECK(latest_us >= 9000.0);
 }
 
 TEST_CASE("fixed_rate_loop: runFast calls the step N times with the period's dt and never sleeps", "[sim]") {

@@ -60,9 +60,11 @@ TEST_CASE("replay_controls: a pause mid-stroke and another speed leave the frame
   CHECK(fast.report.frames == plain.report.frames);
   CHECK(fast.hash == plain.hash);
   // Paced at 3x: never ahead of its schedule (a third of the simulated time), and done sooner than the run at
-  // 1x. How much sooner depends on the machine's load (the frames' own time, late wake-ups), so no ratio.
+  // 1x when the machine kept 3x's schedule (no deadline skipped). How much sooner depends on the machine's
+  // load (the frames' own time, late wake-ups), so no ratio; a machine that could not keep it (a sanitizer
+  // build beside another real-time test) takes the frames' own time at either speed.
   CHECK(fast.report.wall_s >= 0.99 * plain.report.simulated_s / 3.0);
-  CHECK(fast.report.wall_s < plain.report.wall_s);
+  if (fast.report.loop.skipped_deadlines == 0) CHECK(fast.report.wall_s < plain.report.wall_s);
 }
 
 TEST_CASE("replay_controls: stop_requested and stop_after_s end the replay early", "[sim]") {

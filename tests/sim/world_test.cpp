@@ -243,11 +243,9 @@ TEST_CASE("world: a new incision waits for the previous one's work in later fram
   // once gives, byte for byte.
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  // Without local refinement: its bisections ahead of the cut retriangulate the skin a later pose's contact
-  // meets (the same plane, other triangles: a normal that differs in its last bits), so with it the cut
-  // depends on how far the work had got when that pose came, whatever the waiting (a known
-  // limit).
-  options.cutter.refine = incision::CutterOptions::Refine::Off;
+  // With local refinement (the default): its bisections ahead of the cut retriangulate the skin a later
+  // pose's contact meets, which takes the faces the skin had when the incision began (their rest parents),
+  // so the cut does not depend on how far that work had got when the pose came.
   const mesh::SurfaceMesh tissue = bunny();
   const std::vector<devices::PoseSample> poses = twoStrokes(tissue, options);
   sim::WorldOptions at_once = options, starved = options;
@@ -268,7 +266,6 @@ TEST_CASE("world: a cut phase stopped by its deadline carries its work over, the
   // deadline; here every deadline has passed when the cut phase starts, so each does one inversion.
   sim::WorldOptions options;
   options.tool.cut_button = 0;
-  options.cutter.refine = incision::CutterOptions::Refine::Off;  // as above
   const mesh::SurfaceMesh tissue = bunny();
   const std::vector<devices::PoseSample> poses = twoStrokes(tissue, options);
   const FramesRun free = runFrames(tissue, options, poses), due = runFrames(tissue, options, poses, true);

@@ -48,6 +48,7 @@ SurfaceCutter::SurfaceCutter(mesh::SurfaceMesh& mesh, const CutterOptions& optio
     throw mesh::MeshError("SurfaceCutter: the tissue surface is not a closed two-manifold: " + report.first_problem);
   mesh::TriMesh& m = mesh_.mesh();
   m.add_property(vertex_data_, "incise:cutter");
+  m.add_property(rest_parent_, "incise:rest_parent");
   stats_.figures.reserve(CutStats::kReservedIncisions);
   const mesh::EdgeLengths edges = mesh::edgeLengths(m);
   const double edge_m = edges.mean_m;

@@ -60,14 +60,46 @@ std::optional<mesh::SurfacePoint> SurfaceCutter::intersect(const Eigen::Vector3d
     const Eigen::Vector3d p0 = a + (static_cast<double>(i) / pieces) * (b - a);
     const Eigen::Vector3d p1 = i + 1 == pieces ? b : Eigen::Vector3d(a + t1 * (b - a));
     queryRest(Eigen::AlignedBox3d(p0.cwiseMin(p1), p0.cwiseMax(p1)));
-    const std::optional<mesh::SurfacePoint> hit = mesh::detail::firstCrossing(
-        mesh_.mesh(), query_, a, b, [&](VH v) { return restPosition(v); }, [&](FH f) { return skipForContact(f); });
+    const std::optional<mesh::SurfacePoint> hit = mesh::detail::firstCrossingOfCorners(
+        mesh_.mesh(), query_, a, b, [&](FH f) { return contactCorners(f); }, [&](FH f) { return skipForContact(f); });
     if (hit && (!best || hit->distance_m < best->distance_m ||
                 (hit->distance_m == best->distance_m && hit->face.idx() < best->face.idx())))
       best = hit;
     if (best && best->distance_m <= t1 * length_m) break;
   }
   return best;
+}
+
+void SurfaceCutter::adoptParent(FH f) {
+  RestParent& parent = mesh_.mesh().property(rest_parent_, f);
+  if (parent.incision == incision_index_) return;
+  auto corner = mesh_.mesh().cfv_iter(f);
+  for (int& c : parent.corners) c = (corner++)->idx();
+  parent.incision = incision_index_;
+}
+
+void SurfaceCutter::afterFlip(FH f, FH g) {
+  // Both halves of one parent: the flipped pair lies in it still. Else each is its own.
+  mesh::TriMesh& m = mesh_.mesh();
+  if (m.property(rest_parent_, f).corners == m.property(rest_parent_, g).corners) return;
+  for (const FH face : {f, g}) {
+    m.property(rest_parent_, face).incision = kNoIncision;
+    adoptParent(face);
+  }
+}
+
+std::array<Eigen::Vector3d, 3> SurfaceCutter::contactCorners(FH f) const {
+  const mesh::TriMesh& m = mesh_.mesh();
+  std::array<Eigen::Vector3d, 3> p;
+  const RestParent& parent = m.property(rest_parent_, f);
+  if (parent.incision == incision_index_ && incision_index_ >= 0 &&
+      options_.refine != CutterOptions::Refine::PnTriangles) {
+    for (int i = 0; i < 3; ++i) p[static_cast<size_t>(i)] = restPosition(VH(parent.corners[static_cast<size_t>(i)]));
+    return p;
+  }
+  auto corner = m.cfv_iter(f);
+  for (Eigen::Vector3d& c : p) c = restPosition(*corner++);
+  return p;
 }
 
 int SurfaceCutter::skinNear(const Eigen::AlignedBox3d& box, std::span<mesh::SkinTriangle> out) const {

@@ -118,7 +118,10 @@ bool SurfaceCutter::flipSliver(VH p, mesh::TriMesh::HalfedgeHandle ab) {
   if ((A - P).cross(D - P).dot(normal) <= 0.0 || (D - P).cross(B - P).dot(normal) <= 0.0) return false;
   const double q_new = std::min(triangleQuality(P, A, D), triangleQuality(P, D, B));
   if (q_new <= std::min(q_old, triangleQuality(B, A, D)) || !m.is_flip_ok(m.edge_handle(ab))) return false;
+  adoptParent(f);
+  adoptParent(g);
   m.flip(m.edge_handle(ab));
+  afterFlip(f, g);
   for (const FH face : {f, g}) {
     mesh_.setKind(face, mesh::FaceKind::Split);
     faceChanged(face);
@@ -140,7 +143,9 @@ VH SurfaceCutter::splitAtCut(mesh::TriMesh::EdgeHandle e) {
                     mesh_.kind(m.face_handle(h)) == mesh::FaceKind::Wall &&
                     mesh_.kind(m.face_handle(m.opposite_halfedge_handle(h))) == mesh::FaceKind::Wall;
   const VH v = addBoundVertex(rest_m, uvw, 0, mesh::VertexKind::Seam);
-  m.split(e, v);
+  for (const int side : {0, 1})
+    if (const FH f = m.face_handle(m.halfedge_handle(e, side)); f.is_valid()) adoptParent(f);
+  m.split_copy(e, v);  // the new faces take their split faces' rest parents (their kinds are set below)
   for (auto f = m.vf_iter(v); f.is_valid(); ++f) {  // the two faces split and the two new ones
     mesh_.setKind(*f, wall ? mesh::FaceKind::Wall : mesh::FaceKind::Split);
     faceChanged(*f);

@@ -6,6 +6,7 @@
 // vertices). No allocation.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <span>
 
@@ -13,9 +14,13 @@
 
 namespace incise::mesh::detail {
 
-template <typename Position, typename Skip>
-std::optional<SurfacePoint> firstCrossing(const TriMesh& mesh, std::span<const int> vertices, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, Position&& position, Skip&& skip) {
+// As firstCrossing below, each face tested as the triangle `corners(FaceHandle)` gives (three points,
+// counter-clockwise): e.g. the face a retriangulated face lies in, so that any of its pieces gives the same
+// bits.
+template <typename Corners, typename Skip>
+std::optional<SurfacePoint> firstCrossingOfCorners(const TriMesh& mesh, std::span<const int> vertices,
+                                                   const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                                   Corners&& corners, Skip&& skip) {
   std::optional<SurfacePoint> best;
   double best_t = 1.0;
   for (const int id : vertices) {
@@ -23,17 +28,26 @@ std::optional<SurfacePoint> firstCrossing(const TriMesh& mesh, std::span<const i
     if (mesh.status(v).deleted()) continue;
     for (auto f = mesh.cvf_iter(v); f.is_valid(); ++f) {
       if (skip(*f)) continue;
-      auto corner = mesh.cfv_iter(*f);
-      const Eigen::Vector3d p0 = position(*corner++);
-      const Eigen::Vector3d p1 = position(*corner++);
-      const Eigen::Vector3d p2 = position(*corner);
-      const auto t = segmentTriangle(a, b, p0, p1, p2);
+      const std::array<Eigen::Vector3d, 3> p = corners(*f);
+      const auto t = segmentTriangle(a, b, p[0], p[1], p[2]);
       if (!t || *t > best_t || (best && *t == best_t && f->idx() > best->face.idx())) continue;
       best_t = *t;
-      best = SurfacePoint{a + *t * (b - a), (p1 - p0).cross(p2 - p0).normalized(), *f, *t * (b - a).norm()};
+      best = SurfacePoint{a + *t * (b - a), (p[1] - p[0]).cross(p[2] - p[0]).normalized(), *f, *t * (b - a).norm()};
     }
   }
   return best;
+}
+
+template <typename Position, typename Skip>
+std::optional<SurfacePoint> firstCrossing(const TriMesh& mesh, std::span<const int> vertices, const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b, Position&& position, Skip&& skip) {
+  const auto corners = [&](TriMesh::FaceHandle f) {
+    auto corner = mesh.cfv_iter(f);
+    std::array<Eigen::Vector3d, 3> p;
+    for (Eigen::Vector3d& c : p) c = position(*corner++);
+    return p;
+  };
+  return firstCrossingOfCorners(mesh, vertices, a, b, corners, skip);
 }
 
 }  // namespace incise::mesh::detail
