@@ -55,6 +55,7 @@ bool SurfaceCutter::duplicate(VH c, VH prev, VH next) {
     int i = 0;
     for (auto v = m.fv_ccwiter(a.face); v.is_valid() && i < 3; ++v) t.v[i++] = *v;
     t.kind = mesh_.kind(a.face);
+    t.parent = m.property(rest_parent_, a.face);
     pushReserved(plus_, t);
   }
   for (const Around& a : around_)
@@ -80,6 +81,7 @@ bool SurfaceCutter::duplicate(VH c, VH prev, VH next) {
     faceChanged(added);
     mesh_.setKind(m.find_halfedge(t.v[0], t.v[1]).is_valid() ? m.face_handle(m.find_halfedge(t.v[0], t.v[1])) : FH(),
                   t.kind);
+    m.property(rest_parent_, added) = t.parent;
   }
   if (wall_columns_used_ == wall_columns_.size()) {
     ++stats_.reserve_overflows;

@@ -230,9 +230,21 @@ class SurfaceCutter {
     mesh::TriMesh::FaceHandle face;
     int side;
   };
+  // Each face's rest parent: the face of the surface as the current incision began that it lies in (its
+  // three corners). Bisections ahead of the cut, the seam's splits and its duplication (faces re-attached
+  // to a seam vertex's copy keep theirs) retriangulate the skin within its faces' planes; contact
+  // (intersect) is taken with the parents, so it does not depend on how far that work had got when a pose
+  // came (the same bits however the frames fall). PN refinement moves the skin off those planes: contact is
+  // with the faces themselves there.
+  static constexpr int kNoIncision = -2;  // below incision_index_'s -1 (none yet)
+  struct RestParent {
+    std::array<int, 3> corners{-1, -1, -1};
+    int incision = kNoIncision;  // incision_index_ it was set in; another: the face is its own parent
+  };
   struct PlusTriangle {
     mesh::TriMesh::VertexHandle v[3];
     mesh::FaceKind kind;
+    RestParent parent;
   };
 
   VertexData& data(mesh::TriMesh::VertexHandle v) { return mesh_.mesh().property(vertex_data_, v); }
@@ -364,16 +376,7 @@ class SurfaceCutter {
   // query_: the vertices whose faces may meet the box; a new face stamp for skipForContact.
   void queryRest(const Eigen::AlignedBox3d& box) const;
   bool skipForContact(mesh::TriMesh::FaceHandle f) const;  // seen in this query already, or a wall
-  // Each face's rest parent: the face of the surface as the current incision began that it lies in (its
-  // three corners). Bisections ahead of the cut and the seam's splits retriangulate the skin within its
-  // faces' planes; contact (intersect) is taken with the parents, so it does not depend on how far that work
-  // had got when a pose came (the same bits however the frames fall). PN refinement moves the skin off those
-  // planes: contact is with the faces themselves there.
-  static constexpr int kNoIncision = -2;  // below incision_index_'s -1 (none yet)
-  struct RestParent {
-    std::array<int, 3> corners{-1, -1, -1};
-    int incision = kNoIncision;  // incision_index_ it was set in; another: the face is its own parent
-  };
+  // Rest parents (RestParent above): set, kept through a flip, and the triangle contact is taken with.
   void adoptParent(mesh::TriMesh::FaceHandle f);  // a face its own parent unless set in this incision
   void afterFlip(mesh::TriMesh::FaceHandle f, mesh::TriMesh::FaceHandle g);  // parents of a flipped pair
   std::array<Eigen::Vector3d, 3> contactCorners(mesh::TriMesh::FaceHandle f) const;
