@@ -44,19 +44,6 @@ function(incise_target_options target)
   endif()
 endfunction()
 
-# incise_test_options(<target>): a Catch2 test executable's options. incise_target_options, Catch2's
-# header precompiled (every test file includes it: about a third of a test file's compile time), and in the
-# sanitizer builds -O0 for the test files themselves (the libraries they test keep the build's -O1, where
-# the sanitizers' time goes): test files compile in about 60% of the time at -O1, which is most of
-# scripts/test.sh's sanitizer builds.
-function(incise_test_options target)
-  incise_target_options(${target})
-  target_precompile_headers(${target} PRIVATE <catch2/catch.hpp>)
-  if(INCISE_SANITIZE OR INCISE_TSAN)
-    target_compile_options(${target} PRIVATE -O0)
-  endif()
-endfunction()
-
 # incise_add_module(<name> SOURCES <files...> [PUBLIC <deps...>] [PRIVATE <deps...>])
 # One folder = one library target `incise_<name>` = alias `incise::<name>`, public headers under
 # <folder>/include, installed and exported in the incise package. PRIVATE dependencies stay out of the

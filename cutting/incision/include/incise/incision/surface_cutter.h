@@ -126,9 +126,11 @@ class SurfaceCutter {
   int columnsDone() const noexcept { return incision_ ? next_column_ : 0; }
   // The first crossing of the segment a -> b with the tissue surface (contact with the tool), through the
   // cutter's vertex grid, against the skin at rest for the current incision: vertices where they were when
-  // it began, and every wall face left out — the current incision's and the earlier ones'. That surface does
-  // not depend on how far the cut's work has got, so contact is the same whichever frame handles a pose (the
-  // earlier incisions' opened lips are part of it). A blade inside an earlier, open groove touches nothing:
+  // it began, and every wall face left out — the current incision's and the earlier ones'; each skin face is
+  // taken as the face it lies in as the incision began (its rest parent: refinement's bisections and the
+  // seam's splits retriangulate within it). That surface does not depend on how far the cut's work has got,
+  // so contact is the same, to the bit, whichever frame handles a pose (the earlier incisions' opened lips
+  // are part of it; with PN refinement, which moves the skin, the faces themselves are taken). A blade inside an earlier, open groove touches nothing:
   // it is in the wound's air; back in the tissue beyond it, its first contact is the far lip's skin, where a
   // new incision starts (an incision begun on a wall's face, its normal across the stroke, could not chain
   // its seam from the wall onto the skin and cut nothing beyond the lip).
