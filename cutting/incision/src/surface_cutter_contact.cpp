@@ -78,6 +78,11 @@ void SurfaceCutter::adoptParent(FH f) {
   parent.incision = incision_index_;
 }
 
+void SurfaceCutter::adoptParents(mesh::TriMesh::EdgeHandle e) {
+  for (const int side : {0, 1})
+    if (const FH f = mesh_.mesh().face_handle(mesh_.mesh().halfedge_handle(e, side)); f.is_valid()) adoptParent(f);
+}
+
 void SurfaceCutter::afterFlip(FH f, FH g) {
   // Both halves of one parent: the flipped pair lies in it still. Else each is its own.
   mesh::TriMesh& m = mesh_.mesh();

@@ -160,8 +160,7 @@ VH SurfaceCutter::bisect(EH e, CutStep& step) {
   mesh::TriMesh& m = mesh_.mesh();
   const Eigen::Vector3d p = refinedPoint(m.halfedge_handle(e, 0));
   const VH v = mesh_.addVertex(p, mesh::VertexKind::Original);
-  for (const int side : {0, 1})
-    if (const FH f = m.face_handle(m.halfedge_handle(e, side)); f.is_valid()) adoptParent(f);
+  adoptParents(e);
   m.split_copy(e, v);  // the new faces take their split faces' kinds (Original or an earlier cut's Split) and
                        // rest parents
   grid_.insert(v.idx(), p);

@@ -143,8 +143,7 @@ VH SurfaceCutter::splitAtCut(mesh::TriMesh::EdgeHandle e) {
                     mesh_.kind(m.face_handle(h)) == mesh::FaceKind::Wall &&
                     mesh_.kind(m.face_handle(m.opposite_halfedge_handle(h))) == mesh::FaceKind::Wall;
   const VH v = addBoundVertex(rest_m, uvw, 0, mesh::VertexKind::Seam);
-  for (const int side : {0, 1})
-    if (const FH f = m.face_handle(m.halfedge_handle(e, side)); f.is_valid()) adoptParent(f);
+  adoptParents(e);
   m.split_copy(e, v);  // the new faces take their split faces' rest parents (their kinds are set below)
   for (auto f = m.vf_iter(v); f.is_valid(); ++f) {  // the two faces split and the two new ones
     mesh_.setKind(*f, wall ? mesh::FaceKind::Wall : mesh::FaceKind::Split);

@@ -130,8 +130,8 @@ class SurfaceCutter {
   // taken as the face it lies in as the incision began (its rest parent: refinement's bisections and the
   // seam's splits retriangulate within it). That surface does not depend on how far the cut's work has got,
   // so contact is the same, to the bit, whichever frame handles a pose (the earlier incisions' opened lips
-  // are part of it; with PN refinement, which moves the skin, the faces themselves are taken). A blade inside an earlier, open groove touches nothing:
-  // it is in the wound's air; back in the tissue beyond it, its first contact is the far lip's skin, where a
+  // are part of it; with PN refinement, which moves the skin, the faces themselves are taken). A blade
+  // inside an earlier, open groove touches nothing: it is in the wound's air; back in the tissue beyond it, its first contact is the far lip's skin, where a
   // new incision starts (an incision begun on a wall's face, its normal across the stroke, could not chain
   // its seam from the wall onto the skin and cut nothing beyond the lip).
   // Cost O(vertices within one edge of the segment up to the crossing), queried a grid cell at a time from
@@ -379,7 +379,8 @@ class SurfaceCutter {
   void queryRest(const Eigen::AlignedBox3d& box) const;
   bool skipForContact(mesh::TriMesh::FaceHandle f) const;  // seen in this query already, or a wall
   // Rest parents (RestParent above): set, kept through a flip, and the triangle contact is taken with.
-  void adoptParent(mesh::TriMesh::FaceHandle f);  // a face its own parent unless set in this incision
+  void adoptParent(mesh::TriMesh::FaceHandle f);   // a face its own parent unless set in this incision
+  void adoptParents(mesh::TriMesh::EdgeHandle e);  // adoptParent for the faces on both sides of an edge
   void afterFlip(mesh::TriMesh::FaceHandle f, mesh::TriMesh::FaceHandle g);  // parents of a flipped pair
   std::array<Eigen::Vector3d, 3> contactCorners(mesh::TriMesh::FaceHandle f) const;
   OpenMesh::FPropHandleT<RestParent> rest_parent_;
