@@ -43,7 +43,7 @@ incision::CutterOptions::Refine refineMode(const std::string& name) {
 
 Eigen::Vector3d vec(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
-[[noreturn]] void failWith(const std::string& message) { apps::failWith("cut", message); }
+[[noreturn]] void failCut(const std::string& message) { apps::failWith("cut", message); }
 
 int runCut(CutArgs& a) {
   a.job.mesh = a.mesh;
@@ -53,11 +53,11 @@ int runCut(CutArgs& a) {
   try {
     job = std::make_unique<jobs::CutJob>(a.job);
   } catch (const std::exception& e) {
-    failWith(e.what());
+    failCut(e.what());
   }
   std::error_code error;
   std::filesystem::create_directories(a.out, error);
-  if (error) failWith("cannot create output directory " + a.out + ": " + error.message());
+  if (error) failCut("cannot create output directory " + a.out + ": " + error.message());
 
   Progress progress("cut", static_cast<double>(job->samples() - 1));
   job->run([&progress](std::size_t done, std::size_t) { progress.update(static_cast<double>(done)); });
@@ -72,7 +72,7 @@ int runCut(CutArgs& a) {
     if (a.format != MeshFormat::Obj) mesh::savePly(mesh, out / "cut.ply");
     writeJsonAtomically(job->summary(summary), out / "summary.json");
   } catch (const std::exception& e) {
-    failWith(e.what());
+    failCut(e.what());
   }
   const incision::CutStats& stats = job->stats();
   std::printf(

@@ -40,17 +40,17 @@ struct ScoreArgs {
   std::vector<std::string> pass_marks;
 };
 
-struct Session {
+struct ScoredSession {
   std::string file;
   std::vector<devices::PoseSample> poses;
 };
 
 // Reads every trace and checks it against the scenario's tissue (exit 2 on the first bad one).
-std::vector<Session> readTraces(const ScoreArgs& a, const jobs::ScoringScenario& scoring) {
+std::vector<ScoredSession> readTraces(const ScoreArgs& a, const jobs::ScoringScenario& scoring) {
   const jobs::Warn warn = [](const std::string& text) {
     std::fprintf(stderr, "incise score: warning: %s\n", text.c_str());
   };
-  std::vector<Session> sessions;
+  std::vector<ScoredSession> sessions;
   for (const std::string& file : a.traces) {
     try {
       sessions.push_back({file, jobs::readScoreTrace(file, scoring, warn)});
@@ -93,7 +93,8 @@ std::vector<OverlayLine> planOverlay(const sim::Scenario& scenario, const mesh::
 }
 
 // One trace: scored (the cut left in run.world for the picture), its plots written.
-nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const mesh::SurfaceMesh& tissue, Session& s) {
+nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const mesh::SurfaceMesh& tissue,
+                                ScoredSession& s) {
   run.world = std::make_unique<sim::World>(tissue, run.scenario.world);
   run.poses = std::move(s.poses);
   const sim::Score score = sim::scoreReplay(run.scenario, tissue, *run.world, run.poses);
@@ -111,7 +112,7 @@ nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const m
 }
 
 // The traces that miss a pass mark, each named on stderr with the marks it missed; the summary's count.
-int checkPassMarks(const std::vector<PassMark>& marks, const std::vector<Session>& sessions,
+int checkPassMarks(const std::vector<PassMark>& marks, const std::vector<ScoredSession>& sessions,
                    const std::vector<nlohmann::ordered_json>& lines, nlohmann::ordered_json& summary) {
   int failed = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
@@ -142,7 +143,7 @@ int runScore(const ScoreArgs& a) {
   LoadedScenario run;
   run.scenario = scoring.scenario;
   const mesh::SurfaceMesh& tissue = scoring.tissue;
-  std::vector<Session> sessions = readTraces(a, scoring);
+  std::vector<ScoredSession> sessions = readTraces(a, scoring);
   std::vector<nlohmann::ordered_json> lines;
   Progress progress("score " + run.scenario.name, static_cast<double>(sessions.size()));
   try {

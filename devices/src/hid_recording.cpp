@@ -18,22 +18,22 @@ namespace {
 
 using detail::quoteField;
 
-constexpr std::string_view kBlank = " \t";
+constexpr std::string_view kFieldBlank = " \t";
 constexpr std::int64_t kMicrosecondsPerSecond = 1000000;
 
 std::string_view trimRight(std::string_view text) {
-  const std::size_t end = text.find_last_not_of(kBlank);
+  const std::size_t end = text.find_last_not_of(kFieldBlank);
   return end == std::string_view::npos ? std::string_view() : text.substr(0, end + 1);
 }
 
 // Fields separated by runs of spaces and tabs.
-std::vector<std::string_view> splitFields(std::string_view text) {
+std::vector<std::string_view> splitBlankFields(std::string_view text) {
   std::vector<std::string_view> fields;
-  std::size_t start = text.find_first_not_of(kBlank);
+  std::size_t start = text.find_first_not_of(kFieldBlank);
   while (start != std::string_view::npos) {
-    const std::size_t end = text.find_first_of(kBlank, start);
+    const std::size_t end = text.find_first_of(kFieldBlank, start);
     fields.push_back(text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
-    start = end == std::string_view::npos ? end : text.find_first_not_of(kBlank, end);
+    start = end == std::string_view::npos ? end : text.find_first_not_of(kFieldBlank, end);
   }
   return fields;
 }
@@ -68,9 +68,9 @@ struct DeviceLines {
   std::int64_t last_time_us = 0;  // that report's time
 };
 
-class Parser {
+class RecordingParser {
  public:
-  explicit Parser(std::filesystem::path path) : path_(std::move(path)) {}
+  explicit RecordingParser(std::filesystem::path path) : path_(std::move(path)) {}
   HidRecording read();
 
  private:
@@ -100,7 +100,7 @@ class Parser {
   bool leading_comments_ = true;
 };
 
-HidRecording Parser::read() {
+HidRecording RecordingParser::read() {
   std::ifstream in(path_, std::ios::binary);
   if (!in) {
     const int error = errno;
@@ -133,7 +133,7 @@ HidRecording Parser::read() {
   return std::move(recording_);
 }
 
-void Parser::parseLine(std::string_view line) {
+void RecordingParser::parseLine(std::string_view line) {
   if (line.starts_with('#')) {
     if (leading_comments_) {
       std::string_view comment = line.substr(1);
@@ -143,7 +143,7 @@ void Parser::parseLine(std::string_view line) {
     return;
   }
   leading_comments_ = false;
-  if (line.find_first_not_of(kBlank) == std::string_view::npos) return;  // empty line
+  if (line.find_first_not_of(kFieldBlank) == std::string_view::npos) return;  // empty line
   const char prefix = line.size() >= 2 && line[1] == ':' ? line[0] : '\0';
   std::string_view rest = line.substr(prefix == '\0' ? 0 : 2);
   switch (prefix) {
@@ -172,7 +172,7 @@ void Parser::parseLine(std::string_view line) {
   }
 }
 
-int Parser::currentDevice() {
+int RecordingParser::currentDevice() {
   if (current_ < 0) {
     current_ = 0;
     recording_.devices.emplace_back();
@@ -181,15 +181,15 @@ int Parser::currentDevice() {
   return current_;
 }
 
-void Parser::once(std::size_t& slot, const char* prefix) {
+void RecordingParser::once(std::size_t& slot, const char* prefix) {
   if (slot != 0)
     fail(std::string("a second ") + prefix + " line for device " + std::to_string(current_) +
          " (the first is on line " + std::to_string(slot) + ")");
   slot = line_;
 }
 
-void Parser::parseDeviceSwitch(std::string_view rest) {
-  const std::vector<std::string_view> fields = splitFields(rest);
+void RecordingParser::parseDeviceSwitch(std::string_view rest) {
+  const std::vector<std::string_view> fields = splitBlankFields(rest);
   if (fields.size() != 1) fail("D: expects one device number, got " + quoteField(trimRight(rest)));
   const auto index = parseUnsigned(fields[0], 10);
   if (!index || *index > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
@@ -205,8 +205,8 @@ void Parser::parseDeviceSwitch(std::string_view rest) {
   }
 }
 
-std::vector<std::uint8_t> Parser::parseBytes(const char* prefix, std::span<const std::string_view> fields,
-                                             std::size_t max_bytes) const {
+std::vector<std::uint8_t> RecordingParser::parseBytes(const char* prefix, std::span<const std::string_view> fields,
+                                                      std::size_t max_bytes) const {
   if (!allDigits(fields[0]))
     fail(std::string(prefix) + " length " + quoteField(fields[0]) + " is not a number of bytes");
   const auto length = parseUnsigned(fields[0], 10);  // nullopt: too many digits for 64 bits
@@ -234,16 +234,16 @@ std::vector<std::uint8_t> Parser::parseBytes(const char* prefix, std::span<const
   return bytes;
 }
 
-void Parser::parseDescriptor(std::string_view rest) {
-  const std::vector<std::string_view> fields = splitFields(rest);
+void RecordingParser::parseDescriptor(std::string_view rest) {
+  const std::vector<std::string_view> fields = splitBlankFields(rest);
   if (fields.empty()) fail("R: missing the descriptor's length and bytes");
   const int device = currentDevice();
   once(lines_[static_cast<std::size_t>(device)].descriptor, "R:");
   recording_.devices[static_cast<std::size_t>(device)].descriptor = parseBytes("R:", fields, kHidMaxDescriptorBytes);
 }
 
-void Parser::parseInfo(std::string_view rest) {
-  const std::vector<std::string_view> fields = splitFields(rest);
+void RecordingParser::parseInfo(std::string_view rest) {
+  const std::vector<std::string_view> fields = splitBlankFields(rest);
   if (fields.size() != 3)
     fail("I: expects bus, vendor and product in hex (e.g. 'I: 3 046d c24e'), got " + quoteField(trimRight(rest)));
   const int device = currentDevice();
@@ -264,7 +264,7 @@ void Parser::parseInfo(std::string_view rest) {
   d.pid = static_cast<std::uint16_t>(values[2]);
 }
 
-std::int64_t Parser::parseTime(std::string_view field) const {
+std::int64_t RecordingParser::parseTime(std::string_view field) const {
   const std::size_t dot = field.find('.');
   const std::string_view seconds = field.substr(0, dot);
   const std::string_view micros = dot == std::string_view::npos ? std::string_view() : field.substr(dot + 1);
@@ -277,12 +277,12 @@ std::int64_t Parser::parseTime(std::string_view field) const {
   return static_cast<std::int64_t>(*s) * kMicrosecondsPerSecond + static_cast<std::int64_t>(*parseUnsigned(micros, 10));
 }
 
-void Parser::parseReport(std::string_view rest) {
+void RecordingParser::parseReport(std::string_view rest) {
   const int device = currentDevice();
   DeviceLines& lines = lines_[static_cast<std::size_t>(device)];
   if (lines.descriptor == 0)
     fail("E: line for device " + std::to_string(device) + " before its report descriptor (R: line)");
-  const std::vector<std::string_view> fields = splitFields(rest);
+  const std::vector<std::string_view> fields = splitBlankFields(rest);
   if (fields.size() < 2) fail("E: missing the " + std::string(fields.empty() ? "time, " : "") + "length and bytes");
   HidRecordedReport report;
   report.device = device;
@@ -297,7 +297,7 @@ void Parser::parseReport(std::string_view rest) {
   recording_.reports.push_back(std::move(report));
 }
 
-void Parser::checkEnd(bool truncated_tail) const {
+void RecordingParser::checkEnd(bool truncated_tail) const {
   const std::string dropped = truncated_tail ? " (the last line, without an end of line, was dropped)" : "";
   if (recording_.devices.empty()) {
     const std::size_t last = std::max<std::size_t>(line_, 1);
@@ -314,7 +314,7 @@ void Parser::checkEnd(bool truncated_tail) const {
 
 }  // namespace
 
-HidRecording readHidRecording(const std::filesystem::path& path) { return Parser(path).read(); }
+HidRecording readHidRecording(const std::filesystem::path& path) { return RecordingParser(path).read(); }
 
 // ---------------------------------------------------------------------------------------------------
 // HidRecordingWriter

@@ -25,12 +25,12 @@ constexpr std::array<std::string_view, kJigsawsArmColumns> kArmFields = {
     "R32", "R33", "vx",  "vy",  "vz",  "wx",  "wy",  "wz",  "gripper_rad"};
 constexpr int kRotationOffset = 3;
 constexpr int kGripperOffset = 18;
-constexpr std::string_view kBlank = " \t";
+constexpr std::string_view kLineBlank = " \t";
 // Below this smallest singular value a matrix is singular, not merely far from a rotation.
 constexpr double kSingularBelow = 1e-9;
 
 // "column 42 (psm-left R11)".
-std::string columnLabel(int column) {
+std::string armColumnLabel(int column) {
   const int arm = (column - 1) / kJigsawsArmColumns;
   const int field = (column - 1) % kJigsawsArmColumns;
   return "column " + std::to_string(column) + " (" + std::string(kArmNames[static_cast<std::size_t>(arm)]) + " " +
@@ -67,7 +67,7 @@ class Reader {
  private:
   [[noreturn]] void fail(int column, const std::string& what) const {
     std::string message = path_.string() + ":" + std::to_string(line_) + ": ";
-    if (column > 0) message += columnLabel(column) + ": ";
+    if (column > 0) message += armColumnLabel(column) + ": ";
     throw JigsawsError(message + what, path_, line_, column);
   }
   PoseSample parseFrame(std::string_view line, std::size_t frame) const;
@@ -90,7 +90,7 @@ std::vector<PoseSample> Reader::read() {
   while (std::getline(in, line)) {
     ++line_;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.find_first_not_of(kBlank) == std::string::npos) {
+    if (line.find_first_not_of(kLineBlank) == std::string::npos) {
       if (blank_line == 0) blank_line = line_;
       continue;
     }
@@ -113,11 +113,11 @@ std::vector<PoseSample> Reader::read() {
 PoseSample Reader::parseFrame(std::string_view line, std::size_t frame) const {
   std::array<double, kJigsawsColumns> values{};
   int count = 0;
-  std::size_t start = line.find_first_not_of(kBlank);
+  std::size_t start = line.find_first_not_of(kLineBlank);
   while (start != std::string_view::npos) {
-    const std::size_t end = std::min(line.find_first_of(kBlank, start), line.size());
+    const std::size_t end = std::min(line.find_first_of(kLineBlank, start), line.size());
     const std::string_view field = line.substr(start, end - start);
-    start = line.find_first_not_of(kBlank, end);
+    start = line.find_first_not_of(kLineBlank, end);
     if (++count > kJigsawsColumns) continue;  // counted, to say how many
     double value = 0.0;
     const auto result = std::from_chars(field.data(), field.data() + field.size(), value);

@@ -35,7 +35,7 @@ std::string columnLabel(int column) {
   return label;
 }
 
-std::vector<std::string_view> splitFields(std::string_view line) {
+std::vector<std::string_view> splitCommaFields(std::string_view line) {
   std::vector<std::string_view> fields;
   std::size_t start = 0;
   while (true) {
@@ -131,7 +131,7 @@ TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
 
 void TraceReader::checkHeader(std::string_view header) const {
   if (header == kTraceHeader) return;
-  const std::vector<std::string_view> names = splitFields(header);
+  const std::vector<std::string_view> names = splitCommaFields(header);
   std::string problems;
   int first_column = 0;
   auto add = [&](int column, const std::string& text) {
@@ -205,7 +205,7 @@ std::optional<PoseSample> TraceReader::next() {
 }
 
 PoseSample TraceReader::parseSample(std::string_view line) const {
-  const std::vector<std::string_view> fields = splitFields(line);
+  const std::vector<std::string_view> fields = splitCommaFields(line);
   const int count = static_cast<int>(fields.size());
   if (count < kColumnCount)
     fail(count + 1,

@@ -55,7 +55,7 @@ HidRecordedDevice stylus() {
   return d;
 }
 
-HidRecordingWriterOptions flushEvery(std::size_t reports) {
+HidRecordingWriterOptions flushEveryReports(std::size_t reports) {
   HidRecordingWriterOptions options;
   options.flush_every = reports;
   return options;
@@ -123,7 +123,7 @@ TEST_CASE("hid_recording: what the writer writes reads back bit-exactly, in hid-
   TempDir dir;
   const auto path = dir.path() / "pen.hid";
   const std::vector<TimedReport> reports = randomReports(1, 500);
-  HidRecordingWriterOptions options = flushEvery(7);
+  HidRecordingWriterOptions options = flushEveryReports(7);
   options.comments = {"generator: incise test", "", " indented"};
   {
     HidRecordingWriter writer(path, stylus(), options);
@@ -325,7 +325,7 @@ TEST_CASE("hid_recording: a missing file is a HidRecordingError naming it", "[de
 TEST_CASE("hid_recording: the writer refuses what the reader would, writing nothing", "[devices]") {
   TempDir dir;
   const auto path = dir.path() / "refuse.hid";
-  HidRecordingWriter writer(path, stylus(), flushEvery(1));
+  HidRecordingWriter writer(path, stylus(), flushEveryReports(1));
   const std::string header = readFile(path);
   writer.write(1000, Bytes{0x10});
   const std::string one = readFile(path);
@@ -351,7 +351,7 @@ TEST_CASE("hid_recording: the writer refuses what the reader would, writing noth
 TEST_CASE("hid_recording: the writer refuses bad options and devices", "[devices]") {
   TempDir dir;
   const auto path = dir.path() / "options.hid";
-  CHECK_THROWS_AS(HidRecordingWriter(path, stylus(), flushEvery(0)), std::invalid_argument);
+  CHECK_THROWS_AS(HidRecordingWriter(path, stylus(), flushEveryReports(0)), std::invalid_argument);
   HidRecordingWriterOptions comments;
   comments.comments = {"two\nlines"};
   CHECK_THROWS_AS(HidRecordingWriter(path, stylus(), comments), std::invalid_argument);
@@ -371,7 +371,7 @@ TEST_CASE("hid_recording: reports reach the file every flush_every reports while
   TempDir dir;
   const auto path = dir.path() / "flush.hid";
   const std::vector<TimedReport> reports = randomReports(2, 25);
-  HidRecordingWriter writer(path, stylus(), flushEvery(10));
+  HidRecordingWriter writer(path, stylus(), flushEveryReports(10));
   CHECK(readHidRecording(path).reports.empty());  // the device is there from the start
   for (std::size_t i = 0; i < reports.size(); ++i) {
     writer.write(reports[i].time_us, reports[i].bytes);
@@ -400,7 +400,7 @@ TEST_CASE("hid_recording: a writer killed by SIGKILL leaves every flushed report
     // Child: no Catch2 here, and no exit handlers: it dies by SIGKILL with 7 reports still buffered.
     ::close(pipe.read_fd);
     try {
-      HidRecordingWriterOptions options = flushEvery(10);
+      HidRecordingWriterOptions options = flushEveryReports(10);
       options.comments = {"generator: crash test"};
       HidRecordingWriter writer(path, stylus(), options);
       for (const TimedReport& r : reports) writer.write(r.time_us, r.bytes);
@@ -446,7 +446,7 @@ TEST_CASE("hid_recording: a writer killed during one big write leaves a readable
     if (pid == 0) {
       ::close(pipe.read_fd);
       try {
-        HidRecordingWriter writer(path, stylus(), flushEvery(reports.size()));
+        HidRecordingWriter writer(path, stylus(), flushEveryReports(reports.size()));
         for (std::size_t i = 0; i < reports.size(); ++i) {
           if (i + 1 == reports.size()) report(pipe.write_fd, 0);  // "kill me soon"
           writer.write(reports[i].time_us, reports[i].bytes);

@@ -29,7 +29,7 @@ using namespace incise;
 namespace {
 
 using Loaded = test::ShippedScenario;
-Loaded load(const char* name) { return test::loadShipped(name); }
+Loaded shipped(const char* name) { return test::loadShipped(name); }
 
 sim::ReplayOptions options(const Loaded& l, sim::ReplayPace pace, sim::GeometryStream& stream) {
   sim::ReplayOptions o;
@@ -99,7 +99,7 @@ bool facesValid(const sim::GeometryMirror& mirror) {
 }  // namespace
 
 TEST_CASE("geometry_stream: a mirror pulled after every fast frame ends as the replay's mesh, bit for bit", "[sim]") {
-  Loaded l = load("bunny-straight");
+  Loaded l = shipped("bunny-straight");
   sim::GeometryStream stream;
   sim::GeometryMirror mirror;
   sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
@@ -119,7 +119,7 @@ TEST_CASE("geometry_stream: a mirror pulled after every fast frame ends as the r
 }
 
 TEST_CASE("geometry_stream: a reader that falls behind stalls the stream, loses nothing and ends exact", "[sim]") {
-  Loaded l = load("bunny-straight");
+  Loaded l = shipped("bunny-straight");
   sim::GeometryStreamOptions small;
   small.ring_records = 4096;
   small.records_per_frame = 512;
@@ -141,7 +141,7 @@ TEST_CASE("geometry_stream: a reader that falls behind stalls the stream, loses 
 }
 
 TEST_CASE("geometry_stream: a reader that drops its copy mid-run re-syncs and ends exact", "[sim]") {
-  Loaded l = load("bunny-straight");
+  Loaded l = shipped("bunny-straight");
   sim::GeometryStream stream;
   sim::GeometryMirror mirror;
   sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
@@ -158,8 +158,8 @@ TEST_CASE("geometry_stream: a reader that drops its copy mid-run re-syncs and en
 }
 
 TEST_CASE("geometry_stream: without a reader the stream sends nothing and the replay is unchanged", "[sim]") {
-  Loaded with = load("bunny-straight");
-  Loaded without = load("bunny-straight");
+  Loaded with = shipped("bunny-straight");
+  Loaded without = shipped("bunny-straight");
   sim::GeometryStream stream;
   sim::ReplayOptions o = options(with, sim::ReplayPace::Fast, stream);
   o.flush_timeout_ms = 10;
@@ -183,7 +183,7 @@ TEST_CASE("geometry_stream: bad options are refused with the value", "[sim]") {
 
 TEST_CASE("geometry_stream: a reader thread follows a real-time replay and rebuilds its final mesh bit for bit",
           "[sim][threads]") {
-  Loaded l = load("bunny-straight");
+  Loaded l = shipped("bunny-straight");
   sim::GeometryStream stream;
   sim::ReplayOptions o = options(l, sim::ReplayPace::RealTime, stream);
   auto times = std::make_unique<sim::FrameTimesQueue>();  // every frame's timings, for the same reader (a HUD)
@@ -225,7 +225,7 @@ TEST_CASE("geometry_stream: a reader thread follows a real-time replay and rebui
 }
 
 TEST_CASE("geometry_stream: a mirror seeded before the run follows without any sweep and ends exact", "[sim]") {
-  Loaded l = load("bunny-straight");
+  Loaded l = shipped("bunny-straight");
   sim::GeometryStreamOptions small;
   small.records_per_frame = 64;  // far less than the mesh: a sweep would take hundreds of frames
   sim::GeometryStream stream(small);
@@ -287,7 +287,7 @@ void requireSameTetBoundary(const sim::GeometryMirror& mirror, const tets::TetCu
 
 TEST_CASE("geometry_stream: a reader thread follows a real-time tet replay and rebuilds its tet boundary bit for bit",
           "[sim][threads][tets]") {
-  Loaded l = load("bunny-tets");
+  Loaded l = shipped("bunny-tets");
   REQUIRE(l.world->tets());
   sim::GeometryStream stream;
   sim::ReplayOptions o = options(l, sim::ReplayPace::RealTime, stream);
@@ -316,7 +316,7 @@ TEST_CASE("geometry_stream: a reader thread follows a real-time tet replay and r
 
 TEST_CASE("geometry_stream: a second incision keeps the tets' numbering, the reader follows it and ends exact",
           "[sim][tets]") {
-  Loaded l = load("bunny-tets");
+  Loaded l = shipped("bunny-tets");
   l.poses = devices::TraceReader::readAll(std::string(INCISE_SCENARIOS_DIR) + "/traces/bunny-crossing.csv");
   sim::GeometryStream stream;
   sim::GeometryMirror mirror;

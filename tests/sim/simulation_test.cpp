@@ -19,7 +19,7 @@ using Eigen::Vector3d;
 namespace {
 
 // A slab whose top face is the plane z = 0: the identity orientation's blade (local -z) points into it.
-mesh::SurfaceMesh slab() {
+mesh::SurfaceMesh slabBox() {
   return mesh::makeBox(Eigen::AlignedBox3d(Vector3d(-0.05, -0.05, -0.04), Vector3d(0.05, 0.05, 0.0)), 10);
 }
 
@@ -58,7 +58,7 @@ struct RecordingSink : sim::ForceSink {
 }  // namespace
 
 TEST_CASE("simulation: a pose pushed is taken in the next frame and published with that frame", "[sim]") {
-  sim::World world(slab(), noCutting());
+  sim::World world(slabBox(), noCutting());
   sim::Simulation simulation(world, nullptr, 1000, 2.5);
   sim::Snapshot snap;
   REQUIRE_FALSE(simulation.takeSnapshot(snap));  // nothing published yet
@@ -119,7 +119,7 @@ TEST_CASE("simulation: a pose pushed is taken in the next frame and published wi
 }
 
 TEST_CASE("simulation: a full queue drops the pose and counts it, a frame takes at most kMaxPosesPerFrame", "[sim]") {
-  sim::World world(slab(), noCutting());
+  sim::World world(slabBox(), noCutting());
   sim::Simulation simulation(world, nullptr, 1000, 0.0);
   constexpr auto capacity = static_cast<int>(sim::Simulation::kQueueCapacity);
   constexpr int per_frame = sim::Simulation::kMaxPosesPerFrame;
@@ -154,7 +154,7 @@ TEST_CASE("simulation: a full queue drops the pose and counts it, a frame takes 
 
 TEST_CASE("simulation: the ForceSink gets each frame's haptic force at the frame's time", "[sim]") {
   const sim::WorldOptions options = noCutting();
-  sim::World world(slab(), options);
+  sim::World world(slabBox(), options);
   RecordingSink sink;
   sim::Simulation simulation(world, &sink, 2000, 1.0);  // 500 Hz
   sim::Snapshot snap;
@@ -273,7 +273,7 @@ TEST_CASE("simulation: pose-to-visible counts each cut once, from the frame its 
 }
 
 TEST_CASE("simulation: a non-positive period is refused", "[sim]") {
-  sim::World world(slab(), noCutting());
+  sim::World world(slabBox(), noCutting());
   REQUIRE_THROWS_AS(sim::Simulation(world, nullptr, 0, 0.0), std::invalid_argument);
   REQUIRE_THROWS_AS(sim::Simulation(world, nullptr, -1000, 0.0), std::invalid_argument);
 }

@@ -10,7 +10,7 @@ namespace incise::viewer {
 
 namespace {
 
-constexpr std::uint8_t kWallKind = 2;  // mesh::FaceKind::Wall
+constexpr std::uint8_t kWallFaceKind = 2;  // mesh::FaceKind::Wall
 
 // Möller and Trumbore, "Fast, minimum storage ray/triangle intersection" (1997): the ray's parameter t
 // at its hit of triangle (a, b, c), or a negative value for no hit.
@@ -65,7 +65,7 @@ std::optional<MouseScalpel::Hit> MouseScalpel::cast(const Eigen::Vector3d& o, co
     const Eigen::Vector3d a = at(idx[3 * f]), b = at(idx[3 * f + 1]), c = at(idx[3 * f + 2]);
     const double t = rayTriangle(o, d, a, b, c);
     if (!(t > 0.0)) continue;
-    if (kind == kWallKind) {
+    if (kind == kWallFaceKind) {
       wall_t = std::min(wall_t, t);
       continue;
     }

@@ -1,5 +1,7 @@
 #include "incise/bspline/bspline_curve.h"
 
+#include "bspline_errors.h"
+
 #include "incise/core/format.h"
 
 #include <algorithm>
@@ -16,7 +18,7 @@ namespace incise::bspline {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+using detail::fail;
 
 size_t at(int i) { return static_cast<size_t>(i); }
 

@@ -1,5 +1,7 @@
 #include "incise/bspline/bspline_volume.h"
 
+#include "bspline_errors.h"
+
 #include "incise/core/format.h"
 
 #include <cmath>
@@ -14,7 +16,7 @@ namespace incise::bspline {
 
 namespace {
 
-constexpr const char* kAxisName[3] = {"u", "v", "w"};
+using detail::kAxisName;
 
 void checkAxis(int axis, const char* who) {
   if (axis < 0 || axis > 2)

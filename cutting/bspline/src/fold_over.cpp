@@ -1,5 +1,7 @@
 #include "incise/bspline/fold_over.h"
 
+#include "bspline_errors.h"
+
 #include "incise/core/format.h"
 
 #include <algorithm>
@@ -15,7 +17,7 @@ namespace incise::bspline {
 
 namespace {
 
-constexpr const char* kAxisName[3] = {"u", "v", "w"};
+using detail::kAxisName;
 
 using Index3 = std::array<int, 3>;
 

@@ -1,5 +1,7 @@
 #include "incise/bspline/knot_vector.h"
 
+#include "bspline_errors.h"
+
 #include "incise/core/format.h"
 
 #include <algorithm>
@@ -11,7 +13,7 @@ namespace incise::bspline {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+using detail::fail;
 
 }  // namespace
 

@@ -376,7 +376,7 @@ Case padCase(Eigen::Vector3d start_m, Eigen::Vector3d direction, const mesh::Sur
 }
 
 // A straight stroke along +x from above start_m (rays down -y).
-StrokePathOptions alongX(const Eigen::Vector3d& start_m, double length_m) {
+StrokePathOptions strokeAlongX(const Eigen::Vector3d& start_m, double length_m) {
   StrokePathOptions path;
   path.start_m = start_m;
   path.length_m = length_m;
@@ -431,7 +431,7 @@ TEST_CASE(
         Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.02, -0.05), Eigen::Vector3d(0.05, 0, 0.05)), divisions);
     const mesh::SurfaceMesh original = box;
     mesh::ManifoldReport after;
-    const IncisionFigures f = cutFigures(box, alongX({-0.02, 0.05, 0.003}, 0.04), after, unrefined());
+    const IncisionFigures f = cutFigures(box, strokeAlongX({-0.02, 0.05, 0.003}, 0.04), after, unrefined());
     REQUIRE(after.closed_two_manifold);
     REQUIRE(after.degenerate_faces == 0);
     REQUIRE(f.shortfall == Shortfall::CoarseMesh);
@@ -447,7 +447,7 @@ TEST_CASE(
   // Guards against (seen on a scanned fist, 3.5 cm stroke) one edge split, no wall, and exit 0.
   mesh::SurfaceMesh sphere = mesh::makeSphere(Eigen::Vector3d::Zero(), 0.05, 3);
   mesh::ManifoldReport after;
-  const IncisionFigures f = cutFigures(sphere, alongX({-0.0175, 0.1, 0.0011}, 0.035), after, unrefined());
+  const IncisionFigures f = cutFigures(sphere, strokeAlongX({-0.0175, 0.1, 0.0011}, 0.035), after, unrefined());
   REQUIRE(after.closed_two_manifold);
   REQUIRE(f.groove_length_m < 0.5 * f.stroke_length_m);
   REQUIRE(f.shortfall == Shortfall::CoarseMesh);

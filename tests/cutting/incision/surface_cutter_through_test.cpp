@@ -21,7 +21,7 @@ namespace {
 
 constexpr double kSlabM = 0.003, kSideM = 0.04, kGridM = 0.001;
 
-mesh::SurfaceMesh slab() { return mesh::makeSkinPad(Eigen::Vector3d(kSideM, kSlabM, kSideM), kGridM); }
+mesh::SurfaceMesh throughSlab() { return mesh::makeSkinPad(Eigen::Vector3d(kSideM, kSlabM, kSideM), kGridM); }
 
 // A stroke along +x at z = z_m from x0_m to x1_m, the blade's tip depth going linearly from depth0_m to
 // depth1_m.
@@ -71,7 +71,7 @@ void requireValidSolid(const mesh::SurfaceMesh& tissue, int euler) {
 
 TEST_CASE("A stroke through a 3 mm slab from edge to edge leaves two closed pieces with the slab's halves' volumes",
           "[surface_cutter][through]") {
-  mesh::SurfaceMesh tissue = slab();
+  mesh::SurfaceMesh tissue = throughSlab();
   const double z_m = 0.0003;  // off the grid lines
   const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.0199, 0.0199, z_m, 0.004, 0.004));
   REQUIRE(f.through_samples > 0);
@@ -94,7 +94,7 @@ TEST_CASE("A stroke through a 3 mm slab from edge to edge leaves two closed piec
 }
 
 TEST_CASE("A through stroke inside the slab leaves one piece with a slot through it", "[surface_cutter][through]") {
-  mesh::SurfaceMesh tissue = slab();
+  mesh::SurfaceMesh tissue = throughSlab();
   const double volume_m3 = mesh::pieces(tissue.mesh()).at(0).volume_m3;
   const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.01, 0.01, 0.0003, 0.004, 0.004));
   REQUIRE(f.through == ThroughCut::Made);
@@ -106,7 +106,7 @@ TEST_CASE("A through stroke inside the slab leaves one piece with a slot through
 
 TEST_CASE("A stroke whose tip goes through only along its second half slots the slab there only",
           "[surface_cutter][through]") {
-  mesh::SurfaceMesh tissue = slab();
+  mesh::SurfaceMesh tissue = throughSlab();
   // 1 mm deep at x = -10 mm to 5 mm at x = +10 mm: through (>= 3 mm) from x = 0 on.
   const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.01, 0.01, 0.0003, 0.001, 0.005));
   REQUIRE(f.through == ThroughCut::Made);
@@ -123,7 +123,7 @@ TEST_CASE("A stroke whose tip goes through only along its second half slots the 
 }
 
 TEST_CASE("A stroke that stays above the far side cuts nothing through", "[surface_cutter][through]") {
-  mesh::SurfaceMesh tissue = slab();
+  mesh::SurfaceMesh tissue = throughSlab();
   const IncisionFigures& f = cut(tissue, strokeAcross(tissue, -0.01, 0.01, 0.0003, 0.002, 0.002));
   CHECK(f.through_samples == 0);
   CHECK(f.through == ThroughCut::None);
@@ -157,7 +157,7 @@ static std::vector<double> tetPiecesAfter(mesh::SurfaceMesh& tissue, const Strok
 }
 
 TEST_CASE("The tets follow a cut through the slab: two pieces with the halves' volumes", "[surface_cutter][through]") {
-  mesh::SurfaceMesh tissue = slab();
+  mesh::SurfaceMesh tissue = throughSlab();
   const double z_m = 0.0003;
   Stroke stroke = strokeAcross(tissue, -0.0199, 0.0199, z_m, 0.004, 0.004);
   SECTION("through from the first sample") {}

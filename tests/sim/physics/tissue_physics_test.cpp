@@ -34,7 +34,7 @@ using Catch::Matchers::Contains;
 namespace {
 
 // A small pad with tets and a material, and `extra` keys in the tissue object and at the root.
-std::string padScenario(const std::string& tissue_extra, const std::string& root_extra = "") {
+std::string tissuePadScenario(const std::string& tissue_extra, const std::string& root_extra = "") {
   return R"({
     "tissue": {"shape": "pad", "size_m": [0.02, 0.01, 0.02], "grid_m": 0.002, "tets": {"max_volume_m3": 1e-7})" +
          tissue_extra + R"(},
@@ -141,7 +141,7 @@ double cutPlaneX(const mesh::SurfaceMesh& rest) {
 }  // namespace
 
 TEST_CASE("tissue physics: a material, its held boxes, gravity and rate are read from the scenario", "[sim]") {
-  const sim::Scenario s = load("material", padScenario(kMaterial, R"(, "gravity_m_per_s2": [0, -9.81, 0],
+  const sim::Scenario s = load("material", tissuePadScenario(kMaterial, R"(, "gravity_m_per_s2": [0, -9.81, 0],
       "physics_rate_hz": 200)"));
   const sim::PhysicsOptions& p = s.world.physics;
   REQUIRE(p.enabled);
@@ -155,54 +155,55 @@ TEST_CASE("tissue physics: a material, its held boxes, gravity and rate are read
   CHECK(p.boundary.fixed_boxes[0].max_m == Eigen::Vector3d(1, -0.0099, 1));
   CHECK(p.boundary.gravity_m_per_s2 == Eigen::Vector3d(0, -9.81, 0));
   CHECK(p.rate_hz == 200);
-  const sim::Scenario plain = load("plain", padScenario(""));
+  const sim::Scenario plain = load("plain", tissuePadScenario(""));
   CHECK_FALSE(plain.world.physics.enabled);
   // Defaults: no gravity, 100 Hz.
-  const sim::Scenario defaults = load("defaults", padScenario(kMaterial));
+  const sim::Scenario defaults = load("defaults", tissuePadScenario(kMaterial));
   CHECK(defaults.world.physics.boundary.gravity_m_per_s2 == Eigen::Vector3d::Zero());
   CHECK(defaults.world.physics.rate_hz == 100);
 }
 
 TEST_CASE("tissue physics: out-of-range materials and tissues that cannot be simulated are refused by key", "[sim]") {
-  CHECK_THROWS_WITH(load("e0", padScenario(materialWith("20000", "0"))),
+  CHECK_THROWS_WITH(load("e0", tissuePadScenario(materialWith("20000", "0"))),
                     Contains("e0.json: tissue.material.youngs_modulus_Pa: must be > 0 (Pa), got 0"));
-  CHECK_THROWS_WITH(load("nu", padScenario(materialWith("0.4", "0.5"))),
+  CHECK_THROWS_WITH(load("nu", tissuePadScenario(materialWith("0.4", "0.5"))),
                     Contains("tissue.material.poisson_ratio: = 0.5 is outside [0, 0.5)"));
-  CHECK_THROWS_WITH(load("nuneg", padScenario(materialWith("0.4", "-0.1"))),
+  CHECK_THROWS_WITH(load("nuneg", tissuePadScenario(materialWith("0.4", "-0.1"))),
                     Contains("tissue.material.poisson_ratio: = -0.1 is outside [0, 0.5)"));
-  CHECK_THROWS_WITH(load("rho", padScenario(materialWith("900", "-1"))),
+  CHECK_THROWS_WITH(load("rho", tissuePadScenario(materialWith("900", "-1"))),
                     Contains("tissue.material.density_kg_per_m3: must be > 0 (kg/m^3), got -1"));
-  CHECK_THROWS_WITH(load("stretch", padScenario(materialWith("[1.1, 1, 1.05]", "[1, 0, 1]"))),
+  CHECK_THROWS_WITH(load("stretch", tissuePadScenario(materialWith("[1.1, 1, 1.05]", "[1, 0, 1]"))),
                     Contains("tissue.material.prestretch: must be > 0 along every axis"));
   const std::string unheld = R"(, "material": {"youngs_modulus_Pa": 20000})";
-  CHECK_THROWS_WITH(load("unheld", padScenario(unheld)),
+  CHECK_THROWS_WITH(load("unheld", tissuePadScenario(unheld)),
                     Contains("tissue.fixed: is missing: a simulated tissue must be held somewhere"));
-  CHECK_THROWS_WITH(load("emptyfixed", padScenario(unheld + R"(, "fixed": [])")),
+  CHECK_THROWS_WITH(load("emptyfixed", tissuePadScenario(unheld + R"(, "fixed": [])")),
                     Contains("tissue.fixed: must be a non-empty array"));
-  CHECK_THROWS_WITH(load("boxorder", padScenario(unheld + R"(, "fixed": [{"min_m": [0, 0, 0], "max_m": [1, -1, 1]}])")),
-                    Contains("tissue.fixed[0].max_m: must be >= min_m along every axis"));
-  CHECK_THROWS_WITH(load("nomin", padScenario(unheld + R"(, "fixed": [{"max_m": [1, 1, 1]}])")),
+  CHECK_THROWS_WITH(
+      load("boxorder", tissuePadScenario(unheld + R"(, "fixed": [{"min_m": [0, 0, 0], "max_m": [1, -1, 1]}])")),
+      Contains("tissue.fixed[0].max_m: must be >= min_m along every axis"));
+  CHECK_THROWS_WITH(load("nomin", tissuePadScenario(unheld + R"(, "fixed": [{"max_m": [1, 1, 1]}])")),
                     Contains("tissue.fixed[0].min_m: is missing"));
   // Without tets there is nothing to simulate.
   CHECK_THROWS_WITH(load("notets", R"({"tissue": {"shape": "pad", "material": {}, "fixed": [{"min_m": [0, 0, 0],
       "max_m": [1, 1, 1]}]}, "pose_source": {"kind": "strokes", "strokes": [{}]}})"),
                     Contains("tissue.material: needs tissue.tets"));
   // The physics' keys without a material.
-  CHECK_THROWS_WITH(load("gravityonly", padScenario("", R"(, "gravity_m_per_s2": [0, -9.81, 0])")),
+  CHECK_THROWS_WITH(load("gravityonly", tissuePadScenario("", R"(, "gravity_m_per_s2": [0, -9.81, 0])")),
                     Contains("gravity_m_per_s2: is only for a simulated tissue (give tissue.material)"));
-  CHECK_THROWS_WITH(load("rateonly", padScenario("", R"(, "physics_rate_hz": 100)")),
+  CHECK_THROWS_WITH(load("rateonly", tissuePadScenario("", R"(, "physics_rate_hz": 100)")),
                     Contains("physics_rate_hz: is only for a simulated tissue"));
-  CHECK_THROWS_WITH(load("fixedonly", padScenario(R"(, "fixed": [{"min_m": [0, 0, 0], "max_m": [1, 1, 1]}])")),
+  CHECK_THROWS_WITH(load("fixedonly", tissuePadScenario(R"(, "fixed": [{"min_m": [0, 0, 0], "max_m": [1, 1, 1]}])")),
                     Contains("tissue.fixed: is only for a simulated tissue"));
   // At most the frame rate; an unknown key in the material is refused like any other.
-  CHECK_THROWS_WITH(load("fastphysics", padScenario(kMaterial, R"(, "physics_rate_hz": 2000)")),
+  CHECK_THROWS_WITH(load("fastphysics", tissuePadScenario(kMaterial, R"(, "physics_rate_hz": 2000)")),
                     Contains("physics_rate_hz: 2000 is outside [10, 1000]"));
-  CHECK_THROWS_WITH(load("typo", padScenario(materialWith("\"poisson_ratio\"", "\"poisson\""))),
+  CHECK_THROWS_WITH(load("typo", tissuePadScenario(materialWith("\"poisson_ratio\"", "\"poisson\""))),
                     Contains("tissue.material.poisson"));
 }
 
 TEST_CASE("tissue physics: a boundary that holds no node is refused when the world is made", "[sim]") {
-  sim::Scenario s = load("heldnothing", padScenario(R"(, "material": {}, "fixed": [{"min_m": [5, 5, 5],
+  sim::Scenario s = load("heldnothing", tissuePadScenario(R"(, "material": {}, "fixed": [{"min_m": [5, 5, 5],
       "max_m": [6, 6, 6]}])"));
   CHECK_THROWS_AS(sim::World(sim::loadTissue(s), s.world), std::invalid_argument);
 }
