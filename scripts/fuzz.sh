@@ -45,10 +45,11 @@ start=$(date +%s)
 # file system's flush at close was most of the file-based harnesses' time (3,000 exec/s for the trace
 # reader on /tmp here, 6,750 on tmpfs), so the scratch goes to /dev/shm where there is one.
 if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
+# A unity build, as scripts/test.sh's sanitizer builds: a target's sources are compiled 8 to a unit.
 if [ "$build_step" = 1 ]; then
   cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$opt -DNDEBUG" -DINCISE_SANITIZE=ON -DINCISE_FUZZ=ON \
-    -DINCISE_BUILD_TESTS=OFF -DINCISE_BUILD_BENCH=OFF > /dev/null
+    -DINCISE_BUILD_TESTS=OFF -DINCISE_BUILD_BENCH=OFF -DCMAKE_UNITY_BUILD=ON > /dev/null
   cmake --build "$build" -j "$build_jobs" --target "${targets[@]}"
   echo "fuzz: harnesses built in $(($(date +%s) - start)) s"
 fi
