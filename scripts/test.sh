@@ -19,13 +19,14 @@ jobs=$(nproc)
 # half the time of RelWithDebInfo's -O2 -g (measured on cutting/incision/src/surface_cutter.cpp under ASan: 15 s
 # against 32 s), which is most of this script's time on a 2-core machine. They are unity builds (CMake
 # compiles up to 8 sources of a target as one): each header is parsed once per batch, not once per source
-# (four sim test files under ASan: 73 s apart, 49 s as one). The Release build stays one source at a time, as
-# users build it, so a source that compiles only because another one included what it needs fails there.
+# (four sim test files under ASan: 73 s apart, 49 s as one). The Release build compiles the libraries one
+# source at a time, as users build them, so a source that compiles only because another one included what
+# it needs fails there; its tests are unity builds (INCISE_UNITY_TESTS).
 sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
   -DINCISE_BUILD_BENCH=OFF -DCMAKE_UNITY_BUILD=ON)
 
 echo "== Release build and tests"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DINCISE_UNITY_TESTS=ON
 cmake --build build -j "$jobs"
 if [ "$quick" = 1 ]; then
   ctest --test-dir build --output-on-failure -j "$jobs" -LE slow
