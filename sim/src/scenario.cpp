@@ -28,7 +28,7 @@ void readIncision(const Reader& r, incision::CutterOptions& c) {
   incision::IncisionOptions& i = c.incision;
   i.depth_m = r.number("depth_m", i.depth_m, 1e-6, 1.0);
   i.min_depth_m = r.number("min_depth_m", i.min_depth_m, 1e-6, 1.0);
-  i.opening_m = r.number("opening_m", i.opening_m, 1e-6, 1.0);
+  i.opening_m = r.number("opening_m", i.opening_m, 0.0, 1.0);
   i.alpha_m = r.number("alpha_m", i.alpha_m, 1e-6, 1.0);
   i.beta_m = r.number("beta_m", i.beta_m, 1e-6, 1.0);
   i.spacing_m = r.number("spacing_m", i.spacing_m, 1e-6, 1.0);
@@ -208,6 +208,12 @@ Scenario readScenario(const Reader& root, const std::filesystem::path& file) {
 
   s.rate_hz = root.number("rate_hz", s.rate_hz, 10.0, 100000.0);
   readPhysics(root, tissue, s);
+  if (s.world.cutter.incision.opening_m == 0.0 && !s.world.physics.enabled)
+    root.child("incision")
+        .fail(
+            "= 0 leaves the lips touching: only a simulated tissue (tissue.material) opens the wound by its own "
+            "tension; give opening_m > 0",
+            "opening_m");
   s.settle_s = root.number("settle_s", s.settle_s, 0.0, 100.0);
   s.world.cut_budget_us = root.number("cut_budget_us", s.world.cut_budget_us, 1.0, 1e6);
   s.world.us_per_inversion = root.number("us_per_inversion", s.world.us_per_inversion, 0.01, 1000.0);

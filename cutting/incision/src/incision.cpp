@@ -29,7 +29,8 @@ void validate(const IncisionOptions& o) {
   if (o.min_depth_m > o.depth_m)
     refuse("min_depth_m = " + core::formatNumber(o.min_depth_m) +
            " must be <= depth_m = " + core::formatNumber(o.depth_m));
-  requirePositive(o.opening_m, "opening_m");
+  if (!(std::isfinite(o.opening_m) && o.opening_m >= 0.0))
+    refuse("opening_m = " + core::formatNumber(o.opening_m) + " must be finite and >= 0");
   requirePositive(o.alpha_m, "alpha_m");
   requirePositive(o.beta_m, "beta_m");
   requirePositive(o.spacing_m, "spacing_m");

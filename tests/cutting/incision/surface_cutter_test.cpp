@@ -111,6 +111,45 @@ TEST_CASE("surface_cutter: every sample leaves a closed two-manifold with its Eu
   }
 }
 
+TEST_CASE("surface_cutter: with no opening the skin splits into lips that touch, nothing moves", "[cutting]") {
+  // incision.opening_m 0: a simulated tissue's own tension opens the wound (sim's scenarios allow it only
+  // there); the cut is the split, the seam and the walls, at rest.
+  const mesh::SurfaceMesh original = bunny(2);
+  mesh::SurfaceMesh mesh = original;
+  CutterOptions options = optionsFor(2);
+  options.incision.opening_m = 0.0;
+  SurfaceCutter cutter(mesh, options);
+  const Stroke stroke = backStroke(mesh);
+  const CutRun run = cutCheckingEverySample(mesh, cutter, stroke);
+  cutter.advance(stroke.samples.back().time_s + 1.0);
+  REQUIRE(run.topology_checks > 10);
+  REQUIRE(cutter.stats().vertices_duplicated > 20);
+  REQUIRE(mesh::summarize(mesh).wall_faces > 0);
+  REQUIRE(facesCrossingTheCut(mesh, cutter) == 0);
+  for (const auto v : original.mesh().vertices())
+    REQUIRE(mesh.mesh().point(mesh::TriMesh::VertexHandle(v.idx())) == original.mesh().point(v));
+  // Every seam vertex has its twin on the other lip at the same point.
+  mesh::VertexGrid grid(0.001);
+  int seam = 0;
+  for (const auto v : mesh.mesh().vertices())
+    if (mesh.kind(v) == mesh::VertexKind::Seam) grid.insert(v.idx(), mesh::toEigen(mesh.mesh().point(v))), ++seam;
+  REQUIRE(seam > 40);
+  int lone = 0;
+  for (const auto v : mesh.mesh().vertices()) {
+    if (mesh.kind(v) != mesh::VertexKind::Seam) continue;
+    const Eigen::Vector3d p = mesh::toEigen(mesh.mesh().point(v));
+    std::vector<int> near;
+    grid.query(Eigen::AlignedBox3d(p, p), near);
+    int twins = 0;
+    for (const int other : near)
+      twins += other != v.idx() && mesh::toEigen(mesh.mesh().point(mesh::TriMesh::VertexHandle(other))) == p;
+    lone += twins == 0;
+  }
+  // The cut's two ends: a seam vertex there is one vertex shared by both lips.
+  INFO(seam << " seam vertices, " << lone << " without a twin");
+  REQUIRE(lone <= 2);
+}
+
 TEST_CASE("surface_cutter: no face crosses the discontinuity inside the cut", "[cutting]") {
   mesh::SurfaceMesh mesh = bunny(2);
   SurfaceCutter cutter(mesh, optionsFor(2));

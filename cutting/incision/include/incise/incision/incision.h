@@ -28,7 +28,8 @@ struct IncisionOptions {
                                     // the depth of samples that carry none
   double min_depth_m = 0.0002;      // a blade less deep only scratches the skin: no groove (the caller's rule;
                                     // a shallower sample given here is cut this deep)
-  double opening_m = 0.002;         // full distance between the lips once the wound has retracted
+  double opening_m = 0.002;         // full distance between the lips once the wound has retracted (>= 0; 0: the
+                                    // lips touch, for a tissue whose own tension opens the wound)
   double alpha_m = 0.0015;          // paper's alpha: spacing of control planes across the cut (along S)
   double beta_m = 0.002;            // paper's beta: spacing of control rows along the normal
   double spacing_m = 0.0005;        // stroke resampling step: one lattice column per spacing
