@@ -2,10 +2,13 @@
 // (TissueModel::contactModel, contact_model.h).
 #include <cmath>
 #include <limits>
+#include <new>
+#include <optional>
 
 #include <Eigen/LU>
 
 #include "incise/physics/embedding.h"
+#include "incise/physics/rest_map.h"
 #include "incise/physics/tissue_model.h"
 #include "incise/tets/tet_mesh.h"
 #include "tissue_model_state.h"
@@ -103,6 +106,57 @@ std::optional<Embedded> TissueModel::State::locate(const Eigen::Vector3d& p, Ele
 std::optional<Embedded> TissueModel::locate(const Eigen::Vector3d& rest_m, ElementFilter filter,
                                             double max_distance_m) const {
   return s_->locate(rest_m, filter, max_distance_m);
+}
+
+namespace {
+
+// Newton steps of restMap: inside one tet the deformation is affine, so one lands on the point; a few more
+// when the point is in another tet than the guess.
+constexpr int kRestMapIterations = 4;
+
+// F^-1 = Dm Ds^-1 of the tet holding `point` (rest edges Dm, current edges Ds); false when the tet is flat
+// at rest, crushed flat or inverted (then the map is a translation).
+bool inverseGradient(const Embedded& point, std::span<const Eigen::Vector3d> rest_m,
+                     std::span<const Eigen::Vector3d> x_m, Eigen::Matrix3d& f_inverse) noexcept {
+  Eigen::Matrix3d dm, ds;
+  const auto n0 = static_cast<std::size_t>(point.nodes[0]);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto n = static_cast<std::size_t>(point.nodes[i + 1]);
+    dm.col(static_cast<Eigen::Index>(i)) = rest_m[n] - rest_m[n0];
+    ds.col(static_cast<Eigen::Index>(i)) = x_m[n] - x_m[n0];
+  }
+  const double det_rest = dm.determinant(), det_now = ds.determinant();
+  if (!(det_rest * det_now > 1e-6 * det_rest * det_rest)) return false;
+  f_inverse = dm * ds.inverse();
+  return f_inverse.allFinite();
+}
+
+}  // namespace
+
+RestMap TissueModel::restMap(const Eigen::Vector3d& world_m, const Eigen::Vector3d& guess_rest_m,
+                             double reach_m) const noexcept {
+  const State& s = *s_;
+  RestMap map;
+  map.world_m = map.rest_m = world_m;
+  if (!world_m.allFinite()) return map;
+  Eigen::Vector3d r = guess_rest_m.allFinite() ? guess_rest_m : world_m;
+  try {
+    for (int i = 0; i < kRestMapIterations; ++i) {
+      const std::optional<Embedded> e = s.locate(r, {}, reach_m);
+      if (!e) break;  // out of reach (the first guess: no tissue near; later: keep the last tet's map)
+      Eigen::Matrix3d f_inverse = Eigen::Matrix3d::Identity();
+      if (!inverseGradient(*e, s.rest_m, s.x_m, f_inverse)) f_inverse.setIdentity();
+      const Eigen::Vector3d at = embeddedPosition(*e, s.x_m);  // where the rest point r is now
+      if (!at.allFinite()) break;
+      map.world_m = at, map.rest_m = r, map.world_to_rest = f_inverse, map.located = true;
+      const Eigen::Vector3d delta = f_inverse * (world_m - at);
+      r += delta;
+      if (delta.squaredNorm() < 1e-24) break;
+    }
+  } catch (const std::bad_alloc&) {  // locate's scratch list outgrew its reserve: the identity
+    return RestMap{world_m, world_m, Eigen::Matrix3d::Identity(), 0, false};
+  }
+  return map;
 }
 
 ContactModel TissueModel::contactModel(const Embedded& point, const Eigen::Vector3d& rest_normal) noexcept {

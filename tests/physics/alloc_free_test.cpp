@@ -1,4 +1,4 @@
-// The physics thread's work allocates nothing in steady state: TissueModel::step, contactModel and locate,
+// The physics thread's work allocates nothing in steady state: TissueModel::step, contactModel, locate and restMap,
 // and apply() of a cut within the model's reserve. Every heap allocation on this thread is counted
 // (alloc_counter.h: operator new and the malloc family replaced in this test executable only) while a step,
 // a contact model or an apply() runs; the tet cutter and the journal's collection (the sim thread's work)
@@ -61,6 +61,7 @@ TEST_CASE("alloc_free: a tissue's steps, contact models and cuts allocate nothin
       status = model.step(0.005).status;
       model.contactModel(*point, Eigen::Vector3d::UnitY());
       model.locate(Eigen::Vector3d(-0.001, -0.003, 0.005));
+      model.restMap(Eigen::Vector3d(0.002, -0.001, 0.01), Eigen::Vector3d(0.002, -0.0012, 0.01));
     }
     allocations += allocationsOnThisThread().calls;
     REQUIRE(status != StepStatus::NonFinite);

@@ -233,5 +233,57 @@ TEST_CASE("tissue_model: the contact model's stiffness predicts how far the next
   CHECK(contact.reactionForce_N(contact.point_m + 0.001 * contact.normal).isZero());
 }
 
+TEST_CASE("tissue_model: the rest map takes a deformed point back to the material point it carries", "[physics]") {
+  // A column held at its top, its nodes moved by a smooth bend and shear (millimetres at the free end):
+  // points inside it, at their deformed positions, map back to their rest positions (Newton on each tet's
+  // affine deformation: to rounding).
+  const double length = 0.05;
+  const testing::Grid g = grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, length, 0.01), Eigen::Vector3i(2, 10, 2));
+  Boundary b;
+  b.fixed_boxes = {plane(1, length)};
+  TissueModel model(g.mesh, Material{}, b);
+  const RestMap at_rest = model.restMap(Eigen::Vector3d(0.004, 0.01, 0.006));
+  CHECK(at_rest.located);
+  CHECK(at_rest.toRest(Eigen::Vector3d(0.004, 0.01, 0.006)).isApprox(Eigen::Vector3d(0.004, 0.01, 0.006), 1e-14));
+  const auto bent = [&](const Eigen::Vector3d& x) {
+    const double free = (1.0 - x.y() / length) * (1.0 - x.y() / length);
+    return Eigen::Vector3d(x + free * Eigen::Vector3d(0.004, -0.003, 0.002 + 0.3 * x.x()));
+  };
+  for (int n = 0; n < model.nodeCount(); ++n)
+    if (!model.isHeld(n)) model.setPosition(n, bent(model.restPositions_m()[static_cast<std::size_t>(n)]));
+  // A tool's path down the column, each map's guess the last one's (as the simulation follows the blade).
+  double largest_move_m = 0.0, largest_error_m = 0.0;
+  Eigen::Vector3d guess = Eigen::Vector3d(0.002, 0.049, 0.005);
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::Vector3d rest(0.002 + 0.006 * i / 50.0, 0.049 - 0.048 * i / 50.0, 0.005 + 0.002 * (i % 2));
+    const std::optional<Embedded> e = model.locate(rest);
+    REQUIRE(e);
+    const Eigen::Vector3d world = embeddedPosition(*e, model.positions_m());
+    const RestMap map = model.restMap(world, guess);
+    REQUIRE(map.located);
+    largest_move_m = std::max(largest_move_m, (world - rest).norm());
+    largest_error_m = std::max(largest_error_m, (map.toRest(world) - rest).norm());
+    // Near the point the map is the tet's inverse deformation gradient: a step in the world maps to a step at rest.
+    const Eigen::Vector3d nudge(1e-5, -2e-5, 1e-5);
+    CHECK(map.toRest(world + nudge).isApprox(map.toRest(world) + map.directionToRest(nudge), 1e-12));
+    guess = map.toRest(world);
+  }
+  INFO("points moved up to " << largest_move_m * 1e3 << " mm; mapped back within " << largest_error_m << " m");
+  CHECK(largest_move_m > 0.002);
+  CHECK(largest_error_m < 1e-12);
+  // Without the path's guess the free end is out of reach of where the point is in the world: the identity.
+  const Eigen::Vector3d end_rest(0.009, 0.0005, 0.0095);
+  const Eigen::Vector3d end_world = embeddedPosition(*model.locate(end_rest), model.positions_m());
+  CHECK((end_world - end_rest).norm() > 0.004);
+  CHECK_FALSE(model.restMap(end_world).located);
+  CHECK((model.restMap(end_world, end_rest + Eigen::Vector3d(0.0005, 0.0, 0.0)).toRest(end_world) - end_rest).norm() <
+        1e-12);
+  // Far from the tissue (beyond the reach): the identity.
+  const RestMap far = model.restMap(Eigen::Vector3d(0.05, 0.0, 0.0));
+  CHECK_FALSE(far.located);
+  CHECK(far.toRest(Eigen::Vector3d(0.05, 0.0, 0.0)) == Eigen::Vector3d(0.05, 0.0, 0.0));
+  CHECK_FALSE(model.restMap(Eigen::Vector3d(NAN, 0.0, 0.0)).located);
+}
+
 }  // namespace
 }  // namespace incise::physics

@@ -27,6 +27,7 @@
 #include "incise/physics/cut_changes.h"
 #include "incise/physics/embedding.h"
 #include "incise/physics/material.h"
+#include "incise/physics/rest_map.h"
 #include "incise/tets/tet_mesh.h"
 
 namespace incise::physics {
@@ -137,6 +138,15 @@ class TissueModel {
   // O(tets near the point). Thread: the owner's (it uses a scratch list).
   std::optional<Embedded> locate(const Eigen::Vector3d& rest_m, ElementFilter filter = {},
                                  double max_distance_m = 1e-3) const;
+
+  // The rest point the tissue carries at world_m now, as a map linearised there (rest_map.h): Newton on the
+  // deformation of the tet holding the guess, at most 4 locates. Guess: where world_m was at rest in the
+  // last map near it (a tool followed from step to step: RestMap::toRest of the previous step's map), or
+  // world_m itself (the tissue undeformed there). The identity (located false) when no tet is within
+  // reach_m of the guess at rest. O(tets near the point), no allocation; never throws. Thread: the owner's.
+  RestMap restMap(const Eigen::Vector3d& world_m, const Eigen::Vector3d& guess_rest_m,
+                  double reach_m = 0.002) const noexcept;
+  RestMap restMap(const Eigen::Vector3d& world_m) const noexcept { return restMap(world_m, world_m); }
 
   // The contact point's local model after the last step (contact_model.h): its position and deformed
   // normal (rest_normal mapped by its tet), and its effective stiffness over a step from three CG solves
