@@ -113,7 +113,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
   double wall_s = 0.0;
   std::int64_t overruns = 0, period_us = 1000;
   double physics_rate_hz = 0.0;  // 0: the tissue is not simulated
-  std::int64_t physics_deferred = 0;
+  std::int64_t physics_deferred = 0, physics_stale_maps = 0;
   nlohmann::json counters = nlohmann::json::object();
   std::unique_ptr<sim::LatencyStats> stats;
   Progress progress("bench " + std::filesystem::path(path).stem().string(), seconds);
@@ -135,6 +135,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
     if (const sim::TissuePhysics* physics = run.world->physics()) {
       physics_rate_hz = physics->rateHz();
       physics_deferred += physics->counters().deferred;
+      physics_stale_maps += physics->counters().stale_maps;
     }
     ++replays;
     progress.update(static_cast<double>(stats->frames()) * 1e-6 * static_cast<double>(period_us));
@@ -173,6 +174,7 @@ nlohmann::json benchScenario(const std::string& path, double seconds, std::int64
         {"p50", s.physics_step_us.p50}, {"p99", s.physics_step_us.p99}, {"max", s.physics_step_us.max}};
     result["physics_late"] = s.physics_late;
     result["physics_deferred"] = physics_deferred;
+    result["physics_stale_maps"] = physics_stale_maps;
   }
   return result;
 }

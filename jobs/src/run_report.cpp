@@ -112,7 +112,8 @@ nlohmann::json tetsReport(const tets::TetCutter& tets, const tets::TetView& defo
 }
 
 // A simulated tissue's figures: its rate and steps, their time on the physics thread (late: finished more
-// than a period after they were due), cuts deferred to a later step (a full handoff), what the model met.
+// than a period after they were due), cuts deferred to a later step (a full handoff), poses mapped to the
+// rest frame with an older step's map than theirs (stale_maps: the physics thread behind), what the model met.
 nlohmann::json physicsReport(const sim::TissuePhysics& physics, const sim::LatencySummary& latency) {
   const sim::PhysicsCounters c = physics.counters();
   return {{"physics_rate_hz", physics.rateHz()},
@@ -123,6 +124,8 @@ nlohmann::json physicsReport(const sim::TissuePhysics& physics, const sim::Laten
             {"max", latency.physics_step_us.max}}},
           {"physics_late", latency.physics_late},
           {"physics_deferred", c.deferred},
+          {"stale_maps", c.stale_maps},
+          {"dropped_maps", c.dropped_maps},
           {"cg_limited_steps", c.cg_limited},
           {"non_finite_steps", c.non_finite},
           {"cuts_applied", c.cuts_applied},

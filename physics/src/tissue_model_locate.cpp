@@ -26,16 +26,26 @@ void embeddedPositions(std::span<const Embedded> points, std::span<const Eigen::
   for (std::size_t i = 0; i < points.size(); ++i) out_m[i] = embeddedPosition(points[i], x_m);
 }
 
-Eigen::Vector3d embeddedNormal(const Embedded& point, std::span<const Eigen::Vector3d> rest_m,
-                               std::span<const Eigen::Vector3d> current_m,
-                               const Eigen::Vector3d& rest_normal) noexcept {
-  Eigen::Matrix3d dm, ds;
+namespace {
+
+// The edges from node 0 of the tet holding `point`, at rest (dm) and now (ds): F = ds dm^-1.
+void edgeMatrices(const Embedded& point, std::span<const Eigen::Vector3d> rest_m,
+                  std::span<const Eigen::Vector3d> current_m, Eigen::Matrix3d& dm, Eigen::Matrix3d& ds) noexcept {
   const auto n0 = static_cast<std::size_t>(point.nodes[0]);
   for (std::size_t i = 0; i < 3; ++i) {
     const auto n = static_cast<std::size_t>(point.nodes[i + 1]);
     dm.col(static_cast<Eigen::Index>(i)) = rest_m[n] - rest_m[n0];
     ds.col(static_cast<Eigen::Index>(i)) = current_m[n] - current_m[n0];
   }
+}
+
+}  // namespace
+
+Eigen::Vector3d embeddedNormal(const Embedded& point, std::span<const Eigen::Vector3d> rest_m,
+                               std::span<const Eigen::Vector3d> current_m,
+                               const Eigen::Vector3d& rest_normal) noexcept {
+  Eigen::Matrix3d dm, ds;
+  edgeMatrices(point, rest_m, current_m, dm, ds);
   const double det_rest = dm.determinant(), det_now = ds.determinant();
   if (!(std::abs(det_rest) > 0.0 && det_now * det_rest > 0.0)) return rest_normal;
   // F = ds dm^-1, so F^-T = ds^-T dm^T.
@@ -119,12 +129,7 @@ constexpr int kRestMapIterations = 4;
 bool inverseGradient(const Embedded& point, std::span<const Eigen::Vector3d> rest_m,
                      std::span<const Eigen::Vector3d> x_m, Eigen::Matrix3d& f_inverse) noexcept {
   Eigen::Matrix3d dm, ds;
-  const auto n0 = static_cast<std::size_t>(point.nodes[0]);
-  for (std::size_t i = 0; i < 3; ++i) {
-    const auto n = static_cast<std::size_t>(point.nodes[i + 1]);
-    dm.col(static_cast<Eigen::Index>(i)) = rest_m[n] - rest_m[n0];
-    ds.col(static_cast<Eigen::Index>(i)) = x_m[n] - x_m[n0];
-  }
+  edgeMatrices(point, rest_m, x_m, dm, ds);
   const double det_rest = dm.determinant(), det_now = ds.determinant();
   if (!(det_rest * det_now > 1e-6 * det_rest * det_rest)) return false;
   f_inverse = dm * ds.inverse();

@@ -131,6 +131,7 @@ TissuePhysics::TissuePhysics(const tets::TetMesh& mesh, const PhysicsOptions& op
     throw std::invalid_argument("TissuePhysics: rate_hz must be finite and > 0");
   physics::validate(options.material);
   model_ = std::make_unique<physics::TissueModel>(mesh, options.material, options.boundary, modelOptions(mesh));
+  maps_ = std::make_unique<SpscQueue<MapMessage, kQueuedMaps>>();
   const std::size_t added = cutNodes(mesh);
   slots_[0].reserve(mesh.nodes_m.size() + added, mesh.tets.size() + 8 * added, 16 * added);
 }
@@ -168,16 +169,17 @@ void TissuePhysics::applyChanges(physics::CutChanges& changes) noexcept {
   changes.clear();
 }
 
-void TissuePhysics::stepOnce() noexcept {
+void TissuePhysics::stepOnce(const Eigen::Vector3d* tip_m) noexcept {
   const physics::StepStats s = model_->step(stepS());
   ++counters_.steps;
   if (s.status == physics::StepStatus::IterationLimit) ++counters_.cg_limited;
   if (s.status == physics::StepStatus::NonFinite) ++counters_.non_finite;
   counters_.max_inverted = std::max(counters_.max_inverted, s.inverted_elements);
+  publishMap(tip_m);
   steps_done_.store(counters_.steps, std::memory_order_release);
 }
 
-int TissuePhysics::advance(double t_s) noexcept {
+int TissuePhysics::advance(double t_s, const ToolTrack* track) noexcept {
   if (!started_) {
     started_ = true;
     t_first_s_ = t_s;
@@ -185,13 +187,17 @@ int TissuePhysics::advance(double t_s) noexcept {
   int taken = 0;
   // Step k is due at t_first + k / rate; the tick's time computed from k (no accumulated sum).
   while (t_first_s_ + static_cast<double>(next_step_) / options_.rate_hz <= t_s + 1e-9 / options_.rate_hz) {
+    Eigen::Vector3d tip_m;
+    const bool has_tip =
+        track != nullptr && track->tipAt(t_first_s_ + static_cast<double>(next_step_) / options_.rate_hz, tip_m);
     if (worker_) {
       handOver(next_step_,
                std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-                   .count());
+                   .count(),
+               has_tip ? &tip_m : nullptr);
     } else {
       applyChanges(slots_[collecting_]);
-      stepOnce();
+      stepOnce(has_tip ? &tip_m : nullptr);
     }
     ++next_step_, ++taken;
   }
@@ -203,6 +209,8 @@ PhysicsCounters TissuePhysics::counters() const noexcept {
   c.failed_applies += collect_failed_;
   c.reserve_overflows += collect_overflows_;
   c.deferred = deferred_;
+  c.stale_maps = stale_maps_;
+  c.dropped_maps = dropped_maps_.load(std::memory_order_relaxed);
   return c;
 }
 
@@ -236,6 +244,7 @@ void TissuePhysics::startThread(PhysicsThreadOptions options) {
   auto w = std::make_unique<Worker>();
   const double period_s = options.wall_per_simulated_s / options_.rate_hz;
   w->period_ns = period_s > 0.0 ? static_cast<std::int64_t>(std::min(period_s * 1e9, 1e15)) : kNeverLateNs;
+  wait_for_maps_ = options.wait_for_room;
   w->options = std::move(options);
   const physics::CutChanges& first = slots_[collecting_];
   for (std::size_t i = 0; i < kChangeSlots; ++i) {
@@ -269,6 +278,7 @@ void TissuePhysics::stopThread() {
   w.wake.notify_all();
   w.thread.join();
   worker_.reset();
+  wait_for_maps_ = false;
 }
 
 const PhysicsState* TissuePhysics::latestState() noexcept {
@@ -287,19 +297,21 @@ bool TissuePhysics::pushMessage(const StepMessage& m) noexcept {
 }
 
 // Sim thread: step `step`, with the changes collected so far, to the physics thread.
-void TissuePhysics::handOver(std::int64_t step, std::int64_t due_ns) noexcept {
+void TissuePhysics::handOver(std::int64_t step, std::int64_t due_ns, const Eigen::Vector3d* tip_m) noexcept {
   Worker& w = *worker_;
   const bool wait = w.options.wait_for_room;
   while (w.has_held && !pushMessage(w.held)) {
     if (!wait) {  // the queue is still full: this step goes with the held one, its changes later
       w.held.last_step = step;
+      if (tip_m != nullptr) w.held.tip_m = {tip_m->x(), tip_m->y(), tip_m->z()}, w.held.has_tip = true;
       if (!slots_[collecting_].empty()) ++deferred_;
       return;
     }
     std::this_thread::sleep_for(kRoomPoll);
   }
   w.has_held = false;
-  StepMessage m{step, step, -1, due_ns};
+  StepMessage m{step, step, -1, due_ns, {}, tip_m != nullptr};
+  if (tip_m != nullptr) m.tip_m = {tip_m->x(), tip_m->y(), tip_m->z()};
   if (!slots_[collecting_].empty()) {
     std::size_t fresh = 0;
     bool got = w.free_slots.tryPop(fresh);
@@ -346,7 +358,8 @@ void TissuePhysics::runWorker() noexcept {
     for (std::int64_t k = m.first_step; k <= m.last_step; ++k) {
       if (w.options.before_step) w.options.before_step(k);
       const std::int64_t start_ns = nowNs();
-      stepOnce();
+      const Eigen::Vector3d tip_m(m.tip_m[0], m.tip_m[1], m.tip_m[2]);
+      stepOnce(m.has_tip ? &tip_m : nullptr);
       const std::int64_t end_ns = nowNs();
       const bool late = w.period_ns < kNeverLateNs && end_ns > m.due_ns + (k - m.first_step + 1) * w.period_ns;
       if (late) {
@@ -361,6 +374,80 @@ void TissuePhysics::runWorker() noexcept {
       states_->publish();
     }
   }
+}
+
+// The blade's mapping to the rest frame: the tool's recent tips, the rest map made after each step on the
+// stepping thread, and the frame's choice of map by a pose's time.
+
+void ToolTrack::record(double time_s, const Eigen::Vector3d& tip_m) noexcept {
+  time_s_[next_] = time_s;
+  tip_m_[next_] = tip_m;
+  next_ = (next_ + 1) % kCapacity;
+  size_ = std::min(size_ + 1, kCapacity);
+}
+
+bool ToolTrack::tipAt(double t_s, Eigen::Vector3d& tip_m) const noexcept {
+  if (size_ == 0) return false;
+  // Newest first; the poses are in time order (World rejects one not after the last).
+  for (std::size_t i = 1; i <= size_; ++i) {
+    const std::size_t at = (next_ + kCapacity - i) % kCapacity;
+    tip_m = tip_m_[at];
+    if (time_s_[at] <= t_s) return true;
+  }
+  return true;  // every kept pose is later: the oldest
+}
+
+void TissuePhysics::publishMap(const Eigen::Vector3d* tip_m) noexcept {
+  physics::RestMap map;  // the identity
+  if (tip_m != nullptr) {
+    map = model_->restMap(*tip_m, map_guess_m_.allFinite() ? map_guess_m_ : *tip_m);
+    map_guess_m_ = map.located ? map.toRest(*tip_m) : *tip_m;
+  }
+  MapMessage m{{}, counters_.steps, map.located};
+  std::copy_n(map.world_m.data(), 3, m.values.begin());
+  std::copy_n(map.rest_m.data(), 3, m.values.begin() + 3);
+  std::copy_n(map.world_to_rest.data(), 9, m.values.begin() + 6);
+  if (!maps_->tryPush(m)) dropped_maps_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void TissuePhysics::takeMaps() noexcept {
+  MapMessage m;
+  while (maps_->tryPop(m)) {
+    physics::RestMap& map = recent_maps_[static_cast<std::size_t>(m.step) % kRecentMaps];
+    std::copy_n(m.values.begin(), 3, map.world_m.data());
+    std::copy_n(m.values.begin() + 3, 3, map.rest_m.data());
+    std::copy_n(m.values.begin() + 6, 9, map.world_to_rest.data());
+    map.step = m.step, map.located = m.located;
+    newest_map_ = std::max(newest_map_, m.step);
+  }
+}
+
+void TissuePhysics::awaitMaps() noexcept {
+  takeMaps();
+  while (wait_for_maps_ && newest_map_ < stepsDue() - kMapLagSteps) {
+    std::this_thread::sleep_for(kRoomPoll);
+    takeMaps();
+  }
+}
+
+physics::RestMap TissuePhysics::restMapAt(double t_s) noexcept {
+  takeMaps();
+  if (!started_ || !std::isfinite(t_s)) return {};
+  // The last step due at t_s (never past the steps made due so far), less the lag.
+  const double due = std::floor((t_s - t_first_s_) * options_.rate_hz + 1e-9);
+  const std::int64_t last_due =
+      due < 0.0 ? 0 : std::min(static_cast<std::int64_t>(std::min(due, 1e15)), next_step_ - 1);
+  const std::int64_t want = last_due - kMapLagSteps;
+  if (want <= 0) return {};  // the tissue at rest
+  const auto made = [&](std::int64_t k) { return recent_maps_[static_cast<std::size_t>(k) % kRecentMaps].step == k; };
+  if (made(want)) return recent_maps_[static_cast<std::size_t>(want) % kRecentMaps];
+  ++stale_maps_;
+  // The newest map made before the one wanted, else the oldest kept after it.
+  for (std::int64_t k = std::min(want, newest_map_); k > 0 && k + static_cast<std::int64_t>(kRecentMaps) > want; --k)
+    if (made(k)) return recent_maps_[static_cast<std::size_t>(k) % kRecentMaps];
+  for (std::int64_t k = want + 1; k <= newest_map_; ++k)
+    if (made(k)) return recent_maps_[static_cast<std::size_t>(k) % kRecentMaps];
+  return {};
 }
 
 }  // namespace incise::sim

@@ -231,14 +231,29 @@ Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& ve
   return magnitude > t.max_force_N ? Eigen::Vector3d(f * (t.max_force_N / magnitude)) : f;
 }
 
+devices::PoseSample World::toRestFrame(const devices::PoseSample& pose) noexcept {
+  const physics::RestMap map = physics_->restMapAt(pose.time_s);
+  if (!map.located) return pose;  // the identity
+  devices::PoseSample rest = pose;
+  rest.tip_m = map.toRest(pose.tip_m);
+  const Eigen::Vector3d blade = pose.orientation * Eigen::Vector3d(0.0, 0.0, -1.0);
+  const Eigen::Vector3d mapped = map.directionToRest(blade);
+  if (!rest.tip_m.allFinite() || !mapped.allFinite() || !(mapped.norm() > 0.0)) return pose;
+  rest.orientation = (Eigen::Quaterniond::FromTwoVectors(blade, mapped) * pose.orientation).normalized();
+  return rest;
+}
+
 HapticState World::updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept {
   HapticState state;
-  for (const devices::PoseSample& pose : poses) {
-    if (!pose.tip_m.allFinite() || !pose.orientation.coeffs().allFinite() || !std::isfinite(pose.time_s) ||
-        (has_pose_ && !(pose.time_s > last_pose_.time_s))) {
+  for (const devices::PoseSample& raw : poses) {
+    if (!raw.tip_m.allFinite() || !raw.orientation.coeffs().allFinite() || !std::isfinite(raw.time_s) ||
+        (has_pose_ && !(raw.time_s > last_pose_.time_s))) {
       ++state.poses_rejected;
       continue;
     }
+    // A simulated tissue: the pose in the rest frame, where the tissue's surface and the incision are.
+    const devices::PoseSample pose = physics_ ? toRestFrame(raw) : raw;
+    if (physics_) track_.record(raw.time_s, raw.tip_m);
     if (!queued_->push(pose)) {
       ++state.poses_rejected;
       ++counters_.poses_overflowed;

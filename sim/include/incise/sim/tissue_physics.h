@@ -39,6 +39,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -46,6 +47,8 @@
 #include "incise/physics/cut_changes.h"
 #include "incise/physics/embedding.h"
 #include "incise/physics/material.h"
+#include "incise/physics/rest_map.h"
+#include "incise/sim/spsc_queue.h"
 #include "incise/sim/triple_buffer.h"
 #include "incise/tets/tet_mesh.h"
 
@@ -85,6 +88,11 @@ struct PhysicsCounters {
   // real-time run's bytes can differ from a fast one's).
   std::int64_t late = 0;
   std::int64_t deferred = 0;
+  // The blade's rest maps (restMapAt): poses mapped with an older step's map than theirs because theirs was
+  // not made yet (the physics thread more than kMapLagSteps behind: a real-time run may then differ from a
+  // fast one), and maps the frame had not taken before the handoff filled (never with a frame per step).
+  std::int64_t stale_maps = 0;
+  std::int64_t dropped_maps = 0;
 };
 
 // How the physics thread runs (TissuePhysics::startThread).
@@ -106,6 +114,24 @@ struct PhysicsState {
   std::vector<Eigen::Vector3d> x_m;  // sized once (the model's nodes and the cuts' reserve), never grown
 };
 
+// The tool's tip in the world over its recent poses (World records each pose it accepts, before mapping):
+// the point a physics step's rest map is made around is the newest tip at or before the step's time. A
+// fixed ring of kCapacity poses (the oldest overwritten). Thread: the owner's (the sim thread). No
+// allocation.
+class ToolTrack {
+ public:
+  static constexpr std::size_t kCapacity = 256;
+  void record(double time_s, const Eigen::Vector3d& tip_m) noexcept;
+  // The newest tip at or before t_s; the oldest kept when every one is later; false when none is kept.
+  bool tipAt(double t_s, Eigen::Vector3d& tip_m) const noexcept;
+  void clear() noexcept { size_ = 0; }
+
+ private:
+  std::array<double, kCapacity> time_s_{};
+  std::array<Eigen::Vector3d, kCapacity> tip_m_{};
+  std::size_t next_ = 0, size_ = 0;
+};
+
 // A threaded step's wall time (us) and whether it was late; one per step, in step order.
 struct PhysicsStepTime {
   float us = 0.0f;
@@ -124,7 +150,24 @@ class TissuePhysics {
   void journalCleared() noexcept { read_nodes_ = read_base_tets_ = 0; }
   // Every step due at or before t_s, each after the changes collected before it became due: taken here
   // (inline), or handed to the physics thread (threaded). Returns the steps made due by this call.
-  int advance(double t_s) noexcept;
+  int advance(double t_s) noexcept { return advance(t_s, nullptr); }
+  // The same, and after each step a rest map around the tool's tip at the step's time (`track`; none: the
+  // identity), for restMapAt().
+  int advance(double t_s, const ToolTrack* track) noexcept;
+
+  // The blade's mapping to the rest frame for a pose at t_s (the incision is made at rest): the rest map
+  // (physics/rest_map.h) made after step k(t_s) - kMapLagSteps, k(t_s) the last step due at t_s, around the
+  // tool's tip at that step; the identity before that step (the tissue at rest). Which map a pose gets
+  // depends on its time only, so `replay --fast` and a real-time replay map it alike while the physics keeps
+  // within kMapLagSteps of the frames. A map not made yet (the physics thread behind): the newest made is
+  // taken and counted (PhysicsCounters::stale_maps). The owner's thread, O(maps made since the last call),
+  // no allocation, never throws.
+  physics::RestMap restMapAt(double t_s) noexcept;
+  // A fast replay's thread (wait_for_room): waits until every map the next frame's poses may want is made
+  // (the step kMapLagSteps before the last due), so that restMapAt never takes a stale one and the frame's
+  // haptic part never waits. Returns at once otherwise. The owner's thread, after advance().
+  void awaitMaps() noexcept;
+  static constexpr std::int64_t kMapLagSteps = 4;  // 40 ms at 100 Hz
 
   // Starts the physics thread (allocates the change buffers, the queue and the thread). Not running.
   void startThread(PhysicsThreadOptions options);
@@ -178,10 +221,21 @@ class TissuePhysics {
     std::int64_t first_step = 0, last_step = 0;  // steps [first, last], the changes before the first
     int slot = -1;                               // the change buffer to apply first; -1: none
     std::int64_t due_ns = 0;                     // steady clock when the first became due
+    std::array<double, 3> tip_m{};  // the tool's tip at the last step's time (plain: the queue's copies are noexcept)
+    bool has_tip = false;
+  };
+  // A rest map through the handoff (physics::RestMap's values; plain, so its copies are noexcept).
+  struct MapMessage {
+    std::array<double, 15> values{};  // world_m, rest_m, world_to_rest (column-major)
+    std::int64_t step = 0;
+    bool located = false;
   };
   void applyChanges(physics::CutChanges& changes) noexcept;  // the stepping thread
-  void stepOnce() noexcept;                                  // the stepping thread
-  void handOver(std::int64_t step, std::int64_t due_ns) noexcept;
+  // One step, then its rest map around tip_m (nullptr: the identity). The stepping thread.
+  void stepOnce(const Eigen::Vector3d* tip_m) noexcept;
+  void publishMap(const Eigen::Vector3d* tip_m) noexcept;  // the stepping thread
+  void takeMaps() noexcept;                                // the owner's: the handoff into recent_maps_
+  void handOver(std::int64_t step, std::int64_t due_ns, const Eigen::Vector3d* tip_m) noexcept;
   bool pushMessage(const StepMessage& m) noexcept;
   void runWorker() noexcept;  // the physics thread's loop
 
@@ -201,6 +255,16 @@ class TissuePhysics {
   std::vector<PhysicsStepTime> step_times_;             // the physics thread's; reserved kStoredStepTimes
   std::unique_ptr<TripleBuffer<PhysicsState>> states_;  // made by startThread(): the physics thread writes
   std::unique_ptr<Worker> worker_;
+  // The rest maps: the stepping thread pushes one per step (its guess the last map's), the owner keeps the
+  // last kRecentMaps by step.
+  static constexpr std::size_t kQueuedMaps = 256, kRecentMaps = 32;
+  std::unique_ptr<SpscQueue<MapMessage, kQueuedMaps>> maps_;
+  Eigen::Vector3d map_guess_m_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  std::array<physics::RestMap, kRecentMaps> recent_maps_{};
+  std::int64_t newest_map_ = 0;  // the newest step with a map in recent_maps_ (0: none)
+  bool wait_for_maps_ = false;   // a fast replay's thread: restMapAt waits for its map
+  std::int64_t stale_maps_ = 0;
+  std::atomic<std::int64_t> dropped_maps_{0};
 };
 
 }  // namespace incise::sim

@@ -134,8 +134,9 @@ class World {
   }
 
   // The haptic part, and nothing else: every pose that arrived this frame, oldest first, is checked
-  // (non-finite, or not after the previous one in time: skipped and counted) and queued for the cut phase;
-  // then one contact, from the newest pose, against the ContactProxy (contact_proxy.h: a few hundred skin
+  // (non-finite, or not after the previous one in time: skipped and counted), taken to the rest frame when
+  // the tissue is simulated (TissuePhysics::restMapAt: the tissue's surface and the incision are at rest;
+  // O(1), in a fast replay it may wait for its map) and queued for the cut phase; then one contact, from the newest pose, against the ContactProxy (contact_proxy.h: a few hundred skin
   // triangles around the blade that the cut phase keeps current), the blade's last depth + 2 mm as a segment
   // towards its tip, and when that finds nothing a swept test from the previous frame's tip to this one (a
   // fast stroke cannot tunnel through the skin); the haptic force: a penalty spring along the contact normal
@@ -173,7 +174,12 @@ class World {
   // tets' changes cut() collected before it (tissue_physics.h): taken here, or handed to the physics thread
   // when one runs (TissuePhysics::startThread). Returns the steps made due (0 without a simulated tissue).
   // Never throws.
-  int stepPhysics(double t_s) noexcept { return physics_ ? physics_->advance(t_s) : 0; }
+  int stepPhysics(double t_s) noexcept {
+    if (!physics_) return 0;
+    const int due = physics_->advance(t_s, &track_);
+    physics_->awaitMaps();  // a fast replay: the next frame's poses find their maps made
+    return due;
+  }
   // The simulated tissue; nullptr unless options.physics.enabled. The mutable one starts and stops its
   // thread (Simulation's replays and live sessions).
   const TissuePhysics* physics() const noexcept { return physics_.get(); }
@@ -234,6 +240,8 @@ class World {
   void refreshProxy() noexcept;
   void followTets(tets::TetBudget budget) noexcept;
   void collectTetChanges() noexcept;  // the tets' journal into the physics' change buffer
+  // A simulated tissue: the pose's blade (tip and axis) taken to the rest frame (TissuePhysics::restMapAt).
+  devices::PoseSample toRestFrame(const devices::PoseSample& pose) noexcept;
   Eigen::Vector3d force(const HapticState& state, const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
   // The through-cut's worker (SurfaceCutter::setThroughOnWorker): first, so a move-assignment ends it
@@ -244,6 +252,7 @@ class World {
   std::unique_ptr<incision::SurfaceCutter> cutter_;
   std::unique_ptr<tets::TetCutter> tets_;
   std::unique_ptr<TissuePhysics> physics_;
+  ToolTrack track_;              // the tool's tips in the world, for the physics' rest maps
   bool stream_records_ = false;  // a geometry reader owns the journals (recordMeshChanges(true))
   WorldOptions options_;
   double probe_m_ = 0.0;  // the blade's part that can meet the skin: its depth + 2 mm (at most its length)
