@@ -442,10 +442,12 @@ physics::RestMap TissuePhysics::restMapAt(double t_s) noexcept {
   const auto made = [&](std::int64_t k) { return recent_maps_[static_cast<std::size_t>(k) % kRecentMaps].step == k; };
   if (made(want)) return recent_maps_[static_cast<std::size_t>(want) % kRecentMaps];
   ++stale_maps_;
-  // The newest map made before the one wanted, else the oldest kept after it.
-  for (std::int64_t k = std::min(want, newest_map_); k > 0 && k + static_cast<std::int64_t>(kRecentMaps) > want; --k)
+  // The newest map made before the one wanted (the physics behind), else the oldest kept after it (the
+  // pose older than the maps kept); the ring holds steps (newest - kRecentMaps, newest].
+  const std::int64_t oldest_kept = std::max<std::int64_t>(1, newest_map_ - static_cast<std::int64_t>(kRecentMaps) + 1);
+  for (std::int64_t k = std::min(want, newest_map_); k >= oldest_kept; --k)
     if (made(k)) return recent_maps_[static_cast<std::size_t>(k) % kRecentMaps];
-  for (std::int64_t k = want + 1; k <= newest_map_; ++k)
+  for (std::int64_t k = std::max(want + 1, oldest_kept); k <= newest_map_; ++k)
     if (made(k)) return recent_maps_[static_cast<std::size_t>(k) % kRecentMaps];
   return {};
 }

@@ -350,6 +350,44 @@ TEST_CASE("tissue physics: the blade is mapped to the rest frame, the groove rea
   CHECK(physics.counters().dropped_maps == 0);
 }
 
+TEST_CASE("tissue physics: a physics thread behind maps the blade with its newest map, counted stale", "[sim]") {
+  // Frames about a millisecond apart, the physics thread 50 ms a step (its period is 10 ms): it falls behind,
+  // and a pose's map (four steps before its time) is not made yet. The newest made stands in, never the
+  // identity.
+  test::ShippedScenario l = test::loadShipped("pad-tension");
+  sim::World& world = *l.world;
+  sim::TissuePhysics& physics = *world.physics();
+  sim::PhysicsThreadOptions options;
+  std::atomic<bool> slow{true};  // slow until the frames end, then the thread catches up at once
+  options.before_step = [&slow](std::int64_t) {
+    if (slow.load()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  };
+  physics.startThread(options);
+  const double dt_s = static_cast<double>(l.scenario.periodUs()) * 1e-6, t0_s = l.poses.front().time_s;
+  std::size_t fed = 0;
+  std::int64_t stale_seen = 0, newest_seen = 0;
+  for (std::int64_t k = 0; t0_s + static_cast<double>(k) * dt_s <= l.poses.back().time_s; ++k) {
+    const double t_s = t0_s + static_cast<double>(k) * dt_s;
+    const std::size_t first = fed;
+    while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) ++fed;
+    world.step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));  // about real time: the physics at half its rate
+    const physics::RestMap map = physics.restMapAt(t_s);
+    const std::int64_t want = physics.stepsDue() - sim::TissuePhysics::kMapLagSteps;
+    REQUIRE(map.step <= std::max<std::int64_t>(0, want));
+    REQUIRE(map.step >= newest_seen);  // never an older map than one already taken (nor the identity)
+    newest_seen = map.step;
+    if (want > 0 && map.step < want) ++stale_seen;
+  }
+  slow.store(false);
+  physics.stopThread();
+  INFO(stale_seen << " frames took an older map; newest map step " << newest_seen);
+  CHECK(stale_seen > 100);
+  CHECK(newest_seen > 0);
+  CHECK(physics.counters().stale_maps >= stale_seen);
+  CHECK(physics.counters().dropped_maps == 0);
+}
+
 TEST_CASE("tissue physics: real time and fast replays give the same simulated tissue", "[sim][slow]") {
   // Both step on the physics thread; the real-time frames only hand the steps over.
   const PadRun fast = replayPad();
