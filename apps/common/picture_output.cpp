@@ -63,7 +63,7 @@ void drawOverlay(viewer::RgbImage& image, const viewer::Camera& camera, const Ov
 void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png,
                   const PictureArgs& args) {
   sim::GeometryMirror mirror;
-  sim::copyGeometry(*run.world, frame, mirror);
+  sim::copySimulatedGeometry(*run.world, frame, mirror);  // a simulated tissue as simulated
   viewer::PictureOptions options;
   options.size = args.size;
   options.camera = args.camera;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "incise/mesh/surface_mesh.h"
+#include "incise/sim/tissue_physics.h"
 #include "incise/sim/world.h"
 
 namespace incise::sim {
@@ -92,6 +94,24 @@ void copyGeometry(World& world, std::int64_t frame, GeometryMirror& mirror) {
   mirror.pull(stream);  // asks for the full copy
   stream.flush(world, frame, std::chrono::hours(1), [&] { mirror.pull(stream); });
   world.recordMeshChanges(false);
+}
+
+void copySimulatedGeometry(World& world, std::int64_t frame, GeometryMirror& mirror) {
+  copyGeometry(world, frame, mirror);
+  const TissuePhysics* physics = world.physics();
+  if (physics == nullptr || physics->threaded()) return;
+  const mesh::SurfaceMesh deformed = physics->deformedSurface(world.tissue());
+  for (const auto v : deformed.mesh().vertices()) {
+    const auto index = static_cast<std::uint32_t>(v.idx());
+    if (index >= mirror.positions_m().size()) continue;
+    GeometryRecord r{};
+    r.type = GeometryRecordType::Vertex;
+    r.kind = mirror.vertexKind()[index];
+    r.index = index;
+    const auto& p = deformed.mesh().point(v);
+    r.position_m[0] = p[0], r.position_m[1] = p[1], r.position_m[2] = p[2];
+    mirror.apply(r);
+  }
 }
 
 }  // namespace incise::sim

@@ -22,6 +22,7 @@
 
 #include "incise/mesh/surface_mesh.h"
 #include "incise/physics/tissue_model.h"
+#include "incise/sim/geometry_mirror.h"
 #include "incise/sim/geometry_stream.h"
 #include "incise/sim/simulation.h"
 #include "incise/tets/tet_cutter.h"
@@ -386,6 +387,27 @@ TEST_CASE("tissue physics: a physics thread behind maps the blade with its newes
   CHECK(newest_seen > 0);
   CHECK(physics.counters().stale_maps >= stale_seen);
   CHECK(physics.counters().dropped_maps == 0);
+}
+
+TEST_CASE("tissue physics: a picture's copy of the geometry has the surface as simulated", "[sim]") {
+  const PadRun run = replayPad();
+  sim::World& world = *run.run.world;
+  sim::GeometryMirror at_rest, simulated;
+  sim::copyGeometry(world, run.frames - 1, at_rest);
+  sim::copySimulatedGeometry(world, run.frames - 1, simulated);
+  const mesh::SurfaceMesh deformed = world.physics()->deformedSurface(world.tissue());
+  REQUIRE(simulated.positions_m().size() == at_rest.positions_m().size());
+  CHECK(simulated.faces() == at_rest.faces());
+  CHECK(simulated.vertexKind() == at_rest.vertexKind());
+  int moved = 0;
+  for (const auto v : deformed.mesh().vertices()) {
+    const auto i = static_cast<std::size_t>(v.idx());
+    const auto& p = deformed.mesh().point(v);
+    REQUIRE(simulated.positions_m()[i] == std::array<double, 3>{p[0], p[1], p[2]});
+    const auto& r = at_rest.positions_m()[i];
+    moved += std::hypot(r[0] - p[0], r[1] - p[1], r[2] - p[2]) > 0.0005;
+  }
+  CHECK(moved > 50);  // the sunken top and the open lips
 }
 
 TEST_CASE("tissue physics: real time and fast replays give the same simulated tissue", "[sim][slow]") {
