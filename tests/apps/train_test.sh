@@ -24,35 +24,48 @@ expect_exit() {  # expect_exit CODE PATTERN -- COMMAND...
   [ "$got" -eq "$code" ] && grep -q -- "$pattern" "$work/stderr" || { echo "  exit $got, stderr: $(cat "$work/stderr")"; return 1; }
 }
 pad=$scenarios/pad-straight.json
-out=$work/session
-
-# A session: press at the plan's start, drag to its end in 60 steps (about 3 s), release, close.
-"$incise" train "$pad" --out "$out" --size 1280x800 --pass-mark 'plan.share_uncut<=0.2' > "$work/train.txt" 2> "$work/train.err" &
-pid=$!
-for _ in $(seq 1 300); do grep -q "plan start at pixel" "$work/train.txt" 2>/dev/null && break; sleep 0.1; done
-check "train prints where the plan is in the window" grep -q "plan start at pixel" "$work/train.txt"
-read -r sx sy ex ey < <(sed -n 's/.*plan start at pixel \(-*[0-9]*\) \(-*[0-9]*\), end at pixel \(-*[0-9]*\) \(-*[0-9]*\).*/\1 \2 \3 \4/p' "$work/train.txt")
-wid=$(xdotool search --sync --name "incise train" | head -1)
-xdotool mousemove --window "$wid" "$sx" "$sy"; sleep 0.3
-xdotool mousedown 1; sleep 0.1
-for k in $(seq 1 60); do
-  xdotool mousemove --window "$wid" $((sx + (ex - sx) * k / 60)) $((sy + (ey - sy) * k / 60)); sleep 0.05
-done
-xdotool mouseup 1; sleep 0.5
-xdotool key --window "$wid" Escape
-wait "$pid"; code=$?; pid=
-check "the session ends with exit 0 (it cut along the plan and met its pass mark)" test "$code" -eq 0
-[ "$code" -eq 0 ] || { echo "  stdout: $(cat "$work/train.txt")"; echo "  stderr: $(tail -5 "$work/train.err")"; }
-for f in trace.csv cut.obj report.json score.json score.png; do check "... and wrote $f" test -s "$out/$f"; done
-check "... the trace carries the tissue's hash" grep -q "^# tissue: " "$out/trace.csv"
-check "... and the poses of the session" test "$(grep -cv '^#\|^time_s' "$out/trace.csv")" -gt 50
-"$incise" score "$pad" "$out/trace.csv" > "$work/score.txt" 2> "$work/score.err"
-check "incise score on the recorded trace gives train's score, byte for byte" \
-  cmp -s <(head -1 "$work/score.txt") "$out/score.json"
-share() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['plan'][sys.argv[2]])" "$out/score.json" "$1"; }
-check "the cut follows the plan: under 20% left uncut" python3 -c "import sys; sys.exit(0 if $(share share_uncut) < 0.2 else 1)"
-check "... and over 80% within the lateral band" python3 -c "import sys; sys.exit(0 if $(share share_within_lateral_tolerance) > 0.8 else 1)"
-check "... one incision" grep -q '"incisions":1' "$out/score.json"
+# A session on scenario $1 into $2: press at the plan's start, drag to its end in 60 steps (about 3 s),
+# release, close; then its outputs and its score.
+session() {
+  local pad=$1 out=$2
+  "$incise" train "$pad" --out "$out" --size 1280x800 --pass-mark 'plan.share_uncut<=0.2' > "$work/train.txt" 2> "$work/train.err" &
+  pid=$!
+  for _ in $(seq 1 300); do grep -q "plan start at pixel" "$work/train.txt" 2>/dev/null && break; sleep 0.1; done
+  check "train prints where the plan is in the window" grep -q "plan start at pixel" "$work/train.txt"
+  read -r sx sy ex ey < <(sed -n 's/.*plan start at pixel \(-*[0-9]*\) \(-*[0-9]*\), end at pixel \(-*[0-9]*\) \(-*[0-9]*\).*/\1 \2 \3 \4/p' "$work/train.txt")
+  wid=$(xdotool search --sync --name "incise train" | head -1)
+  xdotool mousemove --window "$wid" "$sx" "$sy"; sleep 0.3
+  xdotool mousedown 1; sleep 0.1
+  for k in $(seq 1 60); do
+    xdotool mousemove --window "$wid" $((sx + (ex - sx) * k / 60)) $((sy + (ey - sy) * k / 60)); sleep 0.05
+  done
+  xdotool mouseup 1; sleep 0.5
+  xdotool key --window "$wid" Escape
+  wait "$pid"; code=$?; pid=
+  check "the session ends with exit 0 (it cut along the plan and met its pass mark)" test "$code" -eq 0
+  [ "$code" -eq 0 ] || { echo "  stdout: $(cat "$work/train.txt")"; echo "  stderr: $(tail -5 "$work/train.err")"; }
+  for f in trace.csv cut.obj report.json score.json score.png; do check "... and wrote $f" test -s "$out/$f"; done
+  check "... the trace carries the tissue's hash" grep -q "^# tissue: " "$out/trace.csv"
+  check "... and the poses of the session" test "$(grep -cv '^#\|^time_s' "$out/trace.csv")" -gt 50
+  "$incise" score "$pad" "$out/trace.csv" > "$work/score.txt" 2> "$work/score.err"
+  # A simulated tissue whose physics thread fell behind (cuts deferred, stale rest maps: counted in the
+  # report) may cut other bytes than the replay: then the count must say so.
+  local behind
+  behind=$(python3 -c "import json, sys; p = json.load(open(sys.argv[1])).get('physics'); print(p['physics_deferred'] + p['stale_maps'] if p else 0)" "$out/report.json")
+  if [ "$behind" = 0 ]; then
+    check "incise score on the recorded trace gives train's score, byte for byte" \
+      cmp -s <(head -1 "$work/score.txt") "$out/score.json"
+  else
+    echo "note the physics fell behind in this session ($behind deferred cuts or stale maps): the score may differ"
+  fi
+  share() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['plan'][sys.argv[2]])" "$out/score.json" "$1"; }
+  check "the cut follows the plan: under 20% left uncut" python3 -c "import sys; sys.exit(0 if $(share share_uncut) < 0.2 else 1)"
+  check "... and over 80% within the lateral band" python3 -c "import sys; sys.exit(0 if $(share share_within_lateral_tolerance) > 0.8 else 1)"
+  check "... one incision" grep -q '"incisions":1' "$out/score.json"
+}
+session "$pad" "$work/session"
+# The tensioned pad: a simulated tissue (the physics on its own thread, the blade mapped to the rest frame).
+session "$scenarios/pad-tension.json" "$work/tension"
 
 # The pen: a recorded Wacom pen session played as a live device (--transport replay) through the HID profile,
 # the session's clock on its poses. The cut is the recording's (replay --fast of the scenario), to the hash.

@@ -256,8 +256,8 @@ class TissuePhysics {
   std::unique_ptr<TripleBuffer<PhysicsState>> states_;  // made by startThread(): the physics thread writes
   std::unique_ptr<Worker> worker_;
   // The rest maps: the stepping thread pushes one per step (its guess the last map's), the owner keeps the
-  // last kRecentMaps by step.
-  static constexpr std::size_t kQueuedMaps = 256, kRecentMaps = 32;
+  // last kRecentMaps by step (1.28 s at 100 Hz: a live pose that arrives late still finds its map).
+  static constexpr std::size_t kQueuedMaps = 256, kRecentMaps = 128;
   std::unique_ptr<SpscQueue<MapMessage, kQueuedMaps>> maps_;
   Eigen::Vector3d map_guess_m_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::array<physics::RestMap, kRecentMaps> recent_maps_{};
