@@ -141,6 +141,21 @@ double cutPlaneX(const mesh::SurfaceMesh& rest) {
   return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
 }
 
+// The scenario's frames one by one (each pose to the frame of its time, World::step), after_frame(t_s)
+// after each.
+template <class F>
+void stepFrames(test::ShippedScenario& l, F&& after_frame) {
+  const double dt_s = static_cast<double>(l.scenario.periodUs()) * 1e-6, t0_s = l.poses.front().time_s;
+  std::size_t fed = 0;
+  for (std::int64_t k = 0; t0_s + static_cast<double>(k) * dt_s <= l.poses.back().time_s; ++k) {
+    const double t_s = t0_s + static_cast<double>(k) * dt_s;
+    const std::size_t first = fed;
+    while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) ++fed;
+    l.world->step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
+    after_frame(t_s);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("tissue physics: a material, its held boxes, gravity and rate are read from the scenario", "[sim]") {
@@ -364,14 +379,8 @@ TEST_CASE("tissue physics: a physics thread behind maps the blade with its newes
     if (slow.load()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   };
   physics.startThread(options);
-  const double dt_s = static_cast<double>(l.scenario.periodUs()) * 1e-6, t0_s = l.poses.front().time_s;
-  std::size_t fed = 0;
   std::int64_t stale_seen = 0, newest_seen = 0;
-  for (std::int64_t k = 0; t0_s + static_cast<double>(k) * dt_s <= l.poses.back().time_s; ++k) {
-    const double t_s = t0_s + static_cast<double>(k) * dt_s;
-    const std::size_t first = fed;
-    while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) ++fed;
-    world.step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
+  stepFrames(l, [&](double t_s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));  // about real time: the physics at half its rate
     const physics::RestMap map = physics.restMapAt(t_s);
     const std::int64_t want = physics.stepsDue() - sim::TissuePhysics::kMapLagSteps;
@@ -379,7 +388,7 @@ TEST_CASE("tissue physics: a physics thread behind maps the blade with its newes
     REQUIRE(map.step >= newest_seen);  // never an older map than one already taken (nor the identity)
     newest_seen = map.step;
     if (want > 0 && map.step < want) ++stale_seen;
-  }
+  });
   slow.store(false);
   physics.stopThread();
   INFO(stale_seen << " frames took an older map; newest map step " << newest_seen);
@@ -419,8 +428,13 @@ TEST_CASE("tissue physics: real time and fast replays give the same simulated ti
   CHECK(a.steps > 100);
   CHECK(a.cuts_applied > 10);
   CHECK(a.surface.size() > 1000);
-  CHECK(a == b);
-  CHECK(realtime.run.world->physics()->counters().deferred == 0);
+  const sim::PhysicsCounters c = realtime.run.world->physics()->counters();
+  if (c.stale_maps == 0) {
+    CHECK(a == b);
+  } else {  // a loaded machine: the physics more than four steps behind a pose, counted (then bytes may differ)
+    WARN(c.stale_maps << " poses mapped with an older step's map: real time and fast not compared");
+  }
+  CHECK(c.deferred == 0);
   CHECK(fast.run.world->physics()->counters().deferred == 0);
   CHECK_FALSE(realtime.run.world->physics()->threaded());  // ended with the replay: the model is the caller's
 }
@@ -459,7 +473,14 @@ TEST_CASE("tissue physics: a physics thread slower than its rate is counted late
   CHECK(slow.report.latency.physics_late >= steps / 8);
   CHECK(slow.run.world->physics()->counters().late == slow.report.latency.physics_late);
   CHECK(slow.run.world->physics()->counters().deferred == 0);
-  CHECK(simulatedBytes(*fast.run.world) == simulatedBytes(*slow.run.world));
+  // Late steps change nothing while the blade's maps are made in time (four steps before a pose's time);
+  // on a loaded machine a 15 ms stall can leave a pose without its own map, which is counted.
+  const std::int64_t stale = slow.run.world->physics()->counters().stale_maps;
+  if (stale == 0) {
+    CHECK(simulatedBytes(*fast.run.world) == simulatedBytes(*slow.run.world));
+  } else {
+    WARN(stale << " poses mapped with an older step's map: the tissues not compared");
+  }
   CHECK(fast.report.latency.physics_late == 0);  // not against the clock: no step is late
   CHECK(fast.run.world->physics()->counters().late == 0);
 }
@@ -486,22 +507,15 @@ TEST_CASE("tissue physics: the physics thread publishes each step's node positio
   sim::TissuePhysics& physics = *world.physics();
   physics.startThread({});
   REQUIRE(physics.latestState() == nullptr);  // no step yet
-  const std::int64_t period_us = l.scenario.periodUs();
-  const double dt_s = static_cast<double>(period_us) * 1e-6, t0_s = l.poses.front().time_s;
-  std::size_t fed = 0;
   std::int64_t last_seen = 0, reads = 0;
-  for (std::int64_t k = 0; t0_s + static_cast<double>(k) * dt_s <= l.poses.back().time_s; ++k) {
-    const double t_s = t0_s + static_cast<double>(k) * dt_s;
-    const std::size_t first = fed;
-    while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) ++fed;
-    world.step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
+  stepFrames(l, [&](double) {
     if (const sim::PhysicsState* s = physics.latestState()) {
       REQUIRE(s->step >= last_seen);  // never older than what was read before
       REQUIRE(s->step <= physics.stepsDue());
       REQUIRE(s->nodes > 1000);
       last_seen = s->step, ++reads;
     }
-  }
+  });
   physics.stopThread();
   const sim::PhysicsState* s = physics.latestState();
   REQUIRE(s != nullptr);
