@@ -159,7 +159,7 @@ RestMap TissueModel::restMap(const Eigen::Vector3d& world_m, const Eigen::Vector
       if (delta.squaredNorm() < 1e-24) break;
     }
   } catch (const std::bad_alloc&) {  // locate's scratch list outgrew its reserve: the identity
-    return RestMap{world_m, world_m, Eigen::Matrix3d::Identity(), 0, false};
+    return {};
   }
   return map;
 }

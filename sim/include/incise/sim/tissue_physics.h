@@ -124,7 +124,6 @@ class ToolTrack {
   void record(double time_s, const Eigen::Vector3d& tip_m) noexcept;
   // The newest tip at or before t_s; the oldest kept when every one is later; false when none is kept.
   bool tipAt(double t_s, Eigen::Vector3d& tip_m) const noexcept;
-  void clear() noexcept { size_ = 0; }
 
  private:
   std::array<double, kCapacity> time_s_{};
@@ -262,7 +261,7 @@ class TissuePhysics {
   Eigen::Vector3d map_guess_m_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::array<physics::RestMap, kRecentMaps> recent_maps_{};
   std::int64_t newest_map_ = 0;  // the newest step with a map in recent_maps_ (0: none)
-  bool wait_for_maps_ = false;   // a fast replay's thread: restMapAt waits for its map
+  bool wait_for_maps_ = false;   // a fast replay's thread: awaitMaps waits for the next frame's maps
   std::int64_t stale_maps_ = 0;
   std::atomic<std::int64_t> dropped_maps_{0};
 };

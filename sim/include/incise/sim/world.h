@@ -136,12 +136,12 @@ class World {
   // The haptic part, and nothing else: every pose that arrived this frame, oldest first, is checked
   // (non-finite, or not after the previous one in time: skipped and counted), taken to the rest frame when
   // the tissue is simulated (TissuePhysics::restMapAt: the tissue's surface and the incision are at rest;
-  // O(1), in a fast replay it may wait for its map) and queued for the cut phase; then one contact, from the newest pose, against the ContactProxy (contact_proxy.h: a few hundred skin
-  // triangles around the blade that the cut phase keeps current), the blade's last depth + 2 mm as a segment
-  // towards its tip, and when that finds nothing a swept test from the previous frame's tip to this one (a
-  // fast stroke cannot tunnel through the skin); the haptic force: a penalty spring along the contact normal
-  // with damping, plus a constant cutting resistance against the blade's tangential motion while it cuts,
-  // clamped to max_force_N. No mesh, no grid, no cutting work: O(poses + proxy triangles), a few
+  // O(1), never waiting) and queued for the cut phase; then one contact, from the newest pose, against the
+  // ContactProxy (contact_proxy.h: a few hundred skin triangles around the blade that the cut phase keeps
+  // current), the blade's last depth + 2 mm as a segment towards its tip, and when that finds nothing a swept
+  // test from the previous frame's tip to this one (a fast stroke cannot tunnel through the skin); the
+  // haptic force: a penalty spring along the contact normal with damping, plus a constant cutting
+  // resistance against the blade's tangential motion while it cuts, clamped to max_force_N. No mesh, no grid, no cutting work: O(poses + proxy triangles), a few
   // microseconds. The poses queue in a fixed PoseQueue (kQueuedPoses): a pose that finds it full (more than
   // kQueuedPoses in one call) is rejected and counted.
   HapticState updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept;
