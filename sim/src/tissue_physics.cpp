@@ -78,10 +78,19 @@ std::vector<physics::Embedded> TissuePhysics::embedSurface(const mesh::SurfaceMe
   std::vector<physics::Embedded> out(m.n_vertices());
   for (const auto v : m.vertices()) {
     if (m.is_isolated(v)) continue;
-    int side = 0;
-    if (const auto probe = model_->locate(probeBeside(m, v))) side = probe->element.side;
     const Eigen::Vector3d x = mesh::toEigen(m.point(v));
-    std::optional<physics::Embedded> e = side != 0 ? model_->locate(x, physics::OnSide{side}) : std::nullopt;
+    const std::optional<physics::Embedded> probe = model_->locate(probeBeside(m, v));
+    std::optional<physics::Embedded> e;
+    if (probe && probe->element.side != 0) {
+      e = model_->locate(x, physics::OnSide{probe->element.side});
+    } else if (probe) {
+      // An uncut tet beside the vertex: when the vertex is on it (a face of it on the cut's plane, the lips
+      // touching at rest), that tet, not the one across the plane that holds the vertex as well.
+      const physics::ElementInfo beside = probe->element;
+      e = model_->locate(x,
+                         [&](const physics::ElementInfo& t) { return t.base_tet == beside.base_tet && t.side == 0; });
+      if (e && e->outside_m > 0.0) e.reset();
+    }
     if (!e) e = model_->locate(x);
     if (e) out[static_cast<std::size_t>(v.idx())] = *e;
   }

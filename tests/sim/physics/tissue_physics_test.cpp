@@ -347,6 +347,43 @@ double grooveBottomY(const mesh::SurfaceMesh& rest, const mesh::SurfaceMesh& x) 
   return lowest;
 }
 
+TEST_CASE("tissue physics: a cut along the pad's grid line gapes, each lip following its own tets", "[sim]") {
+  // x = 0 is a plane of the pad's grid: the tets have faces on the cut, and with no kernel opening each lip's
+  // vertices lie on faces of tets on both sides. A lip must follow its own side's tets (an uncut tet beside
+  // it), not the tet across the plane: then the lips part as on the shipped stroke.
+  test::ShippedScenario l = test::loadShipped("pad-tension");
+  REQUIRE(l.scenario.strokes.size() == 1);
+  l.scenario.strokes[0].start_m.x() = 0.0;
+  l.poses = sim::posesForStrokes(sim::loadTissue(l.scenario), l.scenario.strokes, l.scenario.world, l.scenario.rate_hz);
+  sim::ReplayOptions options;
+  options.period_us = l.scenario.periodUs();
+  options.settle_s = l.scenario.settle_s;
+  sim::replay(*l.world, l.poses, options);
+  REQUIRE(l.world->incisions() == 1);
+  const mesh::SurfaceMesh& rest = l.world->tissue();
+  const mesh::SurfaceMesh deformed = l.world->physics()->deformedSurface(rest);
+  const double width_m = woundWidthM(rest, deformed);
+  INFO("wound " << width_m * 1e3 << " mm wide, " << woundWidthM(rest, rest) * 1e3 << " mm at rest");
+  CHECK(woundWidthM(rest, rest) < 5e-5);
+  CHECK(width_m > 0.001);
+  // Every seam vertex on top near the middle moved off the plane, to its own lip's side (its neighbours').
+  int seam = 0;
+  for (const auto v : rest.mesh().vertices()) {
+    const Eigen::Vector3d r = mesh::toEigen(rest.mesh().point(v));
+    if (rest.kind(v) != mesh::VertexKind::Seam || r.y() < -1e-4 || std::abs(r.z()) > 0.006) continue;
+    double side = 0.0;  // its lip's side: the mean x of its original neighbours on top
+    for (const auto u : rest.mesh().vv_range(v))
+      if (rest.kind(u) == mesh::VertexKind::Original) side += rest.mesh().point(u)[0];
+    const double moved_x = deformed.mesh().point(v)[0] - r.x();
+    INFO("seam vertex " << v.idx() << " at z " << r.z() << " moved " << moved_x * 1e3 << " mm across");
+    REQUIRE(side != 0.0);
+    REQUIRE(moved_x * side > 0.0);
+    REQUIRE(std::abs(moved_x) > 0.0002);
+    ++seam;
+  }
+  CHECK(seam > 4);
+}
+
 TEST_CASE("tissue physics: the blade is mapped to the rest frame, the groove reaches where the blade did", "[sim]") {
   // The tensioned pad's top sinks about a millimetre as its held sides stretch it (Poisson). The blade, 4 mm
   // below the pad's rest top in the world, is about 3 mm into the sunken tissue: the incision, made at rest,
