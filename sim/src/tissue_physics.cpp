@@ -71,6 +71,26 @@ Eigen::Vector3d probeBeside(const mesh::TriMesh& m, mesh::TriMesh::VertexHandle 
   return 0.5 * (x + centroid) - (n > 0.0 ? Eigen::Vector3d(0.25 * spread_m * normal / n) : Eigen::Vector3d::Zero());
 }
 
+// embedSurface: how far towards its side a vertex is nudged to find its own tet, and how far off that tet
+// (rounding) it may be and still be embedded in it.
+constexpr double kNudgeM = 1e-6;
+constexpr double kOnFaceM = 1e-9;
+
+// The tet holding the point kNudgeM from x towards `beside_m` (the vertex's own side), with x's weights in
+// it, when x is on it: a vertex on a face, edge or node shared by tets on both sides of a cut (a lip on a
+// plane of the tets, the lips touching at rest) belongs to its own side's tet, whichever tet rounding puts
+// it in. nullopt when x is not on that tet (a sliver crossed) or beside_m is x.
+std::optional<physics::Embedded> ownTet(const physics::TissueModel& model, const Eigen::Vector3d& x,
+                                        const Eigen::Vector3d& beside_m) {
+  const Eigen::Vector3d towards = beside_m - x;
+  if (!(towards.norm() > kNudgeM)) return std::nullopt;
+  const std::optional<physics::Embedded> near = model.locate(x + kNudgeM * towards.normalized(), {}, 0.0);
+  if (!near) return std::nullopt;
+  const physics::ElementInfo own = near->element;
+  return model.locate(
+      x, [&](const physics::ElementInfo& t) { return t.base_tet == own.base_tet && t.side == own.side; }, kOnFaceM);
+}
+
 }  // namespace
 
 std::vector<physics::Embedded> TissuePhysics::embedSurface(const mesh::SurfaceMesh& surface) const {
@@ -79,17 +99,11 @@ std::vector<physics::Embedded> TissuePhysics::embedSurface(const mesh::SurfaceMe
   for (const auto v : m.vertices()) {
     if (m.is_isolated(v)) continue;
     const Eigen::Vector3d x = mesh::toEigen(m.point(v));
-    const std::optional<physics::Embedded> probe = model_->locate(probeBeside(m, v));
-    std::optional<physics::Embedded> e;
-    if (probe && probe->element.side != 0) {
-      e = model_->locate(x, physics::OnSide{probe->element.side});
-    } else if (probe) {
-      // An uncut tet beside the vertex: when the vertex is on it (a face of it on the cut's plane, the lips
-      // touching at rest), that tet, not the one across the plane that holds the vertex as well.
-      const physics::ElementInfo beside = probe->element;
-      e = model_->locate(x,
-                         [&](const physics::ElementInfo& t) { return t.base_tet == beside.base_tet && t.side == 0; });
-      if (e && e->outside_m > 0.0) e.reset();
+    const Eigen::Vector3d beside_m = probeBeside(m, v);
+    std::optional<physics::Embedded> e = ownTet(*model_, x, beside_m);
+    if (!e) {
+      const std::optional<physics::Embedded> probe = model_->locate(beside_m);
+      if (probe && probe->element.side != 0) e = model_->locate(x, physics::OnSide{probe->element.side});
     }
     if (!e) e = model_->locate(x);
     if (e) out[static_cast<std::size_t>(v.idx())] = *e;

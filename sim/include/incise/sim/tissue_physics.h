@@ -191,9 +191,11 @@ class TissuePhysics {
   static constexpr std::size_t kStoredStepTimes = 262144;  // 44 min at 100 Hz (2 MB)
 
   // The surface's vertices embedded in the tets at rest (the surface's positions are the tets' rest: both
-  // are the cut as the incision left it), each on its own side of every cut: the side of the tet holding a
-  // point just inside the surface next to the vertex (among its neighbours, behind its normal), so that a
-  // lip's vertex follows its own lip's tets. Vertices outside every tet take the nearest within 1 mm (weights
+  // are the cut as the incision left it), each on its own side of every cut, so that a lip's vertex follows
+  // its own lip's tets: the tet holding a point a micrometre from the vertex towards a point just inside the
+  // surface next to it (among its neighbours, behind its normal), when the vertex is on that tet (so a
+  // vertex on a face, edge or node shared across a cut goes with its own side whatever the rounding); else a
+  // tet on the side of the tet holding that inside point. Vertices outside every tet take the nearest within 1 mm (weights
   // extrapolated); farther ones are left where they are (nodes -1). O(V x tets near a point); allocates: for
   // outputs and checks, not the sim thread.
   std::vector<physics::Embedded> embedSurface(const mesh::SurfaceMesh& surface) const;
