@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <span>
+
+#include <Eigen/Core>
 
 #include "incise/mesh/surface_mesh.h"
+#include "incise/physics/tissue_model.h"
 #include "incise/sim/tissue_physics.h"
 #include "incise/sim/world.h"
 
@@ -110,6 +114,17 @@ void copySimulatedGeometry(World& world, std::int64_t frame, GeometryMirror& mir
     r.index = index;
     const auto& p = deformed.mesh().point(v);
     r.position_m[0] = p[0], r.position_m[1] = p[1], r.position_m[2] = p[2];
+    mirror.apply(r);
+  }
+  // The tets' nodes where the model has them (the cutter's node n is the model's node n).
+  if (!mirror.tets().present()) return;
+  const std::span<const Eigen::Vector3d> x = physics->model().positions_m();
+  const std::size_t nodes = std::min(x.size(), mirror.tets().positions_m().size());
+  for (std::size_t n = 0; n < nodes; ++n) {
+    GeometryRecord r{};
+    r.type = GeometryRecordType::TetNode;
+    r.index = static_cast<std::uint32_t>(n);
+    r.position_m[0] = x[n].x(), r.position_m[1] = x[n].y(), r.position_m[2] = x[n].z();
     mirror.apply(r);
   }
 }

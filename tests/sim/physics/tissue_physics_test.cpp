@@ -15,6 +15,7 @@
 #include <limits>
 #include <mutex>
 #include <set>
+#include <span>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -435,7 +436,7 @@ TEST_CASE("tissue physics: a physics thread behind maps the blade with its newes
   CHECK(physics.counters().dropped_maps == 0);
 }
 
-TEST_CASE("tissue physics: a picture's copy of the geometry has the surface as simulated", "[sim]") {
+TEST_CASE("tissue physics: a picture's copy of the geometry has the surface and the tets as simulated", "[sim]") {
   const PadRun run = replayPad();
   sim::World& world = *run.run.world;
   sim::GeometryMirror at_rest, simulated;
@@ -454,6 +455,19 @@ TEST_CASE("tissue physics: a picture's copy of the geometry has the surface as s
     moved += std::hypot(r[0] - p[0], r[1] - p[1], r[2] - p[2]) > 0.0005;
   }
   CHECK(moved > 50);  // the sunken top and the open lips
+  // The tets' nodes too (render --tets), the cutter's node n at the model's node n.
+  const std::span<const Eigen::Vector3d> x = world.physics()->model().positions_m();
+  const auto& nodes = simulated.tets().positions_m();
+  REQUIRE(at_rest.tets().positions_m().size() == nodes.size());
+  REQUIRE(nodes.size() <= x.size());
+  int moved_nodes = 0;
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    REQUIRE(nodes[n] == std::array<double, 3>{x[n].x(), x[n].y(), x[n].z()});
+    const auto& r = at_rest.tets().positions_m()[n];
+    moved_nodes += std::hypot(r[0] - x[n].x(), r[1] - x[n].y(), r[2] - x[n].z()) > 0.0005;
+  }
+  CHECK(moved_nodes > 50);
+  CHECK(simulated.tets().boundary() == at_rest.tets().boundary());
 }
 
 TEST_CASE("tissue physics: real time and fast replays give the same simulated tissue", "[sim][slow]") {

@@ -73,7 +73,7 @@ class GeometryMirror {
 // Leaves the world's change journal off. Allocates (a 2 MiB ring). O(V + F).
 void copyGeometry(World& world, std::int64_t frame, GeometryMirror& mirror);
 // The same, with a simulated tissue's surface as simulated (TissuePhysics::deformedSurface: each vertex at
-// its tet's deformed position; the faces and kinds as at rest; the tets at rest). After the physics thread
+// its tet's deformed position; the faces and kinds as at rest) and its tets' nodes as simulated. After the physics thread
 // has stopped; the rest surface when it runs or the tissue is not simulated. O(V x tets near a vertex).
 void copySimulatedGeometry(World& world, std::int64_t frame, GeometryMirror& mirror);
 
