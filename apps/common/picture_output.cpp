@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "incise/sim/geometry_mirror.h"
+#include "incise/sim/tissue_physics.h"
 #include "incise/viewer/gl_context.h"
 #include "incise/viewer/picture.h"
 #include "incise/viewer/png_file.h"
@@ -78,6 +79,13 @@ void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, 
     options.tool.contact = h.contact;
     options.tool.contact_m = h.contact_m;
     options.tool.force_N = h.force_N;
+    // A tissue drawn as simulated: the tool where it was among it, the contact where the tissue took it.
+    const sim::TissuePhysics* physics = run.world->physics();
+    if (physics != nullptr && !physics->threaded()) {
+      options.tool.tip_m = h.world_tip_m;
+      options.tool.orientation = h.world_orientation;
+      options.tool.contact_m = physics->deformedPoint(h.contact_m);
+    }
   }
   const std::vector<Eigen::Vector3d> stroke = strokePoints(run);
   viewer::Camera camera;

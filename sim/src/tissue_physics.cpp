@@ -124,6 +124,11 @@ mesh::SurfaceMesh TissuePhysics::deformedSurface(const mesh::SurfaceMesh& surfac
   return out;
 }
 
+Eigen::Vector3d TissuePhysics::deformedPoint(const Eigen::Vector3d& rest_m) const {
+  const std::optional<physics::Embedded> e = model_->locate(rest_m);
+  return e ? physics::embeddedPosition(*e, model_->positions_m()) : rest_m;
+}
+
 std::uint64_t TissuePhysics::positionsHash() const noexcept {
   std::uint64_t h = 14695981039346656037ull;
   for (const Eigen::Vector3d& p : model_->positions_m())

@@ -262,10 +262,13 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
     ++state.poses;
     if (has_pose_) velocity_m_per_s_ = (pose.tip_m - last_pose_.tip_m) / (pose.time_s - last_pose_.time_s);
     last_pose_ = pose;
+    last_raw_pose_ = raw;
     has_pose_ = true;
   }
   if (has_pose_) {  // the newest pose (with none new, the tool stays where it was)
     hapticContact(last_pose_, state);
+    state.world_tip_m = last_raw_pose_.tip_m;
+    state.world_orientation = last_raw_pose_.orientation;
     noteToolMotion();
     haptic_tip_m_ = last_pose_.tip_m;
     haptic_handle_m_ = handleOf(last_pose_);

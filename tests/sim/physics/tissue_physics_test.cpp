@@ -234,14 +234,16 @@ TEST_CASE("tissue physics: a boundary that holds no node is refused when the wor
   CHECK_THROWS_AS(sim::World(sim::loadTissue(s), s.world), std::invalid_argument);
 }
 
-TEST_CASE("tissue physics: steps at its rate of simulated time, cuts reach the model at the next step", "[sim]") {
+TEST_CASE(
+    "tissue physics: steps at its rate of simulated time, cuts reach the model at the next step, the tool in both frames",
+    "[sim]") {
   test::ShippedScenario l = test::loadShipped("pad-tension");
   sim::World& world = *l.world;
   REQUIRE(world.physics() != nullptr);
   const std::int64_t period_us = l.scenario.periodUs();
   const double dt_s = static_cast<double>(period_us) * 1e-6, t0_s = l.poses.front().time_s;
   std::size_t fed = 0;
-  std::int64_t frames = 0, frames_with_new_nodes = 0;
+  std::int64_t frames = 0, frames_with_new_nodes = 0, frames_tip_mapped = 0;
   int last_nodes = world.physics()->model().nodeCount();
   const double end_s = l.poses.back().time_s;
   for (std::int64_t k = 0; t0_s + static_cast<double>(k) * dt_s <= end_s; ++k, ++frames) {
@@ -249,8 +251,14 @@ TEST_CASE("tissue physics: steps at its rate of simulated time, cuts reach the m
     std::size_t first = fed;
     while (fed < l.poses.size() && l.poses[fed].time_s <= t_s + 1e-12) ++fed;
     const std::int64_t steps_before = world.physics()->stepsDone();
-    world.step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
+    const sim::StepResult result = world.step(std::span(l.poses.data() + first, fed - first), dt_s, t_s);
     CHECK(world.physics()->stepsDue() == world.physics()->stepsDone());  // inline: taken in the frame
+    // The tool as the device gave it beside its pose in the rest frame (the tip moved by the mapping).
+    if (fed > 0) {
+      REQUIRE(result.haptic.world_tip_m == l.poses[fed - 1].tip_m);
+      REQUIRE(result.haptic.world_orientation.coeffs() == l.poses[fed - 1].orientation.coeffs());
+      if ((result.haptic.tip_m - result.haptic.world_tip_m).norm() > 0.0005) ++frames_tip_mapped;
+    }
     // A pose at t_s is mapped to the rest frame with the map of kMapLagSteps before the last step due.
     const physics::RestMap map = world.physics()->restMapAt(t_s);
     const std::int64_t lagged = world.physics()->stepsDue() - sim::TissuePhysics::kMapLagSteps;
@@ -267,6 +275,7 @@ TEST_CASE("tissue physics: steps at its rate of simulated time, cuts reach the m
     last_nodes = world.physics()->model().nodeCount();
   }
   CHECK(frames_with_new_nodes > 10);  // the cut arrives step by step, not at the end
+  CHECK(frames_tip_mapped > 100);     // in the sunken tissue the rest-frame tip is a millimetre off
   // Step k at t0 + k / rate: frames 0 .. frames-1 cover (frames - 1) ms, 10 ms a step.
   const std::int64_t expected = (frames - 1) * period_us / 10000;
   CHECK(world.physics()->counters().steps == expected);

@@ -24,7 +24,7 @@
 // replay: wall_per_simulated_s 0).
 //
 // Units: SI (m, s, Hz). Threads: the owner (the sim thread) calls everything but the hook; between
-// startThread() and stopThread() the model, its readers (model(), deformedSurface(), deform(),
+// startThread() and stopThread() the model, its readers (model(), deformedSurface(), deformedPoint(), deform(),
 // positionsHash()) and counters() belong to the physics thread: read them after stopThread(); stepsDone()
 // and lateSteps() may be read from any thread, latestState() from one reader thread (a triple buffer the
 // physics thread publishes the node positions into after every step). Cost: advance() O(changes) + a step per due tick inline (a
@@ -201,6 +201,9 @@ class TissuePhysics {
   std::vector<physics::Embedded> embedSurface(const mesh::SurfaceMesh& surface) const;
   // The surface as simulated: a copy with every embedded vertex at its deformed position.
   mesh::SurfaceMesh deformedSurface(const mesh::SurfaceMesh& surface) const;
+  // Where the tissue carries the rest point rest_m now (its tet's deformed position; rest_m itself when no
+  // tet is within 1 mm of it at rest). O(tets near the point).
+  Eigen::Vector3d deformedPoint(const Eigen::Vector3d& rest_m) const;
   // A tet cutter's view (TetCutter::view: used nodes in index order) with its nodes at the model's current
   // positions (the same tets). Allocates.
   void deform(tets::TetView& view, const tets::TetCutter& cutter) const;

@@ -85,7 +85,12 @@ struct HapticState {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // the tool's (blade along local -z)
-  int poses = 0;                                                    // poses used this frame
+  // The same pose as the device gave it, in the world. A simulated tissue's tip_m, orientation, contact_m
+  // and normal are in its rest frame (where its surface and the incision are), these where the tool is
+  // among the deformed tissue; without one they are tip_m and orientation.
+  Eigen::Vector3d world_tip_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond world_orientation = Eigen::Quaterniond::Identity();
+  int poses = 0;            // poses used this frame
   int poses_rejected = 0;   // non-finite, not after the previous one in time, or the queue full
   bool swept = false;       // the contact came from the swept test (the probe itself was through the skin)
   bool proxy_miss = false;  // the probe was outside the proxy's region: no contact could be found this frame
@@ -257,7 +262,8 @@ class World {
   WorldOptions options_;
   double probe_m_ = 0.0;  // the blade's part that can meet the skin: its depth + 2 mm (at most its length)
   // The haptic part's state: the newest pose, the tool's velocity, the previous frame's tip.
-  devices::PoseSample last_pose_{};
+  devices::PoseSample last_pose_{};      // in the rest frame (a simulated tissue's)
+  devices::PoseSample last_raw_pose_{};  // as the device gave it
   bool has_pose_ = false;
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();     // the tool as the last haptic frame saw it
