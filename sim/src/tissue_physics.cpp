@@ -76,15 +76,16 @@ Eigen::Vector3d probeBeside(const mesh::TriMesh& m, mesh::TriMesh::VertexHandle 
 constexpr double kNudgeM = 1e-6;
 constexpr double kOnFaceM = 1e-9;
 
-// The tet holding the point kNudgeM from x towards `beside_m` (the vertex's own side), with x's weights in
-// it, when x is on it: a vertex on a face, edge or node shared by tets on both sides of a cut (a lip on a
-// plane of the tets, the lips touching at rest) belongs to its own side's tet, whichever tet rounding puts
-// it in. nullopt when x is not on that tet (a sliver crossed) or beside_m is x.
+// Among the tets `filter` admits, the one holding the point kNudgeM from x towards `beside_m` (the vertex's
+// own side), with x's weights in it, when x is on it: a vertex on a face, edge or node shared by tets on both
+// sides of a cut (a lip on a plane of the tets, the lips touching at rest) belongs to its own side's tet,
+// whichever tet rounding puts it in. nullopt when the nudged point is in no admitted tet (a wall vertex a
+// little across the tets' own cut face) or x is not on that tet.
 std::optional<physics::Embedded> ownTet(const physics::TissueModel& model, const Eigen::Vector3d& x,
-                                        const Eigen::Vector3d& beside_m) {
+                                        const Eigen::Vector3d& beside_m, physics::ElementFilter filter) {
   const Eigen::Vector3d towards = beside_m - x;
   if (!(towards.norm() > kNudgeM)) return std::nullopt;
-  const std::optional<physics::Embedded> near = model.locate(x + kNudgeM * towards.normalized(), {}, 0.0);
+  const std::optional<physics::Embedded> near = model.locate(x + kNudgeM * towards.normalized(), filter, 0.0);
   if (!near) return std::nullopt;
   const physics::ElementInfo own = near->element;
   return model.locate(
@@ -100,11 +101,14 @@ std::vector<physics::Embedded> TissuePhysics::embedSurface(const mesh::SurfaceMe
     if (m.is_isolated(v)) continue;
     const Eigen::Vector3d x = mesh::toEigen(m.point(v));
     const Eigen::Vector3d beside_m = probeBeside(m, v);
-    std::optional<physics::Embedded> e = ownTet(*model_, x, beside_m);
-    if (!e) {
-      const std::optional<physics::Embedded> probe = model_->locate(beside_m);
-      if (probe && probe->element.side != 0) e = model_->locate(x, physics::OnSide{probe->element.side});
-    }
+    // The side of the tet holding a point just inside the surface beside the vertex: the vertex is embedded
+    // in a tet of that side (or uncut), the one right beside it towards that point when it lies on it.
+    const std::optional<physics::Embedded> probe = model_->locate(beside_m);
+    const int side = probe ? probe->element.side : 0;
+    const physics::OnSide on_side{side};
+    const physics::ElementFilter filter = side != 0 ? physics::ElementFilter(on_side) : physics::ElementFilter();
+    std::optional<physics::Embedded> e = ownTet(*model_, x, beside_m, filter);
+    if (!e && side != 0) e = model_->locate(x, on_side);
     if (!e) e = model_->locate(x);
     if (e) out[static_cast<std::size_t>(v.idx())] = *e;
   }

@@ -130,6 +130,32 @@ double woundWidthM(const mesh::SurfaceMesh& rest, const mesh::SurfaceMesh& x) {
   return hi - lo;
 }
 
+// The wound's wall vertices near the cut's middle (|z| < 9 mm) that face across the cut (|n_x| > 0.5, n their
+// area-weighted normal at rest), and those of them that did not move away from the wall they face (a wall
+// facing -x is the +x lip's: it moves +x as the wound opens).
+struct WallSides {
+  int walls = 0, wrong = 0;
+};
+WallSides wallSides(const mesh::SurfaceMesh& rest, const mesh::SurfaceMesh& x) {
+  const mesh::TriMesh& m = rest.mesh();
+  WallSides out;
+  for (const auto v : m.vertices()) {
+    const Eigen::Vector3d r = mesh::toEigen(m.point(v));
+    if (rest.kind(v) != mesh::VertexKind::Wall || std::abs(r.z()) > 0.009) continue;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (const auto f : m.vf_range(v)) {
+      std::array<Eigen::Vector3d, 3> p;
+      int i = 0;
+      for (const auto w : m.fv_range(f)) p[static_cast<std::size_t>(i++)] = mesh::toEigen(m.point(w));
+      n += (p[1] - p[0]).cross(p[2] - p[0]);
+    }
+    if (!(std::abs(n.x()) > 0.5 * n.norm())) continue;
+    ++out.walls;
+    if ((mesh::toEigen(x.mesh().point(v)).x() - r.x()) * n.x() >= 0.0) ++out.wrong;
+  }
+  return out;
+}
+
 // The cut's plane across x: the mean rest x of the lips' seam vertices on top.
 double cutPlaneX(const mesh::SurfaceMesh& rest) {
   const mesh::TriMesh& m = rest.mesh();
@@ -392,6 +418,17 @@ TEST_CASE("tissue physics: a cut along the pad's grid line gapes, each lip follo
     ++seam;
   }
   CHECK(seam > 4);
+}
+
+TEST_CASE("tissue physics: the pad's wound walls each follow their own lip", "[sim]") {
+  // With no kernel opening the two walls coincide at rest; each wall vertex must follow the tets behind it,
+  // not those of the wall it touches (or the walls pass through each other as the wound opens).
+  const PadRun run = replayPad();
+  const mesh::SurfaceMesh& rest = run.run.world->tissue();
+  const WallSides sides = wallSides(rest, run.run.world->physics()->deformedSurface(rest));
+  INFO(sides.wrong << " of " << sides.walls << " wall vertices moved towards the wall they face");
+  CHECK(sides.walls > 40);
+  CHECK(sides.wrong == 0);
 }
 
 TEST_CASE("tissue physics: the blade is mapped to the rest frame, the groove reaches where the blade did", "[sim]") {

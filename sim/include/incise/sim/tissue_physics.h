@@ -192,12 +192,13 @@ class TissuePhysics {
 
   // The surface's vertices embedded in the tets at rest (the surface's positions are the tets' rest: both
   // are the cut as the incision left it), each on its own side of every cut, so that a lip's vertex follows
-  // its own lip's tets: the tet holding a point a micrometre from the vertex towards a point just inside the
-  // surface next to it (among its neighbours, behind its normal), when the vertex is on that tet (so a
-  // vertex on a face, edge or node shared across a cut goes with its own side whatever the rounding); else a
-  // tet on the side of the tet holding that inside point. Vertices outside every tet take the nearest within 1 mm (weights
-  // extrapolated); farther ones are left where they are (nodes -1). O(V x tets near a point); allocates: for
-  // outputs and checks, not the sim thread.
+  // its own lip's tets: among the tets on the side of the one holding a point just inside the surface next
+  // to the vertex (among its neighbours, behind its normal), or uncut, the one holding a point a micrometre
+  // from the vertex towards that point when the vertex is on it (so a vertex on a face, edge or node shared
+  // across a cut goes with its own side whatever the rounding); else the one holding it or nearest to it.
+  // Vertices outside every tet take the nearest within 1 mm (weights extrapolated); farther ones are left
+  // where they are (nodes -1). O(V x tets near a point); allocates: for outputs and checks, not the sim
+  // thread.
   std::vector<physics::Embedded> embedSurface(const mesh::SurfaceMesh& surface) const;
   // The surface as simulated: a copy with every embedded vertex at its deformed position.
   mesh::SurfaceMesh deformedSurface(const mesh::SurfaceMesh& surface) const;
