@@ -116,6 +116,15 @@ int BlockMatrix::acquire(int row, int col) {
   return dead;
 }
 
+int BlockMatrix::find(int row, int col) const noexcept {
+  const auto r = static_cast<std::size_t>(row);
+  for (int k = 0; k < count_[r]; ++k) {
+    const auto e = static_cast<std::size_t>(first_[r] + k);
+    if (col_[e] == col && uses_[e] > 0) return k;
+  }
+  return -1;
+}
+
 void BlockMatrix::release(int row, int local) noexcept {
   int& uses = uses_[static_cast<std::size_t>(first_[static_cast<std::size_t>(row)] + local)];
   if (uses > 0) --uses;

@@ -50,6 +50,8 @@ class BlockMatrix {
   // one use more.
   int acquire(int row, int col);
   void release(int row, int local) noexcept;  // one use fewer
+  // The live entry (row, col), row < col: its index within the row, or -1. O(row).
+  int find(int row, int col) const noexcept;
 
   void setZero() noexcept;
   Block& diagonal(int row) noexcept { return diagonal_[static_cast<std::size_t>(row)]; }

@@ -243,6 +243,18 @@ void TissueModel::addPointForce(const Embedded& point, const Eigen::Vector3d& fo
     addNodeForce(point.nodes[static_cast<std::size_t>(i)], point.weights[static_cast<std::size_t>(i)] * force_N);
 }
 
+void TissueModel::setToolPress(const Embedded& anchor, const Eigen::Vector3d& normal, const Eigen::Vector3d& tool_m,
+                               double stiffness_N_per_m) noexcept {
+  State::Press& p = s_->press;
+  p.on = normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6 && tool_m.allFinite() &&
+         std::isfinite(stiffness_N_per_m) && stiffness_N_per_m > 0.0;
+  p.anchor = anchor, p.normal = normal, p.tool_m = tool_m, p.stiffness_N_per_m = stiffness_N_per_m;
+}
+
+void TissueModel::clearToolPress() noexcept { s_->press.on = false; }
+
+Eigen::Vector3d TissueModel::toolPressForce_N() const noexcept { return s_->press_force_N; }
+
 void TissueModel::holdNode(int node, const Eigen::Vector3d& x_m) noexcept {
   if (node < 0 || node >= nodeCount() || !x_m.allFinite()) return;
   const auto i = static_cast<std::size_t>(node);

@@ -52,6 +52,14 @@ struct TissueModel::State {
   detail::PcgScratch pcg;
   std::array<std::vector<Eigen::Vector3d>, 3> contact_z;  // contactModel's solutions (warm starts)
   std::vector<Eigen::Vector3d> contact_w;
+  // The tool's press (TissueModel::setToolPress) and the force it put on the tissue at the last assembly.
+  struct Press {
+    bool on = false;
+    Embedded anchor;
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitY(), tool_m = Eigen::Vector3d::Zero();
+    double stiffness_N_per_m = 0.0;
+  } press;
+  Eigen::Vector3d press_force_N = Eigen::Vector3d::Zero();
   double last_dt_s = 0.0;  // of the matrix in `matrix` (0: none assembled for a step)
   std::int64_t steps = 0;
 
@@ -81,6 +89,9 @@ struct TissueModel::State {
   // returns the number of inverted elements.
   int assemble(double mass_coefficient, double stiffness_coefficient) noexcept;
   void moveHeldNodes() noexcept;  // x = target, v = 0 for every node not Free
+  // The press's force into force_N and its stiffness times stiffness_coefficient into the matrix (after
+  // assemble()); sets press_force_N.
+  void addToolPress(double stiffness_coefficient) noexcept;
   // --- tissue_model_locate.cpp
   std::optional<Embedded> locate(const Eigen::Vector3d& p, ElementFilter filter, double max_distance_m) const;
 };

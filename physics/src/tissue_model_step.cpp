@@ -4,6 +4,7 @@
 // EulerImplicitSolver): with f = f_ext + M g + f_el(x0) and K the co-rotated stiffness at x0,
 //   [(1 + h alpha) M + h (h + beta) K] v1 = M v0 + h f,   x1 = x0 + h v1,
 // solved for v1 by CG from v0. The static solve takes Newton steps K dx = f with the same K and f.
+#include <algorithm>
 #include <cmath>
 
 #include "incise/physics/tissue_model.h"
@@ -73,6 +74,31 @@ int TissueModel::State::assemble(double mass_coefficient, double stiffness_coeff
   return inverted;
 }
 
+void TissueModel::State::addToolPress(double stiffness_coefficient) noexcept {
+  press_force_N.setZero();
+  if (!press.on) return;
+  const int n = static_cast<int>(x_m.size());
+  for (const int node : press.anchor.nodes)
+    if (node < 0 || node >= n) return;
+  const Eigen::Vector3d& normal = press.normal;
+  const double gap_m = (embeddedPosition(press.anchor, x_m) - press.tool_m).dot(normal);
+  if (!(gap_m > 0.0)) return;
+  press_force_N = -press.stiffness_N_per_m * gap_m * normal;
+  // f_i = w_i f(p), p = sum_j w_j x_j: df_i / dx_j = -k w_i w_j n n^T, so K gains k w_i w_j n n^T.
+  const Eigen::Matrix3d nn = (stiffness_coefficient * press.stiffness_N_per_m) * (normal * normal.transpose());
+  const auto& nodes = press.anchor.nodes;
+  const auto& w = press.anchor.weights;
+  for (std::size_t a = 0; a < 4; ++a) {
+    force_N[static_cast<std::size_t>(nodes[a])] += w[a] * press_force_N;
+    detail::addTo(matrix.diagonal(nodes[a]), (w[a] * w[a]) * nn);
+    for (std::size_t b = a + 1; b < 4; ++b) {
+      const int lo = std::min(nodes[a], nodes[b]), hi = std::max(nodes[a], nodes[b]);
+      const int local = lo == hi ? -1 : matrix.find(lo, hi);
+      if (local >= 0) detail::addTo(matrix.upper(lo, local), (w[a] * w[b]) * nn);
+    }
+  }
+}
+
 StepStats TissueModel::step(double dt_s) noexcept {
   State& s = *s_;
   StepStats stats;
@@ -80,6 +106,7 @@ StepStats TissueModel::step(double dt_s) noexcept {
   const double h = dt_s, alpha = s.material.damping.mass_per_s, beta = s.material.damping.stiffness_s;
   s.moveHeldNodes();
   stats.inverted_elements = s.assemble(1.0 + h * alpha, h * (h + beta));
+  s.addToolPress(h * h);
   s.last_dt_s = h;
   const Eigen::Vector3d& g = s.boundary.gravity_m_per_s2;
   for (std::size_t i = 0; i < s.x_m.size(); ++i) {
@@ -126,6 +153,7 @@ StaticResult TissueModel::solveStatic(const StaticOptions& options) {
   load = std::sqrt(load);
   for (int it = 0; it <= options.max_newton_iterations; ++it) {
     s.assemble(0.0, 1.0);
+    s.addToolPress(1.0);
     for (std::size_t i = 0; i < s.x_m.size(); ++i)
       s.rhs[i] =
           s.active[i] ? Eigen::Vector3d(s.external_N[i] + s.mass_kg[i] * g + s.force_N[i]) : Eigen::Vector3d::Zero();

@@ -48,7 +48,7 @@ TEST_CASE("alloc_free: a tissue's steps, contact models and cuts allocate nothin
 
   std::int64_t allocations = 0;
   int steps = 0, applied = 0, added = 0;
-  // One physics frame: the cut's changes so far, a step, the contact model; only the model's work counted.
+  // One physics frame: the cut's changes so far, a press, a step, the contact model; only the model's work counted.
   const auto frame = [&](bool count) {
     changes.clear();
     collectCutChanges(tets, tets.changes(), changes);
@@ -58,6 +58,8 @@ TEST_CASE("alloc_free: a tissue's steps, contact models and cuts allocate nothin
     {
       CountAllocations counting(count);
       if (!changes.empty()) added += model.apply(changes).elements_added, ++applied;
+      if (const std::optional<Embedded> at = model.locate(Eigen::Vector3d(0.004, 0.0, 0.004)))  // a press
+        model.setToolPress(*at, Eigen::Vector3d::UnitY(), Eigen::Vector3d(0.004, -0.001, 0.004), 400.0);
       status = model.step(0.005).status;
       model.contactModel(*point, Eigen::Vector3d::UnitY());
       model.locate(Eigen::Vector3d(-0.001, -0.003, 0.005));
@@ -65,6 +67,7 @@ TEST_CASE("alloc_free: a tissue's steps, contact models and cuts allocate nothin
     }
     allocations += allocationsOnThisThread().calls;
     REQUIRE(status != StepStatus::NonFinite);
+    CHECK(model.toolPressForce_N().y() < 0.0);  // the press pushed
     ++steps;
   };
   frame(false);  // warm-up

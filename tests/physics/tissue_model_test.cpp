@@ -199,16 +199,32 @@ TEST_CASE("tissue_model: the same steps give the same bytes", "[physics]") {
   CHECK(std::memcmp(a.data(), c.data(), a.size() * sizeof(Eigen::Vector3d)) == 0);
 }
 
+// A 20 x 10 x 20 mm slab of 4 x 2 x 4 cells held at its bottom (y = 0), no gravity, solved tightly.
+struct HeldSlab {
+  testing::Grid g = grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.02, 0.01, 0.02), Eigen::Vector3i(4, 2, 4));
+  Boundary b = held();
+  ModelOptions o = tight();
+  static Boundary held() {
+    Boundary b;
+    b.fixed_boxes = {plane(1, 0.0)};
+    b.gravity_m_per_s2.setZero();
+    return b;
+  }
+  static ModelOptions tight() {
+    ModelOptions o;
+    o.cg_tolerance = 1e-10, o.max_cg_iterations = 1000;
+    return o;
+  }
+};
+
 TEST_CASE("tissue_model: the contact model's stiffness predicts how far the next step moves a pushed point",
           "[physics]") {
   // At rest without gravity the next step's matrix is the last one's: a force f held at the point for one
   // step moves it by exactly K^-1 f (K the contact model's stiffness), up to CG's tolerance.
-  const testing::Grid g = grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.02, 0.01, 0.02), Eigen::Vector3i(4, 2, 4));
-  Boundary b;
-  b.fixed_boxes = {plane(1, 0.0)};
-  b.gravity_m_per_s2.setZero();
-  ModelOptions o;
-  o.cg_tolerance = 1e-10, o.max_cg_iterations = 1000;
+  const HeldSlab slab;
+  const testing::Grid& g = slab.g;
+  const Boundary& b = slab.b;
+  const ModelOptions& o = slab.o;
   TissueModel model(g.mesh, Material{}, b, o);
   const Eigen::Vector3d at(0.0113, 0.0098, 0.0071);
   const std::optional<Embedded> point = model.locate(at);
@@ -231,6 +247,56 @@ TEST_CASE("tissue_model: the contact model's stiffness predicts how far the next
   const Eigen::Vector3d tool = contact.point_m - 0.001 * contact.normal;
   CHECK(contact.reactionForce_N(tool).isApprox(contact.stiffness_N_per_m * (0.001 * contact.normal)));
   CHECK(contact.reactionForce_N(contact.point_m + 0.001 * contact.normal).isZero());
+}
+
+TEST_CASE("tissue_model: a tool pressing the skin dents it, its spring in series with the tissue", "[physics]") {
+  // A tool 2 mm below the top of a held slab, on a spring of k = 400 N/m to the skin's point there: the
+  // static dent is where the spring's force and the tissue's answer to that force as a point load agree
+  // (two solves to rounding), the steps settle there, a spring a thousand times stiffer stays stable (the
+  // press is implicit) and follows the tool, and a tool lifted off lets the tissue go back to rest.
+  const HeldSlab slab;
+  const testing::Grid& g = slab.g;
+  const Boundary& b = slab.b;
+  const ModelOptions& o = slab.o;
+  const Eigen::Vector3d at(0.0113, 0.01, 0.0071), up = Eigen::Vector3d::UnitY(), tool = at - 0.002 * up;
+  const double k_N_per_m = 400.0;
+  TissueModel pressed(g.mesh, Material{}, b, o);
+  const std::optional<Embedded> point = pressed.locate(at);
+  REQUIRE(point);
+  pressed.setToolPress(*point, up, tool, k_N_per_m);
+  REQUIRE(pressed.solveStatic().converged);
+  const Eigen::Vector3d dent_m = embeddedPosition(*point, pressed.positions_m());
+  const double gap_m = (dent_m - tool).dot(up);
+  const Eigen::Vector3d force_N = pressed.toolPressForce_N();
+  INFO("dent " << (at - dent_m).transpose() * 1e3 << " mm, force " << force_N.transpose() << " N");
+  CHECK(gap_m > 0.0002);
+  CHECK(gap_m < 0.0018);  // the tissue gave
+  CHECK(force_N.isApprox(-k_N_per_m * gap_m * up, 1e-12));
+
+  TissueModel loaded(g.mesh, Material{}, b, o);
+  loaded.addPointForce(*point, force_N);
+  REQUIRE(loaded.solveStatic().converged);
+  CHECK(maxDistance(loaded.positions_m(), pressed.positions_m()) < 1e-6 * (at - dent_m).norm());
+
+  TissueModel stepped(g.mesh, Material{}, b, o);
+  stepped.setToolPress(*point, up, tool, k_N_per_m);
+  for (int i = 0; i < 400; ++i) REQUIRE(stepped.step(0.01).status == StepStatus::Converged);
+  CHECK((embeddedPosition(*point, stepped.positions_m()) - dent_m).norm() < 0.01 * (at - dent_m).norm());
+
+  TissueModel stiff(g.mesh, Material{}, b, o);
+  stiff.setToolPress(*point, up, tool, 1000.0 * k_N_per_m);
+  double largest_m = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    REQUIRE(stiff.step(0.01).status == StepStatus::Converged);
+    for (const Eigen::Vector3d& x : stiff.positions_m()) largest_m = std::max(largest_m, (x - at).norm());
+  }
+  CHECK(largest_m < 0.03);  // nothing flew off
+  CHECK(std::abs((embeddedPosition(*point, stiff.positions_m()) - tool).dot(up)) < 0.0001);
+
+  stepped.setToolPress(*point, up, at + 0.001 * up, k_N_per_m);  // lifted above the skin
+  for (int i = 0; i < 400; ++i) stepped.step(0.01);
+  CHECK(stepped.toolPressForce_N().isZero());
+  CHECK(maxDistance(stepped.positions_m(), stepped.restPositions_m()) < 1e-6);
 }
 
 TEST_CASE("tissue_model: the rest map takes a deformed point back to the material point it carries", "[physics]") {

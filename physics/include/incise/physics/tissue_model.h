@@ -125,6 +125,16 @@ class TissueModel {
   void holdNode(int node, const Eigen::Vector3d& x_m) noexcept;
   void releaseNode(int node) noexcept;
   void setPosition(int node, const Eigen::Vector3d& x_m) noexcept;  // once (a free node moves on from there)
+  // The tool pressing on the skin (a dent, before the blade cuts in): a spring of stiffness_N_per_m along
+  // `normal` (the skin's outward unit normal at the point, deformed) between the embedded point `anchor`
+  // and the tool's tip tool_m, pushing the point in while the tip is below it ((point - tip) . normal > 0),
+  // never pulling. step() and solveStatic() take it implicitly (its stiffness in the matrix: stable however
+  // stiff the spring) until cleared or set again. O(1); the step's cost is unchanged.
+  void setToolPress(const Embedded& anchor, const Eigen::Vector3d& normal, const Eigen::Vector3d& tool_m,
+                    double stiffness_N_per_m) noexcept;
+  void clearToolPress() noexcept;
+  // The force the press put on the tissue at the last step's start (N, at the anchor; zero: not pushing).
+  Eigen::Vector3d toolPressForce_N() const noexcept;
 
   // A cut: nodes new or moved at rest, base tets replaced by their pieces (new base tets appended). New
   // nodes start where the tissue around them is (their rest position mapped through the tet that held it),
