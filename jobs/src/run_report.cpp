@@ -113,7 +113,8 @@ nlohmann::json tetsReport(const tets::TetCutter& tets, const tets::TetView& defo
 
 // A simulated tissue's figures: its rate and steps, their time on the physics thread (late: finished more
 // than a period after they were due), cuts deferred to a later step (a full handoff), poses mapped to the
-// rest frame with an older step's map than theirs (stale_maps: the physics thread behind), what the model met.
+// rest frame with an older step's map than theirs (stale_maps: the physics thread behind), steps the tool
+// pressed the skin in (pressed_steps: a dent), what the model met.
 nlohmann::json physicsReport(const sim::TissuePhysics& physics, const sim::LatencySummary& latency) {
   const sim::PhysicsCounters c = physics.counters();
   return {{"physics_rate_hz", physics.rateHz()},
@@ -129,6 +130,7 @@ nlohmann::json physicsReport(const sim::TissuePhysics& physics, const sim::Laten
           {"cg_limited_steps", c.cg_limited},
           {"non_finite_steps", c.non_finite},
           {"cuts_applied", c.cuts_applied},
+          {"pressed_steps", c.pressed_steps},
           {"pieces_refused", c.pieces_refused},
           {"failed_applies", c.failed_applies},
           {"reserve_overflows", c.reserve_overflows},

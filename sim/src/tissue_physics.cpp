@@ -201,13 +201,42 @@ void TissuePhysics::applyChanges(physics::CutChanges& changes) noexcept {
   changes.clear();
 }
 
-void TissuePhysics::stepOnce(const Eigen::Vector3d* tip_m) noexcept {
+void TissuePhysics::pressTool(const ToolAt* tool) noexcept {
+  const bool was_pressing = press_located_;
+  press_located_ = false;
+  if (tool == nullptr || !tool->press.on || !(options_.press_stiffness_N_per_m > 0.0)) {
+    model_->clearToolPress();
+    return;
+  }
+  std::optional<physics::Embedded> at;
+  try {
+    at = model_->locate(tool->press.rest_point_m);
+  } catch (const std::bad_alloc&) {  // locate's scratch list outgrew its reserve: no press this step
+    at.reset();
+  }
+  if (!at) {
+    model_->clearToolPress();
+    return;
+  }
+  // The press pushes along the skin's normal as it was when the press began (before the dent, which tilts
+  // the small tets under a point load far more than the skin around it).
+  if (!was_pressing || tool->press.rest_point_m != press_rest_point_m_)
+    press_normal_ =
+        physics::embeddedNormal(*at, model_->restPositions_m(), model_->positions_m(), tool->press.rest_normal);
+  press_rest_point_m_ = tool->press.rest_point_m;
+  model_->setToolPress(*at, press_normal_, tool->tip_m, options_.press_stiffness_N_per_m);
+  press_anchor_ = *at, press_located_ = true;
+}
+
+void TissuePhysics::stepOnce(const ToolAt* tool) noexcept {
+  pressTool(tool);
   const physics::StepStats s = model_->step(stepS());
   ++counters_.steps;
+  if (!model_->toolPressForce_N().isZero()) ++counters_.pressed_steps;
   if (s.status == physics::StepStatus::IterationLimit) ++counters_.cg_limited;
   if (s.status == physics::StepStatus::NonFinite) ++counters_.non_finite;
   counters_.max_inverted = std::max(counters_.max_inverted, s.inverted_elements);
-  publishMap(tip_m);
+  publishMap(tool != nullptr ? &tool->tip_m : nullptr);
   steps_done_.store(counters_.steps, std::memory_order_release);
 }
 
@@ -219,17 +248,18 @@ int TissuePhysics::advance(double t_s, const ToolTrack* track) noexcept {
   int taken = 0;
   // Step k is due at t_first + k / rate; the tick's time computed from k (no accumulated sum).
   while (t_first_s_ + static_cast<double>(next_step_) / options_.rate_hz <= t_s + 1e-9 / options_.rate_hz) {
-    Eigen::Vector3d tip_m;
+    ToolAt tool;
     const bool has_tip =
-        track != nullptr && track->tipAt(t_first_s_ + static_cast<double>(next_step_) / options_.rate_hz, tip_m);
+        track != nullptr &&
+        track->tipAt(t_first_s_ + static_cast<double>(next_step_) / options_.rate_hz, tool.tip_m, &tool.press);
     if (worker_) {
       handOver(next_step_,
                std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
                    .count(),
-               has_tip ? &tip_m : nullptr);
+               has_tip ? &tool : nullptr);
     } else {
       applyChanges(slots_[collecting_]);
-      stepOnce(has_tip ? &tip_m : nullptr);
+      stepOnce(has_tip ? &tool : nullptr);
     }
     ++next_step_, ++taken;
   }
@@ -328,22 +358,40 @@ bool TissuePhysics::pushMessage(const StepMessage& m) noexcept {
   return true;
 }
 
+// The tool at a step through the handoff's plain values, and back.
+void TissuePhysics::packTool(const ToolAt& tool, StepMessage& m) noexcept {
+  m.tip_m = {tool.tip_m.x(), tool.tip_m.y(), tool.tip_m.z()};
+  m.has_tip = true;
+  const Eigen::Vector3d &p = tool.press.rest_point_m, &n = tool.press.rest_normal;
+  m.press = {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()};
+  m.has_press = tool.press.on;
+}
+
+TissuePhysics::ToolAt TissuePhysics::unpackTool(const StepMessage& m) noexcept {
+  ToolAt tool;
+  tool.tip_m = Eigen::Vector3d(m.tip_m[0], m.tip_m[1], m.tip_m[2]);
+  tool.press.on = m.has_press;
+  tool.press.rest_point_m = Eigen::Vector3d(m.press[0], m.press[1], m.press[2]);
+  tool.press.rest_normal = Eigen::Vector3d(m.press[3], m.press[4], m.press[5]);
+  return tool;
+}
+
 // Sim thread: step `step`, with the changes collected so far, to the physics thread.
-void TissuePhysics::handOver(std::int64_t step, std::int64_t due_ns, const Eigen::Vector3d* tip_m) noexcept {
+void TissuePhysics::handOver(std::int64_t step, std::int64_t due_ns, const ToolAt* tool) noexcept {
   Worker& w = *worker_;
   const bool wait = w.options.wait_for_room;
   while (w.has_held && !pushMessage(w.held)) {
     if (!wait) {  // the queue is still full: this step goes with the held one, its changes later
       w.held.last_step = step;
-      if (tip_m != nullptr) w.held.tip_m = {tip_m->x(), tip_m->y(), tip_m->z()}, w.held.has_tip = true;
+      if (tool != nullptr) packTool(*tool, w.held);
       if (!slots_[collecting_].empty()) ++deferred_;
       return;
     }
     std::this_thread::sleep_for(kRoomPoll);
   }
   w.has_held = false;
-  StepMessage m{step, step, -1, due_ns, {}, tip_m != nullptr};
-  if (tip_m != nullptr) m.tip_m = {tip_m->x(), tip_m->y(), tip_m->z()};
+  StepMessage m{step, step, -1, due_ns};
+  if (tool != nullptr) packTool(*tool, m);
   if (!slots_[collecting_].empty()) {
     std::size_t fresh = 0;
     bool got = w.free_slots.tryPop(fresh);
@@ -390,8 +438,8 @@ void TissuePhysics::runWorker() noexcept {
     for (std::int64_t k = m.first_step; k <= m.last_step; ++k) {
       if (w.options.before_step) w.options.before_step(k);
       const std::int64_t start_ns = nowNs();
-      const Eigen::Vector3d tip_m(m.tip_m[0], m.tip_m[1], m.tip_m[2]);
-      stepOnce(m.has_tip ? &tip_m : nullptr);
+      const ToolAt tool = unpackTool(m);
+      stepOnce(m.has_tip ? &tool : nullptr);
       const std::int64_t end_ns = nowNs();
       const bool late = w.period_ns < kNeverLateNs && end_ns > m.due_ns + (k - m.first_step + 1) * w.period_ns;
       if (late) {
@@ -411,19 +459,21 @@ void TissuePhysics::runWorker() noexcept {
 // The blade's mapping to the rest frame: the tool's recent tips, the rest map made after each step on the
 // stepping thread, and the frame's choice of map by a pose's time.
 
-void ToolTrack::record(double time_s, const Eigen::Vector3d& tip_m) noexcept {
+void ToolTrack::record(double time_s, const Eigen::Vector3d& tip_m, const ToolPress& press) noexcept {
   time_s_[next_] = time_s;
   tip_m_[next_] = tip_m;
+  press_[next_] = press;
   next_ = (next_ + 1) % kCapacity;
   size_ = std::min(size_ + 1, kCapacity);
 }
 
-bool ToolTrack::tipAt(double t_s, Eigen::Vector3d& tip_m) const noexcept {
+bool ToolTrack::tipAt(double t_s, Eigen::Vector3d& tip_m, ToolPress* press) const noexcept {
   if (size_ == 0) return false;
   // Newest first; the poses are in time order (World rejects one not after the last).
   for (std::size_t i = 1; i <= size_; ++i) {
     const std::size_t at = (next_ + kCapacity - i) % kCapacity;
     tip_m = tip_m_[at];
+    if (press != nullptr) *press = press_[at];
     if (time_s_[at] <= t_s) return true;
   }
   return true;  // every kept pose is later: the oldest
@@ -435,7 +485,13 @@ void TissuePhysics::publishMap(const Eigen::Vector3d* tip_m) noexcept {
     map = model_->restMap(*tip_m, map_guess_m_.allFinite() ? map_guess_m_ : *tip_m);
     map_guess_m_ = map.located ? map.toRest(*tip_m) : *tip_m;
   }
-  MapMessage m{{}, counters_.steps, map.located};
+  MapMessage m{{}, {}, counters_.steps, map.located, press_located_};
+  if (press_located_) {
+    const Eigen::Vector3d point_m = physics::embeddedPosition(press_anchor_, model_->positions_m());
+    const Eigen::Vector3d& normal = press_normal_;
+    m.press = {point_m.x(), point_m.y(), point_m.z(), normal.x(), normal.y(), normal.z()};
+    m.pressed = point_m.allFinite() && normal.allFinite();
+  }
   std::copy_n(map.world_m.data(), 3, m.values.begin());
   std::copy_n(map.rest_m.data(), 3, m.values.begin() + 3);
   std::copy_n(map.world_to_rest.data(), 9, m.values.begin() + 6);
@@ -450,6 +506,10 @@ void TissuePhysics::takeMaps() noexcept {
     std::copy_n(m.values.begin() + 3, 3, map.rest_m.data());
     std::copy_n(m.values.begin() + 6, 9, map.world_to_rest.data());
     map.step = m.step, map.located = m.located;
+    PressPoint& press = recent_presses_[static_cast<std::size_t>(m.step) % kRecentMaps];
+    press.point_m = Eigen::Vector3d(m.press[0], m.press[1], m.press[2]);
+    press.normal = Eigen::Vector3d(m.press[3], m.press[4], m.press[5]);
+    press.step = m.step, press.on = m.pressed;
     newest_map_ = std::max(newest_map_, m.step);
   }
 }
@@ -462,14 +522,41 @@ void TissuePhysics::awaitMaps() noexcept {
   }
 }
 
-physics::RestMap TissuePhysics::restMapAt(double t_s) noexcept {
-  takeMaps();
-  if (!started_ || !std::isfinite(t_s)) return {};
+std::int64_t TissuePhysics::mapStep(double t_s, double& fraction) const noexcept {
+  fraction = 0.0;
+  if (!started_ || !std::isfinite(t_s)) return 0;
   // The last step due at t_s (never past the steps made due so far), less the lag.
-  const double due = std::floor((t_s - t_first_s_) * options_.rate_hz + 1e-9);
+  const double ticks = (t_s - t_first_s_) * options_.rate_hz + 1e-9, due = std::floor(ticks);
   const std::int64_t last_due =
       due < 0.0 ? 0 : std::min(static_cast<std::int64_t>(std::min(due, 1e15)), next_step_ - 1);
-  const std::int64_t want = last_due - kMapLagSteps;
+  // A step not made due yet (the frame's poses come before its physics): the end of the period before it.
+  fraction = static_cast<double>(last_due) == due ? std::clamp(ticks - due, 0.0, 1.0) : 1.0;
+  return std::max<std::int64_t>(0, last_due - kMapLagSteps);
+}
+
+PressPoint TissuePhysics::pressPointAt(double t_s) noexcept {
+  takeMaps();
+  double fraction = 0.0;
+  const std::int64_t want = mapStep(t_s, fraction);
+  const auto made = [&](std::int64_t k) -> const PressPoint* {
+    const PressPoint& p = recent_presses_[static_cast<std::size_t>(k) % kRecentMaps];
+    return k > 0 && p.step == k ? &p : nullptr;
+  };
+  const PressPoint* newer = made(want);
+  if (newer == nullptr || !newer->on) return {};
+  const PressPoint* older = made(want - 1);
+  if (older == nullptr || !older->on) return *newer;
+  PressPoint blended = *newer;
+  blended.point_m = older->point_m + fraction * (newer->point_m - older->point_m);
+  const Eigen::Vector3d normal = older->normal + fraction * (newer->normal - older->normal);
+  if (normal.norm() > 0.0) blended.normal = normal.normalized();
+  return blended;
+}
+
+physics::RestMap TissuePhysics::restMapAt(double t_s) noexcept {
+  takeMaps();
+  double fraction = 0.0;
+  const std::int64_t want = mapStep(t_s, fraction);
   if (want <= 0) return {};  // the tissue at rest
   const auto made = [&](std::int64_t k) { return recent_maps_[static_cast<std::size_t>(k) % kRecentMaps].step == k; };
   if (made(want)) return recent_maps_[static_cast<std::size_t>(want) % kRecentMaps];

@@ -117,7 +117,11 @@ World::World(mesh::SurfaceMesh tissue, const WorldOptions& options) : options_(o
     tet_options.max_inversions_per_call = workBudget(options);
     tets::TetMesh mesh = tets::tetrahedralize(*tissue_, options.tets.mesh);
     // The model is built from the cutter's load mesh (same node and tet order) and follows its journal.
-    if (options.physics.enabled) physics_ = std::make_unique<TissuePhysics>(mesh, options.physics);
+    if (options.physics.enabled) {
+      PhysicsOptions physics = options.physics;
+      physics.press_stiffness_N_per_m = options.tissue.stiffness_N_per_m;  // the haptic force's spring
+      physics_ = std::make_unique<TissuePhysics>(mesh, physics);
+    }
     tets_ = std::make_unique<tets::TetCutter>(std::move(mesh), tet_options);
     requireFineTets(*tissue_, *tets_, options.cutter.incision);
     tets_->prepare(options.cutter.incision);  // the sim thread then allocates nothing for the first incision
@@ -202,7 +206,9 @@ void World::hapticContact(const devices::PoseSample& pose, HapticState& state) n
     ++counters_.proxy_misses;
     return;
   }
-  std::optional<ProxyHit> hit = proxy_->firstCrossing(handle, pose.tip_m);
+  // The pose's crossing was found for its press already (a simulated tissue: pressOf, the same pose).
+  std::optional<ProxyHit> hit =
+      physics_ && pose.time_s == press_hit_time_s_ ? press_hit_ : proxy_->firstCrossing(handle, pose.tip_m);
   const Eigen::Vector3d moved = pose.tip_m - haptic_tip_m_;
   if (!hit && has_haptic_tip_ && moved.squaredNorm() > 0.0 && proxy_->covers(haptic_tip_m_, pose.tip_m)) {
     hit = proxy_->firstCrossing(haptic_tip_m_, pose.tip_m);  // the tip went through the skin since last frame
@@ -217,6 +223,37 @@ void World::hapticContact(const devices::PoseSample& pose, HapticState& state) n
   state.contact_m = c.point_m;
   state.normal = c.normal;
   state.cutting = c.cutting;
+}
+
+ToolPress World::pressOf(const devices::PoseSample& pose) noexcept {
+  const Eigen::Vector3d handle = handleOf(pose);
+  std::optional<ProxyHit>& hit = press_hit_;
+  hit.reset();
+  if (proxy_->covers(handle, pose.tip_m)) hit = proxy_->firstCrossing(handle, pose.tip_m);
+  press_hit_time_s_ = pose.time_s;
+  const Contact c = hit ? contactAt(pose, hit->point_m, hit->normal) : Contact{};
+  // A blade deep enough to cut (World::cutPose's rule) is in the tissue, not pressing on it.
+  if (!c.contact || (c.cutting && c.penetration_m >= options_.cutter.incision.min_depth_m)) {
+    press_ = ToolPress{};
+  } else if (!press_.on) {  // a new press: the skin point the tip touched, which sticks to it while it presses
+    press_.on = true;
+    press_.rest_point_m = c.point_m;
+    press_.rest_normal = c.normal;
+  }
+  return press_;
+}
+
+void World::pressContact(HapticState& state) noexcept {
+  pressing_ = false;
+  if (!press_.on) return;
+  const PressPoint p = physics_->pressPointAt(last_raw_pose_.time_s);
+  if (!p.on) return;  // the press's first steps not mapped yet: the contact at rest
+  pressing_ = true;
+  const double gap_m = (p.point_m - last_raw_pose_.tip_m).dot(p.normal);
+  state.contact = gap_m > 0.0;
+  state.penetration_m = std::max(0.0, gap_m);
+  state.normal = p.normal;
+  state.cutting = false;
 }
 
 Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& velocity) const noexcept {
@@ -253,20 +290,24 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
     }
     // A simulated tissue: the pose in the rest frame, where the tissue's surface and the incision are.
     const devices::PoseSample pose = physics_ ? toRestFrame(raw) : raw;
-    if (physics_) track_.record(raw.time_s, raw.tip_m);
+    if (physics_) track_.record(raw.time_s, raw.tip_m, pressOf(pose));
     if (!queued_->push(pose)) {
       ++state.poses_rejected;
       ++counters_.poses_overflowed;
       continue;
     }
     ++state.poses;
-    if (has_pose_) velocity_m_per_s_ = (pose.tip_m - last_pose_.tip_m) / (pose.time_s - last_pose_.time_s);
+    if (has_pose_) {
+      velocity_m_per_s_ = (pose.tip_m - last_pose_.tip_m) / (pose.time_s - last_pose_.time_s);
+      world_velocity_m_per_s_ = (raw.tip_m - last_raw_pose_.tip_m) / (raw.time_s - last_raw_pose_.time_s);
+    }
     last_pose_ = pose;
     last_raw_pose_ = raw;
     has_pose_ = true;
   }
   if (has_pose_) {  // the newest pose (with none new, the tool stays where it was)
     hapticContact(last_pose_, state);
+    if (physics_) pressContact(state);
     state.world_tip_m = last_raw_pose_.tip_m;
     state.world_orientation = last_raw_pose_.orientation;
     noteToolMotion();
@@ -275,7 +316,8 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
     haptic_time_s_ = last_pose_.time_s;
     has_haptic_tip_ = true;
   }
-  state.force_N = force(state, velocity_m_per_s_);
+  // A dent's contact is in the world: its damping against the tool's velocity there.
+  state.force_N = force(state, pressing_ ? world_velocity_m_per_s_ : velocity_m_per_s_);
   if (std::isfinite(dt_s) && dt_s > 0.0) period_s_ = dt_s;
   return state;
 }

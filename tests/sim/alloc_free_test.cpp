@@ -200,10 +200,11 @@ TEST_CASE("alloc: in real time the loop thread allocates nothing after its first
 
 TEST_CASE("alloc: a simulated tissue in real time: no allocation on the loop thread nor on its physics thread",
           "[alloc][threads]") {
-  // pad-tension against the clock: the loop thread hands the physics steps over; the physics thread applies
-  // the cut's changes and steps. The physics thread is counted from its second step's start to its last
-  // step's start (the hook runs on it before each step).
+  // pad-tension against the clock, its stroke after a press (a dent): the loop thread hands the physics
+  // steps over; the physics thread takes the press, applies the cut's changes and steps. The physics thread
+  // is counted from its second step's start to its last step's start (the hook runs on it before each step).
   auto l = incise::test::loadShipped("pad-tension");
+  l.poses = incise::test::followedBy(incise::test::padPressPoses({}), l.poses);
   incise::sim::ReplayOptions options;
   options.pace = incise::sim::ReplayPace::RealTime;
   options.settle_s = l.scenario.settle_s;
@@ -226,6 +227,7 @@ TEST_CASE("alloc: a simulated tissue in real time: no allocation on the loop thr
   REQUIRE(l.world->incisions() >= 1);
   REQUIRE(last_step > 100);
   REQUIRE(l.world->physics()->counters().cuts_applied > 0);  // 35 in Release; fewer where steps fall behind
+  REQUIRE(l.world->physics()->counters().pressed_steps > 50);
   CHECK(sink.allocations() == 0);
   CHECK(physics_allocations == 0);
 }

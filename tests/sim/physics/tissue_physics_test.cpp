@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "incise/incision/surface_cutter.h"
 #include "incise/mesh/surface_mesh.h"
 #include "incise/physics/tissue_model.h"
 #include "incise/sim/geometry_mirror.h"
@@ -67,11 +68,14 @@ struct PadRun {
   double t_first_s = 0.0, t_last_s = 0.0;
 };
 
-// The kernel's opening overridden too when opening_m >= 0 (the shipped pad has none: its tension opens it).
+// The kernel's opening overridden too when opening_m >= 0 (the shipped pad has none: its tension opens it);
+// the stroke after a press beside it (test::padPressPoses) when press_first.
 PadRun replayPad(const Eigen::Vector3d* prestretch = nullptr, sim::ReplayPace pace = sim::ReplayPace::Fast,
-                 std::function<void(std::int64_t)> before_step = {}, double opening_m = -1.0) {
+                 std::function<void(std::int64_t)> before_step = {}, double opening_m = -1.0,
+                 bool press_first = false) {
   PadRun p;
   p.run = test::loadShipped("pad-tension");
+  if (press_first) p.run.poses = test::followedBy(test::padPressPoses({}), p.run.poses);
   if (prestretch || opening_m >= 0.0) {
     sim::Scenario s = p.run.scenario;
     if (prestretch) s.world.physics.material.prestretch = *prestretch;
@@ -450,6 +454,51 @@ TEST_CASE("tissue physics: the blade is mapped to the rest frame, the groove rea
   CHECK(physics.counters().dropped_maps == 0);
 }
 
+TEST_CASE("tissue physics: a tool pressing the pad without cutting dents it and feels the dent, smoothly", "[sim]") {
+  // The blade, its cut button up, goes 4 mm below the settled pad's top, holds, and lifts off. The skin
+  // under it sinks millimetres (the press spring, tissue.stiffness_N_per_m, pushes the tets' nodes), the
+  // force felt is the spring's against the dent (less than against a rigid skin), steady while the press
+  // is (no step at the physics rate), nothing is cut, and the skin comes back once the blade is off.
+  test::ShippedScenario l = test::loadShipped("pad-tension");
+  const test::PadPress press;
+  const std::vector<devices::PoseSample> poses = test::padPressPoses(press);
+  const double dt_s = 0.001, settle_s = press.settle_s, down_s = press.down_s, hold_s = press.hold_s;
+  const double low_m = press.low_y_m;
+  const Eigen::Vector3d above(press.x_m, press.above_y_m, press.z_m);
+  sim::World& world = *l.world;
+  const sim::TissuePhysics& physics = *world.physics();
+  const Eigen::Vector3d rest_top(above.x(), 0.0, above.z());
+  Eigen::Vector3d settled_m = Eigen::Vector3d::Zero(), pressed_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_N = Eigen::Vector3d::Zero();
+  double largest_change_N = 0.0;
+  Eigen::Vector3d last_force_N = Eigen::Vector3d::Zero();
+  for (const devices::PoseSample& pose : poses) {
+    const Eigen::Vector3d f = world.step(std::span(&pose, 1), dt_s, pose.time_s).haptic.force_N;
+    const double t = pose.time_s;
+    if (std::abs(t - settle_s) < 1e-9) settled_m = physics.deformedPoint(rest_top);
+    if (t > settle_s + down_s + 0.0015 && t <= settle_s + down_s + hold_s)  // the tool held still
+      largest_change_N = std::max(largest_change_N, (f - last_force_N).norm());
+    if (std::abs(t - (settle_s + down_s + hold_s)) < 1e-9) pressed_m = physics.deformedPoint(rest_top), force_N = f;
+    last_force_N = f;
+  }
+  const Eigen::Vector3d back_m = physics.deformedPoint(rest_top);
+  const double depth_m = settled_m.y() - low_m;  // the blade's tip below the settled skin
+  const double k_N_per_m = l.scenario.world.tissue.stiffness_N_per_m;
+  INFO("skin settled at y " << settled_m.y() * 1e3 << " mm, pressed " << pressed_m.y() * 1e3 << " mm, back "
+                            << back_m.y() * 1e3 << " mm; force " << force_N.transpose() << " N (rigid skin: "
+                            << k_N_per_m * depth_m << " N); largest frame-to-frame change while held "
+                            << largest_change_N * 1e3 << " mN; pressed steps " << physics.counters().pressed_steps);
+  CHECK(settled_m.y() - pressed_m.y() > 0.0015);    // the skin gave
+  CHECK(force_N.y() > 0.1);                         // pushed back up ...
+  CHECK(force_N.y() < 0.8 * k_N_per_m * depth_m);   // ... less than a rigid skin would
+  CHECK(largest_change_N < 0.02 * force_N.norm());  // the dent settling, no step at the physics rate
+  CHECK(physics.counters().pressed_steps > 100);
+  CHECK(world.cutter().stats().incisions == 0);
+  CHECK(physics.counters().cuts_applied == 0);
+  CHECK((back_m - settled_m).norm() < 5e-5);
+  CHECK(last_force_N.isZero());
+}
+
 TEST_CASE("tissue physics: a physics thread behind maps the blade with its newest map, counted stale", "[sim]") {
   // Frames about a millisecond apart, the physics thread 50 ms a step (its period is 10 ms): it falls behind,
   // and a pose's map (four steps before its time) is not made yet. The newest made stands in, never the
@@ -534,6 +583,17 @@ TEST_CASE("tissue physics: real time and fast replays give the same simulated ti
   CHECK(c.deferred == 0);
   CHECK(fast.run.world->physics()->counters().deferred == 0);
   CHECK_FALSE(realtime.run.world->physics()->threaded());  // ended with the replay: the model is the caller's
+
+  // A press (a dent) before the stroke: the press's steps depend on the poses' times only.
+  const PadRun pressed_fast = replayPad(nullptr, sim::ReplayPace::Fast, {}, -1.0, true);
+  const PadRun pressed_realtime = replayPad(nullptr, sim::ReplayPace::RealTime, {}, -1.0, true);
+  const sim::PhysicsCounters pc = pressed_realtime.run.world->physics()->counters();
+  CHECK(pressed_fast.run.world->physics()->counters().pressed_steps > 100);
+  CHECK(pc.pressed_steps == pressed_fast.run.world->physics()->counters().pressed_steps);
+  if (pc.stale_maps == 0)
+    CHECK(simulatedBytes(*pressed_fast.run.world) == simulatedBytes(*pressed_realtime.run.world));
+  else
+    WARN(pc.stale_maps << " poses mapped with an older step's map: the pressed runs not compared");
 }
 
 TEST_CASE("tissue physics: the steps run on the physics thread, the frame does not pay for them", "[sim][slow]") {

@@ -72,6 +72,9 @@ struct PhysicsOptions {
   physics::Material material;
   physics::Boundary boundary{{}, {}, Eigen::Vector3d::Zero()};  // gravity [0, 0, 0] unless the scenario says
   double rate_hz = 100.0;                                       // steps per second of simulated time
+  // The tool's spring on the skin while it presses without cutting in (World: tissue.stiffness_N_per_m, the
+  // haptic force's): the tissue dents under it (TissueModel::setToolPress). 0: the tool never presses.
+  double press_stiffness_N_per_m = 0.0;
 };
 
 struct PhysicsCounters {
@@ -83,6 +86,7 @@ struct PhysicsCounters {
   std::int64_t reserve_overflows = 0;  // growth past the model's or the change buffer's reserve
   std::int64_t failed_applies = 0;     // applies that ran out of memory (their changes are lost)
   int max_inverted = 0;                // the most inverted elements at the start of a step
+  std::int64_t pressed_steps = 0;      // steps whose start had the tool pressing the skin in (a dent)
   // Threaded only: steps finished more than a physics period of wall time after they became due, and cut
   // changes that reached the model at a later step than theirs because the handoff was full (the only way a
   // real-time run's bytes can differ from a fast one's).
@@ -107,6 +111,15 @@ struct PhysicsThreadOptions {
   std::function<void(std::int64_t step)> before_step;
 };
 
+// Where the tool's press holds the skin after a step (TissuePhysics::pressPointAt): the anchored skin point
+// as the tissue carries it and the skin's outward normal there, deformed (on: the tool pressed at that step).
+struct PressPoint {
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
+  std::int64_t step = 0;
+  bool on = false;
+};
+
 // The model's state after a step, as the physics thread publishes it (TissuePhysics::latestState).
 struct PhysicsState {
   std::int64_t step = 0;             // the step it is after (0: none yet)
@@ -114,20 +127,30 @@ struct PhysicsState {
   std::vector<Eigen::Vector3d> x_m;  // sized once (the model's nodes and the cuts' reserve), never grown
 };
 
-// The tool's tip in the world over its recent poses (World records each pose it accepts, before mapping):
-// the point a physics step's rest map is made around is the newest tip at or before the step's time. A
-// fixed ring of kCapacity poses (the oldest overwritten). Thread: the owner's (the sim thread). No
-// allocation.
+// Where a pose's tool presses the skin without cutting in (World: the blade's entry point and the skin's
+// outward normal there, in the rest frame, while the tip is below the skin and not cutting): the point the
+// physics step's press spring holds (TissueModel::setToolPress).
+struct ToolPress {
+  bool on = false;
+  Eigen::Vector3d rest_point_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rest_normal = Eigen::Vector3d::UnitY();
+};
+
+// The tool over its recent poses (World records each pose it accepts): its tip in the world, before mapping,
+// and its press. A physics step's rest map is made around, and its press spring pulls towards, the newest
+// tip at or before the step's time. A fixed ring of kCapacity poses (the oldest overwritten). Thread: the
+// owner's (the sim thread). No allocation.
 class ToolTrack {
  public:
   static constexpr std::size_t kCapacity = 256;
-  void record(double time_s, const Eigen::Vector3d& tip_m) noexcept;
-  // The newest tip at or before t_s; the oldest kept when every one is later; false when none is kept.
-  bool tipAt(double t_s, Eigen::Vector3d& tip_m) const noexcept;
+  void record(double time_s, const Eigen::Vector3d& tip_m, const ToolPress& press = {}) noexcept;
+  // The newest pose at or before t_s; the oldest kept when every one is later; false when none is kept.
+  bool tipAt(double t_s, Eigen::Vector3d& tip_m, ToolPress* press = nullptr) const noexcept;
 
  private:
   std::array<double, kCapacity> time_s_{};
   std::array<Eigen::Vector3d, kCapacity> tip_m_{};
+  std::array<ToolPress, kCapacity> press_{};
   std::size_t next_ = 0, size_ = 0;
 };
 
@@ -167,6 +190,11 @@ class TissuePhysics {
   // haptic part never waits. Returns at once otherwise. The owner's thread, after advance().
   void awaitMaps() noexcept;
   static constexpr std::int64_t kMapLagSteps = 4;  // 40 ms at 100 Hz
+  // The press point for a pose at t_s (the haptic force of a tool denting the skin): made after the same
+  // step as restMapAt(t_s)'s map, blended linearly with the step before by t_s's place in its physics period,
+  // so that a force from it has no step at the physics rate. Off unless the newer one pressed; the newer
+  // alone when the older did not. Depends on t_s and the steps only. The owner's thread, O(1), no allocation.
+  PressPoint pressPointAt(double t_s) noexcept;
 
   // Starts the physics thread (allocates the change buffers, the queue and the thread). Not running.
   void startThread(PhysicsThreadOptions options);
@@ -228,19 +256,34 @@ class TissuePhysics {
     std::int64_t due_ns = 0;                     // steady clock when the first became due
     std::array<double, 3> tip_m{};  // the tool's tip at the last step's time (plain: the queue's copies are noexcept)
     bool has_tip = false;
+    std::array<double, 6> press{};  // its press there: rest point, rest normal
+    bool has_press = false;
+  };
+  // The tool at a step's time (ToolTrack::tipAt): its tip in the world and its press.
+  struct ToolAt {
+    Eigen::Vector3d tip_m;
+    ToolPress press;
   };
   // A rest map through the handoff (physics::RestMap's values; plain, so its copies are noexcept).
   struct MapMessage {
     std::array<double, 15> values{};  // world_m, rest_m, world_to_rest (column-major)
+    std::array<double, 6> press{};    // the press point: point_m, normal
     std::int64_t step = 0;
-    bool located = false;
+    bool located = false, pressed = false;
   };
   void applyChanges(physics::CutChanges& changes) noexcept;  // the stepping thread
-  // One step, then its rest map around tip_m (nullptr: the identity). The stepping thread.
-  void stepOnce(const Eigen::Vector3d* tip_m) noexcept;
+  // One step with the tool's press, then its rest map around its tip (nullptr: no tool; the identity). The
+  // stepping thread.
+  void stepOnce(const ToolAt* tool) noexcept;
+  void pressTool(const ToolAt* tool) noexcept;             // the stepping thread: the model's press for the next step
   void publishMap(const Eigen::Vector3d* tip_m) noexcept;  // the stepping thread
   void takeMaps() noexcept;                                // the owner's: the handoff into recent_maps_
-  void handOver(std::int64_t step, std::int64_t due_ns, const Eigen::Vector3d* tip_m) noexcept;
+  // The step whose map a pose at t_s takes (0: none, the tissue at rest) and t_s's place in its physics
+  // period in [0, 1). The owner's thread.
+  std::int64_t mapStep(double t_s, double& fraction) const noexcept;
+  void handOver(std::int64_t step, std::int64_t due_ns, const ToolAt* tool) noexcept;
+  static void packTool(const ToolAt& tool, StepMessage& m) noexcept;
+  static ToolAt unpackTool(const StepMessage& m) noexcept;
   bool pushMessage(const StepMessage& m) noexcept;
   void runWorker() noexcept;  // the physics thread's loop
 
@@ -266,6 +309,12 @@ class TissuePhysics {
   std::unique_ptr<SpscQueue<MapMessage, kQueuedMaps>> maps_;
   Eigen::Vector3d map_guess_m_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::array<physics::RestMap, kRecentMaps> recent_maps_{};
+  std::array<PressPoint, kRecentMaps> recent_presses_{};
+  // The stepping thread's press: the anchor it located for the last step (pressTool).
+  physics::Embedded press_anchor_;
+  Eigen::Vector3d press_rest_point_m_ = Eigen::Vector3d::Zero();  // the press's skin point at rest
+  Eigen::Vector3d press_normal_ = Eigen::Vector3d::UnitY();       // its direction (the skin's when it began)
+  bool press_located_ = false;
   std::int64_t newest_map_ = 0;  // the newest step with a map in recent_maps_ (0: none)
   bool wait_for_maps_ = false;   // a fast replay's thread: awaitMaps waits for the next frame's maps
   std::int64_t stale_maps_ = 0;

@@ -17,7 +17,9 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 
 #include <Eigen/Core>
@@ -79,7 +81,8 @@ struct WorldOptions {
 struct HapticState {
   bool contact = false;      // the blade's tip is below the surface
   bool cutting = false;      // ... and the cut button is held (or cutting needs none)
-  double penetration_m = 0;  // tip depth below the surface along the normal
+  double penetration_m = 0;  // tip depth below the surface along the normal (a simulated tissue pressed
+                             // without cutting: below the dented skin, in the world, with the dent's normal)
   Eigen::Vector3d force_N = Eigen::Vector3d::Zero();
   Eigen::Vector3d contact_m = Eigen::Vector3d::Zero();  // where the blade enters the surface
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
@@ -236,6 +239,11 @@ class World {
   Contact contactAt(const devices::PoseSample& pose, const Eigen::Vector3d& point_m,
                     const Eigen::Vector3d& normal) const noexcept;  // the tip's penetration at a skin point
   void hapticContact(const devices::PoseSample& pose, HapticState& state) noexcept;  // the proxy
+  // A simulated tissue: where a (rest-frame) pose's tool presses the skin without cutting in (the proxy),
+  // the skin point it first touched while it keeps pressing (press_).
+  ToolPress pressOf(const devices::PoseSample& pose) noexcept;
+  // A simulated tissue pressed: the contact is the dent's, in the world (TissuePhysics::pressPointAt).
+  void pressContact(HapticState& state) noexcept;
   void noteToolMotion() noexcept;               // tool_motion_m_ from last_pose_ and the last haptic frame
   bool takeQueuedPoses(bool at_once) noexcept;  // false: an incision waits for the previous one's work
   // A new incision from this sample, begun once the previous one's work is done (takeQueuedPoses).
@@ -257,7 +265,10 @@ class World {
   std::unique_ptr<incision::SurfaceCutter> cutter_;
   std::unique_ptr<tets::TetCutter> tets_;
   std::unique_ptr<TissuePhysics> physics_;
-  ToolTrack track_;              // the tool's tips in the world, for the physics' rest maps
+  ToolTrack track_;                    // the tool's tips in the world, for the physics' rest maps
+  ToolPress press_;                    // the newest pose's press (pressOf)
+  std::optional<ProxyHit> press_hit_;  // ... and its crossing with the proxy's skin, for the haptic contact
+  double press_hit_time_s_ = std::numeric_limits<double>::quiet_NaN();
   bool stream_records_ = false;  // a geometry reader owns the journals (recordMeshChanges(true))
   WorldOptions options_;
   double probe_m_ = 0.0;  // the blade's part that can meet the skin: its depth + 2 mm (at most its length)
@@ -265,7 +276,9 @@ class World {
   devices::PoseSample last_pose_{};      // in the rest frame (a simulated tissue's)
   devices::PoseSample last_raw_pose_{};  // as the device gave it
   bool has_pose_ = false;
-  Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();        // the rest frame's
+  Eigen::Vector3d world_velocity_m_per_s_ = Eigen::Vector3d::Zero();  // the device's
+  bool pressing_ = false;                                      // the newest haptic contact is a dent's (pressContact)
   Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();     // the tool as the last haptic frame saw it
   Eigen::Vector3d haptic_handle_m_ = Eigen::Vector3d::Zero();  // its probe's other end
   double haptic_time_s_ = 0.0;
