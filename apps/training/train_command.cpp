@@ -158,6 +158,8 @@ viewer::ViewerFeed feedFor(Session& s, const viewer::PoseSourceMonitor& status, 
   feed.blade_length_m = s.run.scenario.world.tool.blade_length_m;
   feed.scenario = s.run.scenario.name + " (training)";
   feed.plan = s.run.plan ? &*s.run.plan : nullptr;
+  if (sim::TissuePhysics* physics = s.run.world->physics())
+    feed.physics_state = [physics] { return physics->latestState(); };
   feed.scalpel = scalpel;
   feed.clock_s = [&s] { return s.live->nowS(); };
   feed.scalpel_options.cut_button = std::max(0, s.run.scenario.world.tool.cut_button);

@@ -102,6 +102,8 @@ bool show(viewer::ViewerWindow& window, Run& run, const std::string& name, bool 
   feed.blade_length_m = run.loaded.scenario.world.tool.blade_length_m;
   feed.stroke_points_m = stroke;
   feed.scenario = name;
+  if (sim::TissuePhysics* physics = run.loaded.world->physics())
+    feed.physics_state = [physics] { return physics->latestState(); };
   sim::GeometryMirror seeded;  // the tissue as it starts, copied before the run: no sweep on the sim thread
   run.stream.seed(*run.loaded.world, seeded);
   window.follow(feed, std::move(seeded));

@@ -166,6 +166,10 @@ TissuePhysics::TissuePhysics(const tets::TetMesh& mesh, const PhysicsOptions& op
   maps_ = std::make_unique<SpscQueue<MapMessage, kQueuedMaps>>();
   const std::size_t added = cutNodes(mesh);
   slots_[0].reserve(mesh.nodes_m.size() + added, mesh.tets.size() + 8 * added, 16 * added);
+  // Made here, not when the thread starts: a reader (a viewer) may look for a state from the start.
+  PhysicsState initial;
+  initial.x_m.resize(static_cast<std::size_t>(model_->nodeCount() + model_->options().reserve_nodes));
+  states_ = std::make_unique<TripleBuffer<PhysicsState>>(initial);
 }
 
 void TissuePhysics::collect(const tets::TetCutter& cutter) noexcept {
@@ -316,11 +320,6 @@ void TissuePhysics::startThread(PhysicsThreadOptions options) {
     w->free_slots.tryPush(i);
   }
   step_times_.reserve(kStoredStepTimes);
-  if (!states_) {
-    PhysicsState initial;
-    initial.x_m.resize(static_cast<std::size_t>(model_->nodeCount() + model_->options().reserve_nodes));
-    states_ = std::make_unique<TripleBuffer<PhysicsState>>(initial);
-  }
   worker_ = std::move(w);
   try {
     worker_->thread = std::thread([this] { runWorker(); });
@@ -344,7 +343,6 @@ void TissuePhysics::stopThread() {
 }
 
 const PhysicsState* TissuePhysics::latestState() noexcept {
-  if (!states_) return nullptr;
   states_->update();
   const PhysicsState& s = states_->read();
   return s.step > 0 ? &s : nullptr;

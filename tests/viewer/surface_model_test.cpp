@@ -1,5 +1,6 @@
 // The viewer's copy of the tissue (viewer/src/surface_model.cpp): kept up to date from the mirror's changes
-// as the cut grows, it ends the same as one built at once from the final mesh.
+// as the cut grows, it ends the same as one built at once from the final mesh; a simulated tissue's tets
+// drawn where the physics put their nodes.
 #include "incise/viewer/surface_model.h"
 
 #include <catch2/catch.hpp>
@@ -73,4 +74,33 @@ TEST_CASE("surface_model: skin normals point out of the tissue and leave the wal
   CHECK(zero_on_wall_only > 50);  // the walls' inner vertices: drawn flat, no smooth normal
   CHECK(outward == checked);
   CHECK(model.wallFaces() > 100);
+}
+
+TEST_CASE("surface_model: a simulated tissue's tets are drawn where the physics' last step put their nodes",
+          "[viewer]") {
+  // The tensioned pad after its stroke: the tets' boundary from the mirror, its nodes at the positions the
+  // physics thread published (what `incise view` and `train` draw), not at rest.
+  const auto run = test::followRun("pad-tension");
+  REQUIRE(run->mirror.tets().complete());
+  sim::TissuePhysics& physics = *run->world->physics();
+  const sim::PhysicsState* state = physics.latestState();
+  REQUIRE(state != nullptr);
+  CHECK(state->step == physics.stepsDone());
+  viewer::SurfaceModel rest, simulated;
+  REQUIRE(rest.update(run->mirror.tets()));
+  REQUIRE(simulated.update(run->mirror.tets(), *state));
+  CHECK_FALSE(simulated.update(run->mirror.tets(), *state));  // nothing new: not rebuilt
+  REQUIRE(simulated.vertexCount() == rest.vertexCount());
+  CHECK(simulated.indices() == rest.indices());
+  CHECK(simulated.faceKinds() == rest.faceKinds());
+  REQUIRE(state->nodes <= simulated.vertexCount());
+  std::size_t at_state = 0, moved = 0;
+  for (std::size_t n = 0; n < state->nodes; ++n) {
+    const Eigen::Vector3f drawn(&simulated.positions()[3 * n]), at_rest(&rest.positions()[3 * n]);
+    at_state += (drawn - state->x_m[n].cast<float>()).norm() == 0.0f;
+    moved += (drawn - at_rest).norm() > 0.0005f;
+  }
+  INFO(state->nodes << " nodes, " << moved << " drawn more than 0.5 mm from rest");
+  CHECK(at_state == state->nodes);
+  CHECK(moved > 100);
 }

@@ -13,6 +13,7 @@
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
+#include "incise/sim/stroke_poses.h"
 
 namespace incise::test {
 
@@ -40,8 +41,11 @@ inline std::unique_ptr<FollowedRun> followRun(const std::string& name,
                                               const std::function<void(FollowedRun&)>& each_pull = {}) {
   auto run = std::make_unique<FollowedRun>();
   run->scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
-  run->world = std::make_unique<sim::World>(sim::loadTissue(run->scenario), run->scenario.world);
-  run->poses = devices::TraceReader::readAll(run->scenario.trace);
+  mesh::SurfaceMesh tissue = sim::loadTissue(run->scenario);
+  run->poses = run->scenario.source == sim::Scenario::Source::Strokes
+                   ? sim::posesForStrokes(tissue, run->scenario.strokes, run->scenario.world, run->scenario.rate_hz)
+                   : devices::TraceReader::readAll(run->scenario.trace);
+  run->world = std::make_unique<sim::World>(std::move(tissue), run->scenario.world);
   sim::ReplayOptions o;
   o.period_us = run->scenario.periodUs();
   o.settle_s = run->scenario.settle_s;

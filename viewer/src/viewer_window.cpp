@@ -104,7 +104,7 @@ struct ViewerWindow::Impl {
   MouseScalpel scalpel;
   std::vector<float> plan_triangles;
   SurfaceModel model, tet_model;  // the surface; the tets' boundary (rebuilt whole, a few times a second)
-  bool show_tets = false;
+  bool show_tets = false, drew_tets = false;
   std::int64_t last_tets_ns = 0;
   std::unique_ptr<HudModel> hud;
   ViewerFeed feed;
@@ -192,12 +192,18 @@ void ViewerWindow::Impl::follow() {
   model.update(mirror);
   mirror.clearChanges();
   if (show_tets) {
+    const sim::PhysicsState* state = feed.physics_state ? feed.physics_state() : nullptr;
     const std::int64_t now = nowNs();
-    if (now - last_tets_ns > 200'000'000 && tet_model.update(mirror.tets())) last_tets_ns = now;
-    renderer->upload(tet_model);
-  } else {
-    renderer->upload(model);
+    if (state != nullptr)
+      tet_model.update(mirror.tets(), *state);  // as simulated: every physics step's positions
+    else if (now - last_tets_ns > 200'000'000 && tet_model.update(mirror.tets()))
+      last_tets_ns = now;
   }
+  // The tets once their boundary is there (a simulated tissue's first frames: the skin meanwhile).
+  const bool tets = show_tets && tet_model.ready();
+  if (tets != drew_tets) (tets ? tet_model : model).markAllDirty();  // the renderer drew the other one
+  drew_tets = tets;
+  renderer->upload(tets ? tet_model : model);
   sim::Snapshot s;
   while (feed.take_snapshot && feed.take_snapshot(s)) {
     snapshot = s;
@@ -266,6 +272,12 @@ ToolView ViewerWindow::Impl::tool() const {
   t.blade_length_m = feed.blade_length_m;
   t.contact = snapshot.haptic.contact;
   t.contact_m = snapshot.haptic.contact_m;
+  if (feed.physics_state && drew_tets) {  // the tissue as simulated: the tool where the device holds it
+    const sim::HapticState& h = snapshot.haptic;
+    t.tip_m = h.world_tip_m;
+    t.orientation = h.world_orientation;
+    t.contact_m = h.world_tip_m + h.penetration_m * h.normal;  // the skin's point above the tip, about
+  }
   t.force_N = snapshot.haptic.force_N;
   return t;
 }
@@ -321,7 +333,8 @@ void ViewerWindow::follow(const ViewerFeed& feed, sim::GeometryMirror seeded) {
   impl_->plan_triangles = feed.plan ? planTriangles(*feed.plan) : std::vector<float>{};
   impl_->input.clock = feed.scalpel ? &impl_->feed.clock_s : nullptr;
   impl_->input.cursor.clear();
-  impl_->show_tets = false;
+  impl_->show_tets = static_cast<bool>(feed.physics_state);  // a simulated tissue: as simulated
+  impl_->drew_tets = false;
   impl_->hud = std::make_unique<HudModel>(feed.period_us, feed.cut_budget_us);
   impl_->snapshot = sim::Snapshot();
   impl_->framed = false;

@@ -204,7 +204,8 @@ class TissuePhysics {
   void stopThread();
   bool threaded() const noexcept { return worker_ != nullptr; }
   // Threaded: the newest state the physics thread published (after each step), never waiting for it;
-  // nullptr before the first. One reader thread (the owner's or another). Valid until its next call.
+  // nullptr before the first. One reader thread (the owner's or another, e.g. a viewer's, from the
+  // construction on). Valid until its next call.
   const PhysicsState* latestState() noexcept;
   // Steps made due so far (the owner's thread).
   std::int64_t stepsDue() const noexcept { return next_step_ - 1; }
@@ -301,7 +302,7 @@ class TissuePhysics {
   std::int64_t collect_failed_ = 0, collect_overflows_ = 0, deferred_ = 0;
   std::atomic<std::int64_t> steps_done_{0}, late_{0};
   std::vector<PhysicsStepTime> step_times_;             // the physics thread's; reserved kStoredStepTimes
-  std::unique_ptr<TripleBuffer<PhysicsState>> states_;  // made by startThread(): the physics thread writes
+  std::unique_ptr<TripleBuffer<PhysicsState>> states_;  // the physics thread writes, one reader reads
   std::unique_ptr<Worker> worker_;
   // The rest maps: the stepping thread pushes one per step (its guess the last map's), the owner keeps the
   // last kRecentMaps by step (1.28 s at 100 Hz: a live pose that arrives late still finds its map).

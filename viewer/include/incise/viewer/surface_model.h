@@ -21,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include "incise/sim/geometry_mirror.h"
+#include "incise/sim/tissue_physics.h"
 
 namespace incise::viewer {
 
@@ -33,6 +34,11 @@ class SurfaceModel {
   // tets changed since the last call (O(boundary), so a viewer calls it a few times a second at most).
   // Does nothing and returns false while the tets are not complete or have not changed.
   bool update(const sim::TetMirror& tets);
+  // The same boundary as simulated: every node below state.nodes at its position in `state` (a simulated
+  // tissue's node positions after a physics step, sim::TissuePhysics::latestState; indexed as the tets'
+  // nodes), the others where the mirror has them. Rebuilt whole when the tets or the state's step changed
+  // (O(boundary) at most once a physics step: a viewer calls it every display frame).
+  bool update(const sim::TetMirror& tets, const sim::PhysicsState& state);
   // Everything is to be uploaded again (a renderer that drew another model meanwhile).
   void markAllDirty() noexcept { dirty_.all = true; }
 
@@ -78,6 +84,7 @@ class SurfaceModel {
   std::size_t live_faces_ = 0, wall_faces_ = 0;
   bool ready_ = false;
   std::uint64_t tets_version_ = 0;
+  std::int64_t state_step_ = -1;  // the physics state drawn (update(tets, state)); -1: none
 };
 
 }  // namespace incise::viewer

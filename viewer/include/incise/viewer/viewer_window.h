@@ -4,7 +4,8 @@
 // and a Dear ImGui HUD (HudModel's numbers, the pose source and its state, a frame-time plot).
 //
 // Mouse: left drag orbits, right or middle drag (or shift + left) pans, the wheel zooms. Keys: Space or P
-// pause, R restart, W wireframe, T the tets' boundary instead of the surface (a tet tissue), S screenshot
+// pause, R restart, W wireframe, T the tets' boundary instead of the surface (a tet tissue; a simulated
+// tissue starts with its tets' boundary as simulated, and T shows the skin at rest), S screenshot
 // (PNG), C or Home reset the camera, Esc or Q close.
 // Threads: the main thread (GLFW's rule), which is the geometry stream's reader; it never waits for the
 // sim thread. Cost per display frame: the records since the last frame, the changed vertices' normals and
@@ -54,6 +55,10 @@ struct ViewerFeed {
   devices::PoseSink* scalpel = nullptr;
   std::function<double()> clock_s;
   MouseScalpelOptions scalpel_options;
+  // A simulated tissue: its newest published node positions (sim::TissuePhysics::latestState, this window
+  // its one reader), nullptr before the first. Set: the window draws the tets' boundary as simulated and
+  // the tool where the device holds it (T: the skin at rest and the tool in the rest frame instead).
+  std::function<const sim::PhysicsState*()> physics_state;
 };
 
 // What the user asked for during a frame.
