@@ -658,25 +658,38 @@ TEST_CASE("tissue physics: a geometry stream reading the same tet journal change
   CHECK(l.world->physics()->positionsHash() == alone.run.world->physics()->positionsHash());
 }
 
-TEST_CASE("tissue physics: the physics thread publishes each step's node positions, read without waiting", "[sim]") {
+TEST_CASE("tissue physics: the physics thread publishes each step's node positions, read without waiting",
+          "[sim][threads]") {
+  // A reader thread (as the viewer's) polls the newest state while the frames hand a press and the stroke's
+  // steps over to the physics thread; ThreadSanitizer runs it too.
   test::ShippedScenario l = test::loadShipped("pad-tension");
+  l.poses = test::followedBy(test::padPressPoses({}), l.poses);
   sim::World& world = *l.world;
   sim::TissuePhysics& physics = *world.physics();
   physics.startThread({});
-  REQUIRE(physics.latestState() == nullptr);  // no step yet
-  std::int64_t last_seen = 0, reads = 0;
-  stepFrames(l, [&](double) {
-    if (const sim::PhysicsState* s = physics.latestState()) {
-      REQUIRE(s->step >= last_seen);  // never older than what was read before
-      REQUIRE(s->step <= physics.stepsDue());
-      REQUIRE(s->nodes > 1000);
-      last_seen = s->step, ++reads;
+  REQUIRE(physics.latestState() == nullptr);  // no step yet (read here, before the reader thread takes over)
+  std::atomic<bool> done{false};
+  std::int64_t last_seen = 0, reads = 0, older = 0, small = 0;
+  std::thread reader([&] {
+    while (!done.load(std::memory_order_acquire)) {
+      if (const sim::PhysicsState* s = physics.latestState()) {
+        older += s->step < last_seen;  // never older than what was read before
+        small += s->nodes < 1000;
+        last_seen = s->step, ++reads;
+      }
+      std::this_thread::yield();
     }
   });
+  stepFrames(l, [](double) {});
   physics.stopThread();
+  done.store(true, std::memory_order_release);
+  reader.join();
   const sim::PhysicsState* s = physics.latestState();
   REQUIRE(s != nullptr);
   CHECK(reads > 0);
+  CHECK(older == 0);
+  CHECK(small == 0);
+  CHECK(physics.counters().pressed_steps > 50);
   CHECK(s->step == physics.counters().steps);  // the last step's state
   const auto x = physics.model().positions_m();
   REQUIRE(s->nodes == x.size());
