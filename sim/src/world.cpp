@@ -243,17 +243,16 @@ ToolPress World::pressOf(const devices::PoseSample& pose) noexcept {
   return press_;
 }
 
-void World::pressContact(HapticState& state) noexcept {
-  pressing_ = false;
-  if (!press_.on) return;
+bool World::pressContact(HapticState& state) noexcept {
+  if (!press_.on) return false;
   const PressPoint p = physics_->pressPointAt(last_raw_pose_.time_s);
-  if (!p.on) return;  // the press's first steps not mapped yet: the contact at rest
-  pressing_ = true;
+  if (!p.on) return false;  // the press's first steps not mapped yet: the contact at rest
   const double gap_m = (p.point_m - last_raw_pose_.tip_m).dot(p.normal);
   state.contact = gap_m > 0.0;
   state.penetration_m = std::max(0.0, gap_m);
   state.normal = p.normal;
   state.cutting = false;
+  return true;
 }
 
 Eigen::Vector3d World::force(const HapticState& state, const Eigen::Vector3d& velocity) const noexcept {
@@ -282,6 +281,7 @@ devices::PoseSample World::toRestFrame(const devices::PoseSample& pose) noexcept
 
 HapticState World::updateTool(std::span<const devices::PoseSample> poses, double dt_s) noexcept {
   HapticState state;
+  bool pressing = false;  // the contact is a dent's (pressContact)
   for (const devices::PoseSample& raw : poses) {
     if (!raw.tip_m.allFinite() || !raw.orientation.coeffs().allFinite() || !std::isfinite(raw.time_s) ||
         (has_pose_ && !(raw.time_s > last_pose_.time_s))) {
@@ -307,7 +307,7 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
   }
   if (has_pose_) {  // the newest pose (with none new, the tool stays where it was)
     hapticContact(last_pose_, state);
-    if (physics_) pressContact(state);
+    pressing = physics_ && pressContact(state);
     state.world_tip_m = last_raw_pose_.tip_m;
     state.world_orientation = last_raw_pose_.orientation;
     noteToolMotion();
@@ -317,7 +317,7 @@ HapticState World::updateTool(std::span<const devices::PoseSample> poses, double
     has_haptic_tip_ = true;
   }
   // A dent's contact is in the world: its damping against the tool's velocity there.
-  state.force_N = force(state, pressing_ ? world_velocity_m_per_s_ : velocity_m_per_s_);
+  state.force_N = force(state, pressing ? world_velocity_m_per_s_ : velocity_m_per_s_);
   if (std::isfinite(dt_s) && dt_s > 0.0) period_s_ = dt_s;
   return state;
 }

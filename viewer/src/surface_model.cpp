@@ -59,27 +59,28 @@ bool SurfaceModel::update(const sim::GeometryMirror& mirror) {
   return true;
 }
 
-bool SurfaceModel::update(const sim::TetMirror& tets) {
-  if (!tets.complete() || (ready_ && tets.version() == tets_version_ && state_step_ < 0)) return false;
+bool SurfaceModel::update(const sim::TetMirror& tets) { return updateTets(tets, nullptr); }
+
+bool SurfaceModel::update(const sim::TetMirror& tets, const sim::PhysicsState& state) {
+  return updateTets(tets, &state);
+}
+
+bool SurfaceModel::updateTets(const sim::TetMirror& tets, const sim::PhysicsState* state) {
+  const std::int64_t step = state ? state->step : -1;
+  if (!tets.complete() || (ready_ && tets.version() == tets_version_ && step == state_step_)) return false;
   tets_version_ = tets.version();
-  state_step_ = -1;
+  state_step_ = step;
   std::vector<std::uint8_t> kinds;
   const std::vector<std::array<std::int32_t, 3>> faces = tets.boundary(&kinds);
   for (std::uint8_t& k : kinds) k = k ? kWallKind : 0;  // mesh::FaceKind::Wall / Original
-  rebuild(tets.positions_m(), faces, kinds);
-  return true;
-}
-
-bool SurfaceModel::update(const sim::TetMirror& tets, const sim::PhysicsState& state) {
-  if (!tets.complete() || (ready_ && tets.version() == tets_version_ && state.step == state_step_)) return false;
-  tets_version_ = tets.version();
-  state_step_ = state.step;
-  std::vector<std::uint8_t> kinds;
-  const std::vector<std::array<std::int32_t, 3>> faces = tets.boundary(&kinds);
-  for (std::uint8_t& k : kinds) k = k ? kWallKind : 0;
+  if (state == nullptr) {
+    rebuild(tets.positions_m(), faces, kinds);
+    return true;
+  }
   std::vector<std::array<double, 3>> positions_m = tets.positions_m();
-  const std::size_t simulated = std::min({positions_m.size(), state.nodes, state.x_m.size()});
-  for (std::size_t n = 0; n < simulated; ++n) positions_m[n] = {state.x_m[n].x(), state.x_m[n].y(), state.x_m[n].z()};
+  const std::size_t simulated = std::min({positions_m.size(), state->nodes, state->x_m.size()});
+  for (std::size_t n = 0; n < simulated; ++n)
+    positions_m[n] = {state->x_m[n].x(), state->x_m[n].y(), state->x_m[n].z()};
   rebuild(positions_m, faces, kinds);
   return true;
 }

@@ -225,8 +225,7 @@ void ViewerWindow::Impl::toggleTets() {
     status = "no tets in this scenario (\"tets\" in its tissue)";
     return;
   }
-  show_tets = !show_tets;
-  (show_tets ? tet_model : model).markAllDirty();  // the renderer drew the other one meanwhile
+  show_tets = !show_tets;  // follow() marks the model it switches to for a whole upload
   last_tets_ns = 0;
 }
 
@@ -309,8 +308,8 @@ void ViewerWindow::Impl::hudFrame() {
   text.status = status;
   text.training = trainingLine();
   text.wireframe = wireframe;
-  text.tets = show_tets;
-  const SurfaceModel& shown = show_tets ? tet_model : model;
+  text.tets = drew_tets;
+  const SurfaceModel& shown = drew_tets ? tet_model : model;
   text.triangles = shown.liveFaces();
   text.wall_triangles = shown.wallFaces();
   text.display_frames = display_frames;

@@ -242,8 +242,9 @@ class World {
   // A simulated tissue: where a (rest-frame) pose's tool presses the skin without cutting in (the proxy),
   // the skin point it first touched while it keeps pressing (press_).
   ToolPress pressOf(const devices::PoseSample& pose) noexcept;
-  // A simulated tissue pressed: the contact is the dent's, in the world (TissuePhysics::pressPointAt).
-  void pressContact(HapticState& state) noexcept;
+  // A simulated tissue pressed: the contact is the dent's, in the world (TissuePhysics::pressPointAt);
+  // false (state untouched) when the tool is not pressing or the press's steps are not mapped yet.
+  bool pressContact(HapticState& state) noexcept;
   void noteToolMotion() noexcept;               // tool_motion_m_ from last_pose_ and the last haptic frame
   bool takeQueuedPoses(bool at_once) noexcept;  // false: an incision waits for the previous one's work
   // A new incision from this sample, begun once the previous one's work is done (takeQueuedPoses).
@@ -278,9 +279,8 @@ class World {
   bool has_pose_ = false;
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();        // the rest frame's
   Eigen::Vector3d world_velocity_m_per_s_ = Eigen::Vector3d::Zero();  // the device's
-  bool pressing_ = false;                                      // the newest haptic contact is a dent's (pressContact)
-  Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();     // the tool as the last haptic frame saw it
-  Eigen::Vector3d haptic_handle_m_ = Eigen::Vector3d::Zero();  // its probe's other end
+  Eigen::Vector3d haptic_tip_m_ = Eigen::Vector3d::Zero();            // the tool as the last haptic frame saw it
+  Eigen::Vector3d haptic_handle_m_ = Eigen::Vector3d::Zero();         // its probe's other end
   double haptic_time_s_ = 0.0;
   bool has_haptic_tip_ = false;
   double tool_motion_m_ = 0.0;  // since the haptic frame before (noteToolMotion), for the proxy's reach

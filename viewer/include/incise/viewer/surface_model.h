@@ -67,6 +67,8 @@ class SurfaceModel {
   Eigen::AlignedBox3d bounds() const;
 
  private:
+  // update(tets) and update(tets, state): the boundary, its nodes where `state` (if any) has them.
+  bool updateTets(const sim::TetMirror& tets, const sim::PhysicsState* state);
   void rebuild(const std::vector<std::array<double, 3>>& positions_m,
                const std::vector<std::array<std::int32_t, 3>>& faces, const std::vector<std::uint8_t>& kinds);
   void setFace(std::uint32_t f, const std::array<std::int32_t, 3>& t, std::uint8_t kind);
