@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+
+#include "incise/tets/tet_mesh.h"
 
 namespace incise::physics::detail {
 
@@ -101,6 +104,17 @@ double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
     return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
   const double denom = 1.0 / (va + vb + vc);
   return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
+}
+
+double distanceToTet(const std::array<Eigen::Vector3d, 4>& x, const Eigen::Vector3d& p) noexcept {
+  const std::array<int, 4> local = {0, 1, 2, 3};
+  double d = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i) {  // each face with its corners in tets::faceOpposite's order
+    const std::array<int, 3> f = tets::faceOpposite(local, i);
+    d = std::min(d, pointTriangleDistance(p, x[static_cast<std::size_t>(f[0])], x[static_cast<std::size_t>(f[1])],
+                                          x[static_cast<std::size_t>(f[2])]));
+  }
+  return d;
 }
 
 }  // namespace incise::physics::detail

@@ -55,5 +55,7 @@ Eigen::Vector4d barycentric(const Element& e, const Eigen::Vector3d& rest0_m, co
 // Distance from p to the triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5).
 double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c) noexcept;
+// Distance from p, outside the tet x, to it (the nearest of its four faces).
+double distanceToTet(const std::array<Eigen::Vector3d, 4>& x, const Eigen::Vector3d& p) noexcept;
 
 }  // namespace incise::physics::detail

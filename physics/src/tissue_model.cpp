@@ -216,6 +216,13 @@ double TissueModel::totalMass_kg() const noexcept {
   return m;
 }
 
+double TissueModel::maxDisplacement_m() const noexcept {
+  double largest_m = 0.0;
+  for (std::size_t n = 0; n < s_->x_m.size() && n < s_->rest_m.size(); ++n)
+    largest_m = std::max(largest_m, (s_->x_m[n] - s_->rest_m[n]).norm());
+  return largest_m;
+}
+
 bool TissueModel::isHeld(int node) const noexcept {
   if (node < 0 || node >= nodeCount()) return false;
   const NodeRole r = s_->role[static_cast<std::size_t>(node)];

@@ -10,7 +10,6 @@
 #include "incise/physics/embedding.h"
 #include "incise/physics/rest_map.h"
 #include "incise/physics/tissue_model.h"
-#include "incise/tets/tet_mesh.h"
 #include "tissue_model_state.h"
 
 namespace incise::physics {
@@ -56,18 +55,6 @@ Eigen::Vector3d embeddedNormal(const Embedded& point, std::span<const Eigen::Vec
 
 namespace {
 
-double distanceToTet(const std::array<Eigen::Vector3d, 4>& x, const Eigen::Vector3d& p) noexcept {
-  const std::array<int, 4> local = {0, 1, 2, 3};
-  double d = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 4; ++i) {
-    const std::array<int, 3> f = tets::faceOpposite(local, i);
-    d = std::min(d,
-                 detail::pointTriangleDistance(p, x[static_cast<std::size_t>(f[0])], x[static_cast<std::size_t>(f[1])],
-                                               x[static_cast<std::size_t>(f[2])]));
-  }
-  return d;
-}
-
 Embedded embeddedIn(const detail::Element& e, const Eigen::Vector4d& w, double outside_m) {
   Embedded out;
   out.nodes = e.nodes;
@@ -104,7 +91,7 @@ std::optional<Embedded> TissueModel::State::locate(const Eigen::Vector3d& p, Ele
   for (const int c : candidates) {
     const detail::Element& e = elements[static_cast<std::size_t>(c)];
     if (!e.alive || !filter(ElementInfo{e.base_tet, e.side})) continue;
-    const double d = distanceToTet(restOf(e), p);
+    const double d = detail::distanceToTet(restOf(e), p);
     if (d < best_distance) best = c, best_distance = d;
   }
   if (best < 0 || best_distance > max_distance_m) return std::nullopt;

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "incise/mesh/surface_mesh.h"
+#include "incise/physics/surface_embedding.h"
 #include "incise/physics/tissue_model.h"
 #include "incise/sim/spsc_queue.h"
 #include "incise/tets/tet_cutter.h"
@@ -48,68 +49,44 @@ physics::ModelOptions modelOptions(const tets::TetMesh& mesh) {
   return o;
 }
 
-// A point just inside the surface beside vertex v: halfway to its neighbours' centroid, a quarter of their
-// mean distance behind its normal. On the vertex's own side of a cut through it (its neighbours are).
-Eigen::Vector3d probeBeside(const mesh::TriMesh& m, mesh::TriMesh::VertexHandle v) {
-  const Eigen::Vector3d x = mesh::toEigen(m.point(v));
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
-  double spread_m = 0.0;
-  int count = 0;
-  for (const auto u : m.vv_range(v)) {
-    const Eigen::Vector3d y = mesh::toEigen(m.point(u));
-    centroid += y, spread_m += (y - x).norm(), ++count;
-  }
+// probeBeside (surface_embedding.h) of vertex v from its neighbours and faces.
+Eigen::Vector3d probeBeside(const mesh::TriMesh& m, mesh::TriMesh::VertexHandle v,
+                            std::vector<Eigen::Vector3d>& neighbours_m) {
+  neighbours_m.clear();
+  for (const auto u : m.vv_range(v)) neighbours_m.push_back(mesh::toEigen(m.point(u)));
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double area_sum = 0.0;
   for (const auto f : m.vf_range(v)) {
     std::array<Eigen::Vector3d, 3> p;
     int i = 0;
     for (const auto w : m.fv_range(f)) p[static_cast<std::size_t>(i++)] = mesh::toEigen(m.point(w));
-    normal += (p[1] - p[0]).cross(p[2] - p[0]);  // area-weighted
+    const Eigen::Vector3d cross = (p[1] - p[0]).cross(p[2] - p[0]);  // area-weighted
+    normal += cross, area_sum += cross.norm();
   }
-  if (count == 0) return x;
-  centroid /= count, spread_m /= count;
-  const double n = normal.norm();
-  return 0.5 * (x + centroid) - (n > 0.0 ? Eigen::Vector3d(0.25 * spread_m * normal / n) : Eigen::Vector3d::Zero());
+  return physics::probeBeside(mesh::toEigen(m.point(v)), neighbours_m, normal, area_sum);
 }
 
-// embedSurface: how far towards its side a vertex is nudged to find its own tet, and how far off that tet
-// (rounding) it may be and still be embedded in it.
-constexpr double kNudgeM = 1e-6;
-constexpr double kOnFaceM = 1e-9;
-
-// Among the tets `filter` admits, the one holding the point kNudgeM from x towards `beside_m` (the vertex's
-// own side), with x's weights in it, when x is on it: a vertex on a face, edge or node shared by tets on both
-// sides of a cut (a lip on a plane of the tets, the lips touching at rest) belongs to its own side's tet,
-// whichever tet rounding puts it in. nullopt when the nudged point is in no admitted tet (a wall vertex a
-// little across the tets' own cut face) or x is not on that tet.
-std::optional<physics::Embedded> ownTet(const physics::TissueModel& model, const Eigen::Vector3d& x,
-                                        const Eigen::Vector3d& beside_m, physics::ElementFilter filter) {
-  const Eigen::Vector3d towards = beside_m - x;
-  if (!(towards.norm() > kNudgeM)) return std::nullopt;
-  const std::optional<physics::Embedded> near = model.locate(x + kNudgeM * towards.normalized(), filter, 0.0);
-  if (!near) return std::nullopt;
-  const physics::ElementInfo own = near->element;
-  return model.locate(
-      x, [&](const physics::ElementInfo& t) { return t.base_tet == own.base_tet && t.side == own.side; }, kOnFaceM);
-}
+// The model's locate() as embedSurfaceVertex asks for it.
+struct ModelLocator final : physics::PointLocator {
+  explicit ModelLocator(const physics::TissueModel& m) : model(m) {}
+  std::optional<physics::Embedded> locate(const Eigen::Vector3d& rest_m, physics::ElementFilter filter,
+                                          double max_distance_m) const override {
+    return model.locate(rest_m, filter, max_distance_m);
+  }
+  const physics::TissueModel& model;
+};
 
 }  // namespace
 
 std::vector<physics::Embedded> TissuePhysics::embedSurface(const mesh::SurfaceMesh& surface) const {
   const mesh::TriMesh& m = surface.mesh();
   std::vector<physics::Embedded> out(m.n_vertices());
+  const ModelLocator tets(*model_);
+  std::vector<Eigen::Vector3d> neighbours_m;
   for (const auto v : m.vertices()) {
     if (m.is_isolated(v)) continue;
-    const Eigen::Vector3d x = mesh::toEigen(m.point(v));
-    const Eigen::Vector3d beside_m = probeBeside(m, v);
-    // The side of the tet holding a point just inside the surface beside the vertex: the vertex is embedded
-    // in a tet of that side (or uncut), the one right beside it towards that point when it lies on it.
-    const std::optional<physics::Embedded> probe = model_->locate(beside_m);
-    const int side = probe ? probe->element.side : 0;
-    const physics::OnSide on_side{side};
-    const physics::ElementFilter filter = side != 0 ? physics::ElementFilter(on_side) : physics::ElementFilter();
-    std::optional<physics::Embedded> e = ownTet(*model_, x, beside_m, filter);
-    if (!e && side != 0) e = model_->locate(x, on_side);
-    if (!e) e = model_->locate(x);
+    const Eigen::Vector3d beside_m = probeBeside(m, v, neighbours_m);
+    const std::optional<physics::Embedded> e = physics::embedSurfaceVertex(tets, mesh::toEigen(m.point(v)), beside_m);
     if (e) out[static_cast<std::size_t>(v.idx())] = *e;
   }
   return out;

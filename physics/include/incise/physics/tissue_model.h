@@ -111,8 +111,9 @@ class TissueModel {
   std::size_t copyPositions(std::span<Eigen::Vector3d> out) const noexcept;
   double mass_kg(int node) const noexcept;
   double totalMass_kg() const noexcept;
-  bool isHeld(int node) const noexcept;  // by the boundary or holdNode()
-  int elementCount() const noexcept;     // live pieces
+  double maxDisplacement_m() const noexcept;  // the largest distance of a node from its rest position, O(N)
+  bool isHeld(int node) const noexcept;       // by the boundary or holdNode()
+  int elementCount() const noexcept;          // live pieces
   int baseTetCount() const noexcept;
   // Positions back to rest, velocities to zero (the held nodes to their targets).
   void resetState() noexcept;

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -42,12 +43,20 @@ class TetMirror {
   // for the original surface's; sorted by their nodes.
   std::vector<std::array<std::int32_t, 3>> boundary(std::vector<std::uint8_t>* on_cut = nullptr) const;
 
- private:
+  // One piece of a base tet: its nodes (positively oriented), its side of the cut (-1 / +1; 0: not cut) and
+  // which of its faces lie on the cut (bit i: the face opposite node i).
   struct Child {
     std::array<std::int32_t, 4> nodes;
     std::int8_t side;
     std::uint8_t cut_faces;
   };
+  std::size_t baseTetCount() const noexcept { return children_.size(); }
+  // The pieces of base tet `base` now (empty for a base tet past baseTetCount()).
+  std::span<const Child> children(std::size_t base) const noexcept {
+    return base < children_.size() ? std::span<const Child>(children_[base]) : std::span<const Child>();
+  }
+
+ private:
   struct FaceKey {
     std::int32_t a, b, c;  // sorted
     bool operator==(const FaceKey&) const = default;

@@ -221,10 +221,7 @@ class TissuePhysics {
 
   // The surface's vertices embedded in the tets at rest (the surface's positions are the tets' rest: both
   // are the cut as the incision left it), each on its own side of every cut, so that a lip's vertex follows
-  // its own lip's tets: among the tets on the side of the one holding a point just inside the surface next
-  // to the vertex (among its neighbours, behind its normal), or uncut, the one holding a point a micrometre
-  // from the vertex towards that point when the vertex is on it (so a vertex on a face, edge or node shared
-  // across a cut goes with its own side whatever the rounding); else the one holding it or nearest to it.
+  // its own lip's tets (physics::embedSurfaceVertex, surface_embedding.h, over the model's locator).
   // Vertices outside every tet take the nearest within 1 mm (weights extrapolated); farther ones are left
   // where they are (nodes -1). O(V x tets near a point); allocates: for outputs and checks, not the sim
   // thread.

@@ -1,0 +1,146 @@
+#include "incise/physics/surface_embedding.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/LU>
+
+#include "element.h"
+
+namespace incise::physics {
+
+void TetLocator::build(std::span<const Eigen::Vector3d> rest_m, std::span<const LocatorTet> tets) {
+  tets_.clear();
+  tets_.reserve(tets.size());
+  double edge_sum_m = 0.0;
+  for (const LocatorTet& t : tets) {
+    Held h{t, Eigen::Matrix3d::Identity(), {}};
+    bool in_range = true;
+    for (std::size_t i = 0; i < 4; ++i) {
+      in_range = in_range && t.nodes[i] >= 0 && static_cast<std::size_t>(t.nodes[i]) < rest_m.size();
+      if (in_range) h.x_m[i] = rest_m[static_cast<std::size_t>(t.nodes[i])];
+    }
+    if (!in_range) continue;
+    Eigen::Matrix3d edges;
+    for (int i = 0; i < 3; ++i) edges.col(i) = h.x_m[static_cast<std::size_t>(i + 1)] - h.x_m[0];
+    const double scale = edges.colwise().norm().maxCoeff();
+    if (!(std::abs(edges.determinant()) > 1e-12 * scale * scale * scale)) continue;  // flat at rest
+    h.inverse_edges = edges.inverse();
+    edge_sum_m += scale;
+    tets_.push_back(h);
+  }
+  // Each tet is entered in every grid cell its bounding box overlaps (at the cell's centre), so that the
+  // tets that may hold p are those entered in p's own cell.
+  const double cell_m = tets_.empty() ? 1.0 : std::max(edge_sum_m / static_cast<double>(tets_.size()), 1e-9);
+  grid_ = mesh::VertexGrid(cell_m);
+  grid_.reserve(8 * tets_.size());
+  for (std::size_t i = 0; i < tets_.size(); ++i) {
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : tets_[i].x_m) box.extend(p);
+    const Eigen::Array3d first = (box.min().array() / cell_m).floor(), last = (box.max().array() / cell_m).floor();
+    for (double cx = first.x(); cx <= last.x(); ++cx)
+      for (double cy = first.y(); cy <= last.y(); ++cy)
+        for (double cz = first.z(); cz <= last.z(); ++cz)
+          grid_.insert(static_cast<int>(i), Eigen::Vector3d(cx + 0.5, cy + 0.5, cz + 0.5) * cell_m);
+  }
+}
+
+std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilter filter,
+                                           double max_distance_m) const {
+  if (!p.allFinite() || !(max_distance_m >= 0.0) || tets_.empty()) return std::nullopt;
+  thread_local std::vector<int> candidates;
+  // A tet holding p is entered in p's cell: those first; the cells within max_distance_m only when none does.
+  const double cell_m = grid_.cellSize();
+  const Eigen::Vector3d centre = ((p.array() / cell_m).floor() + 0.5).matrix() * cell_m;
+  candidates.clear();
+  grid_.query(Eigen::AlignedBox3d(centre, centre), candidates);
+  const auto embedded = [&](const Held& h, double outside_m) {
+    const Eigen::Vector3d l = h.inverse_edges * (p - h.x_m[0]);
+    Embedded e;
+    e.nodes = h.tet.nodes;
+    e.weights = {1.0 - l.sum(), l.x(), l.y(), l.z()};
+    e.element = h.tet.element;
+    e.outside_m = outside_m;
+    return e;
+  };
+  // Inside: the tet where p is deepest (largest smallest weight; ties to the lower index, as queried).
+  int best = -1;
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (const int c : candidates) {
+    const Held& h = tets_[static_cast<std::size_t>(c)];
+    if (!filter(h.tet.element)) continue;
+    const Eigen::Vector3d l = h.inverse_edges * (p - h.x_m[0]);
+    const double deepest = std::min({1.0 - l.sum(), l.x(), l.y(), l.z()});
+    if (deepest > best_score) best = c, best_score = deepest;
+  }
+  constexpr double kInside = -1e-12;
+  if (best >= 0 && best_score >= kInside) return embedded(tets_[static_cast<std::size_t>(best)], 0.0);
+  // Outside every tet: the nearest one within max_distance_m.
+  candidates.clear();
+  const double reach = max_distance_m + cell_m;  // every cell within max_distance_m of p has its centre in
+  grid_.query(Eigen::AlignedBox3d(p.array() - reach, p.array() + reach), candidates);
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  double best_distance = std::numeric_limits<double>::infinity();
+  best = -1;
+  for (const int c : candidates) {
+    const Held& h = tets_[static_cast<std::size_t>(c)];
+    if (!filter(h.tet.element)) continue;
+    const double d = detail::distanceToTet(h.x_m, p);
+    if (d < best_distance) best = c, best_distance = d;
+  }
+  if (best < 0 || best_distance > max_distance_m) return std::nullopt;
+  return embedded(tets_[static_cast<std::size_t>(best)], best_distance);
+}
+
+Eigen::Vector3d probeBeside(const Eigen::Vector3d& x_m, std::span<const Eigen::Vector3d> neighbours_m,
+                            const Eigen::Vector3d& area_normal, double area_sum) {
+  if (neighbours_m.empty()) return x_m;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double spread_m = 0.0;
+  for (const Eigen::Vector3d& y : neighbours_m) centroid += y, spread_m += (y - x_m).norm();
+  const auto count = static_cast<double>(neighbours_m.size());
+  centroid /= count, spread_m /= count;
+  const double n = area_normal.norm();
+  if (n > 1e-9 * area_sum) return 0.5 * (x_m + centroid) - 0.25 * spread_m * area_normal / n;
+  // A fold (the faces meet at zero angle, as two walls at the floor of a groove cut with no opening): the
+  // tissue lies past its tip, away from the faces (their centroid).
+  const Eigen::Vector3d away = x_m - centroid;
+  const double length = away.norm();
+  return length > 0.0 ? Eigen::Vector3d(x_m + 0.25 * spread_m * away / length) : x_m;
+}
+
+namespace {
+
+// Among the tets `filter` admits, the one holding the point kEmbedNudgeM from x towards `beside_m` (the
+// vertex's own side), with x's weights in it, when x is on it. nullopt when the nudged point is in no
+// admitted tet (a wall vertex a little across the tets' own cut face) or x is not on that tet.
+std::optional<Embedded> ownTet(const PointLocator& tets, const Eigen::Vector3d& x, const Eigen::Vector3d& beside_m,
+                               ElementFilter filter, int& near_base) {
+  const Eigen::Vector3d towards = beside_m - x;
+  if (!(towards.norm() > kEmbedNudgeM)) return std::nullopt;
+  const std::optional<Embedded> near = tets.locate(x + kEmbedNudgeM * towards.normalized(), filter, 0.0);
+  if (!near) return std::nullopt;
+  const ElementInfo own = near->element;
+  near_base = own.base_tet;
+  return tets.locate(
+      x, [&](const ElementInfo& t) { return t.base_tet == own.base_tet && t.side == own.side; }, kEmbedOnFaceM);
+}
+
+}  // namespace
+
+std::optional<Embedded> embedSurfaceVertex(const PointLocator& tets, const Eigen::Vector3d& x_m,
+                                           const Eigen::Vector3d& beside_m, EmbedBases* bases) {
+  const std::optional<Embedded> probe = tets.locate(beside_m, {}, kEmbedReachM);
+  const int side = probe ? probe->element.side : 0;
+  const OnSide on_side{side};
+  const ElementFilter filter = side != 0 ? ElementFilter(on_side) : ElementFilter();
+  int near_base = -1;
+  std::optional<Embedded> e = ownTet(tets, x_m, beside_m, filter, near_base);
+  if (!e && side != 0) e = tets.locate(x_m, on_side, kEmbedReachM);
+  if (!e) e = tets.locate(x_m, {}, kEmbedReachM);
+  if (bases) *bases = {probe ? probe->element.base_tet : -1, near_base, e ? e->element.base_tet : -1};
+  return e;
+}
+
+}  // namespace incise::physics
