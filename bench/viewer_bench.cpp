@@ -11,10 +11,13 @@
 //    geometry stream, the HUD), twice each in this order: the sim's frame p99 with the viewer within 10% of
 //    without, pose-to-visible on screen (target <= 2 display frames); then the viewer on the 235k bunny:
 //    its frame rate under llvmpipe (aim >= 30 fps) and latency. Deadline misses are split into our own overruns (a frame longer than the period)
-//    and late wake-ups (the VM not running the loop on time: the period error).
-//   incise_bench_viewer [--seconds S] [--geometry-only]
+//    and late wake-ups (the VM not running the loop on time: the period error);
+//  - "skin_embedding": a simulated tissue's surface embedded on the viewer's thread (pad-tension,
+//    bunny-tets-soft): its update after every pull, a whole embedding, and a physics step's redraw (skinCost);
+//   incise_bench_viewer [--seconds S] [--geometry-only] [--skin-only]
 
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -30,9 +33,12 @@
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/simulation.h"
+#include "incise/sim/stroke_poses.h"
 #include "incise/sim/triple_buffer.h"
 #include "incise/tets/tet_cutter.h"
 #include "incise/viewer/gl_context.h"
+#include "incise/viewer/skin_embedding.h"
+#include "incise/viewer/surface_model.h"
 #include "incise/viewer/viewer_window.h"
 
 using namespace incise;
@@ -54,8 +60,10 @@ Loaded load(int subdivide, const char* scenario = "bunny-straight") {
   if (subdivide >= 0) l.scenario.subdivide = subdivide;
   mesh::SurfaceMesh tissue = sim::loadTissue(l.scenario);
   l.triangles = tissue.mesh().n_faces();
+  l.poses = l.scenario.source == sim::Scenario::Source::Strokes
+                ? sim::posesForStrokes(tissue, l.scenario.strokes, l.scenario.world, l.scenario.rate_hz)
+                : devices::TraceReader::readAll(l.scenario.trace);
   l.world = std::make_unique<sim::World>(std::move(tissue), l.scenario.world);
-  l.poses = devices::TraceReader::readAll(l.scenario.trace);
   return l;
 }
 
@@ -100,6 +108,73 @@ nlohmann::json geometryCost(int subdivide, bool seeded, const char* scenario = "
           {"reader_exact_at_end", mirror.exact()},
           {"reader_tets_exact_at_end", mirror.tets().exact()},
           {"meets_target", s.geometry_us.p99 <= 20.0}};
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+nlohmann::json msSummary(const std::vector<double>& ms) {
+  return {{"p50", measure::percentile(ms, 0.5)},
+          {"p99", measure::percentile(ms, 0.99)},
+          {"max", measure::percentile(ms, 1.0)},
+          {"count", ms.size()}};
+}
+
+// A simulated tissue's surface embedded on the viewer's side (viewer::SkinEmbedding), its scenario replayed
+// fast with a mirror pulling after every frame: update() after every pull (what the cut changed), then at
+// the end a whole embedding from scratch, positions() at the last published state and SurfaceModel's
+// rebuild with them (what the viewer does at every physics step). Milliseconds on this (the reader's)
+// thread; the sim thread does nothing for it. Aim: a physics step's redraw within a 60 Hz display frame.
+nlohmann::json skinCost(const char* scenario) {
+  Loaded l = load(-1, scenario);
+  sim::GeometryStream stream;
+  sim::GeometryMirror mirror;
+  stream.seed(*l.world, mirror);
+  viewer::SkinEmbedding skin;
+  std::vector<double> update_ms;
+  sim::ReplayOptions o;
+  o.period_us = l.scenario.periodUs();
+  o.settle_s = l.scenario.settle_s;
+  o.geometry = &stream;
+  o.geometry_reader = [&] {
+    mirror.pull(stream);
+    const auto t0 = std::chrono::steady_clock::now();
+    skin.update(mirror);
+    update_ms.push_back(msSince(t0));
+    mirror.clearChanges();
+  };
+  sim::replay(*l.world, l.poses, o);
+  skin.update(mirror);
+  viewer::SkinEmbedding fresh;
+  auto t0 = std::chrono::steady_clock::now();
+  fresh.update(mirror);
+  const double fresh_ms = msSince(t0);
+  const sim::PhysicsState* state = l.world->physics() ? l.world->physics()->latestState() : nullptr;
+  if (state == nullptr) return {{"scenario", scenario}, {"skipped", "not a simulated tissue"}};
+  std::vector<double> positions_ms, redraw_ms;
+  std::vector<std::array<double, 3>> out_m;
+  for (int i = 0; i < 20; ++i) {
+    t0 = std::chrono::steady_clock::now();
+    skin.positions(mirror, *state, out_m);
+    positions_ms.push_back(msSince(t0));
+    viewer::SurfaceModel model;
+    t0 = std::chrono::steady_clock::now();
+    model.update(mirror, skin, *state);
+    redraw_ms.push_back(msSince(t0));
+  }
+  const double redraw_p50_ms = measure::percentile(redraw_ms, 0.5);
+  return {{"scenario", scenario},
+          {"vertices", mirror.positions_m().size()},
+          {"faces", mirror.faces().size()},
+          {"tets", mirror.tets().tetCount()},
+          {"embedded", skin.embedded()},
+          {"locator_builds", skin.rebuilds()},
+          {"update_after_each_pull_ms", msSummary(update_ms)},
+          {"whole_embedding_ms", fresh_ms},
+          {"positions_ms", msSummary(positions_ms)},
+          {"redraw_per_physics_step_ms", msSummary(redraw_ms)},
+          {"meets_aim_redraw_within_16_7_ms", redraw_p50_ms <= 1000.0 / 60.0}};
 }
 
 struct RealTimeResult {
@@ -225,9 +300,10 @@ nlohmann::json realTimePairs(double seconds) {
 
 int main(int argc, char** argv) {
   double seconds = 10.0;
-  bool geometry_only = false;
+  bool geometry_only = false, skin_only = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--geometry-only") == 0) geometry_only = true;
+    if (std::strcmp(argv[i], "--skin-only") == 0) skin_only = true;
     if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) seconds = std::stod(argv[++i]);
   }
   nlohmann::json report = {{"benchmark", "viewer"},
@@ -237,6 +313,11 @@ int main(int argc, char** argv) {
                              {"screen_latency_display_frames", 2},
                              {"viewer_fps_aim_235k_llvmpipe", 30}}},
                            {"machine", measure::machineInfo()}};
+  report["skin_embedding"] = {skinCost("pad-tension"), skinCost("bunny-tets-soft")};
+  if (skin_only) {
+    std::printf("%s\n", report.dump(2).c_str());
+    return 0;
+  }
   report["geometry"] = nlohmann::json::array();
   for (const int subdivide : {3, 4})
     for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(subdivide, seeded));

@@ -61,11 +61,11 @@ void drawHudPanel(const HudFigures& h, const PoseSourceStatus& source, const std
   const float top = std::max(1000.0f, plot.empty() ? 0.0f : *std::max_element(plot.begin(), plot.end()));
   ImGui::PlotLines("##frame", plot.data(), static_cast<int>(plot.size()), 0, "frame us, last 5 s (max per bar)", 0.0f,
                    top, ImVec2(360, 70));
-  ImGui::Text("%zu triangles (%zu wall)%s%s", text.triangles, text.wall_triangles,
-              text.tets ? ", the tets' boundary" : "", text.wireframe ? ", wireframe" : "");
+  ImGui::Text("%zu triangles (%zu wall)%s%s", text.triangles, text.wall_triangles, text.drawn.c_str(),
+              text.wireframe ? ", wireframe" : "");
   ImGui::TextDisabled("%s", text.gl.c_str());
   ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom | Space pause, R restart, W wireframe,");
-  ImGui::TextDisabled("T tets' boundary / surface, S screenshot, C camera reset, Esc close");
+  ImGui::TextDisabled("T tets' boundary or as simulated / at rest, S screenshot, C camera reset, Esc close");
   if (!text.status.empty()) ImGui::TextUnformatted(text.status.c_str());
   ImGui::End();
 }

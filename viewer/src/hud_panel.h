@@ -10,7 +10,8 @@ namespace incise::viewer::detail {
 
 struct HudText {
   std::string scenario, gl, status, training;
-  bool paused = false, wireframe = false, tets = false;
+  std::string drawn;  // what the tissue drawn is (", the tets' boundary", ", as simulated", ...): appended
+  bool paused = false, wireframe = false;
   std::size_t triangles = 0, wall_triangles = 0;
   std::int64_t display_frames = 0;
 };

@@ -70,6 +70,7 @@ bool SurfaceModel::updateTets(const sim::TetMirror& tets, const sim::PhysicsStat
   if (!tets.complete() || (ready_ && tets.version() == tets_version_ && step == state_step_)) return false;
   tets_version_ = tets.version();
   state_step_ = step;
+  skin_drawn_ = false;
   std::vector<std::uint8_t> kinds;
   const std::vector<std::array<std::int32_t, 3>> faces = tets.boundary(&kinds);
   for (std::uint8_t& k : kinds) k = k ? kWallKind : 0;  // mesh::FaceKind::Wall / Original
@@ -82,6 +83,19 @@ bool SurfaceModel::updateTets(const sim::TetMirror& tets, const sim::PhysicsStat
   for (std::size_t n = 0; n < simulated; ++n)
     positions_m[n] = {state->x_m[n].x(), state->x_m[n].y(), state->x_m[n].z()};
   rebuild(positions_m, faces, kinds);
+  return true;
+}
+
+bool SurfaceModel::update(const sim::GeometryMirror& mirror, const SkinEmbedding& skin,
+                          const sim::PhysicsState& state) {
+  if (!mirror.complete()) return false;
+  if (ready_ && skin_drawn_ && state.step == state_step_ && skin.version() == skin_version_ &&
+      mirror.resets() == skin_resets_)
+    return false;
+  state_step_ = state.step, skin_version_ = skin.version(), skin_resets_ = mirror.resets();
+  skin_drawn_ = true, tets_version_ = 0;  // what update(tets, ...) drew is gone
+  skin.positions(mirror, state, skin_m_);
+  rebuild(skin_m_, mirror.faces(), mirror.faceKind());
   return true;
 }
 

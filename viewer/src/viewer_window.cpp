@@ -17,6 +17,7 @@
 #include "incise/viewer/plan_overlay.h"
 #include "incise/viewer/png_file.h"
 #include "incise/viewer/scene_renderer.h"
+#include "incise/viewer/skin_embedding.h"
 #include "incise/viewer/surface_model.h"
 
 namespace incise::viewer {
@@ -103,7 +104,12 @@ struct ViewerWindow::Impl {
   sim::GeometryMirror mirror;
   MouseScalpel scalpel;
   std::vector<float> plan_triangles;
-  SurfaceModel model, tet_model;  // the surface; the tets' boundary (rebuilt whole, a few times a second)
+  // The surface at rest; the tets' boundary (rebuilt whole, a few times a second) or, for a simulated
+  // tissue, the surface as simulated (rebuilt whole at every physics step).
+  SurfaceModel model, tet_model;
+  SkinEmbedding skin;      // a simulated tissue's surface in its tets, embedded here
+  bool skin_dirty = true;  // the surface changed since skin.update() last took it
+  std::uint64_t skin_tets_version = 0;
   bool show_tets = false, drew_tets = false;
   std::int64_t last_tets_ns = 0;
   std::unique_ptr<HudModel> hud;
@@ -190,14 +196,21 @@ void ViewerWindow::Impl::mouse(int height) {
 void ViewerWindow::Impl::follow() {
   if (feed.geometry) mirror.pull(*feed.geometry);
   model.update(mirror);
+  skin_dirty = skin_dirty || mirror.rebuilt() || !mirror.changedVertices().empty() || !mirror.changedFaces().empty();
   mirror.clearChanges();
   if (show_tets) {
     const sim::PhysicsState* state = feed.physics_state ? feed.physics_state() : nullptr;
     const std::int64_t now = nowNs();
-    if (state != nullptr)
-      tet_model.update(mirror.tets(), *state);  // as simulated: every physics step's positions
-    else if (now - last_tets_ns > 200'000'000 && tet_model.update(mirror.tets()))
+    if (state != nullptr) {  // as simulated: the surface embedded in the tets, at every physics step's positions
+      const sim::TetMirror& tets = mirror.tets();
+      if ((skin_dirty || tets.version() != skin_tets_version) && mirror.complete() && tets.complete()) {
+        skin.update(mirror);
+        skin_dirty = false, skin_tets_version = tets.version();
+      }
+      tet_model.update(mirror, skin, *state);
+    } else if (now - last_tets_ns > 200'000'000 && tet_model.update(mirror.tets())) {
       last_tets_ns = now;
+    }
   }
   // The tets once their boundary is there (a simulated tissue's first frames: the skin meanwhile).
   const bool tets = show_tets && tet_model.ready();
@@ -219,7 +232,8 @@ void ViewerWindow::Impl::follow() {
   }
 }
 
-// T: the tets' boundary instead of the surface, and back (a scenario without tets: says so).
+// T: the tets' boundary (a simulated tissue: the surface as simulated) instead of the surface at rest, and
+// back (a scenario without tets: says so).
 void ViewerWindow::Impl::toggleTets() {
   if (!show_tets && !mirror.tets().present()) {
     status = "no tets in this scenario (\"tets\" in its tissue)";
@@ -308,7 +322,8 @@ void ViewerWindow::Impl::hudFrame() {
   text.status = status;
   text.training = trainingLine();
   text.wireframe = wireframe;
-  text.tets = drew_tets;
+  text.drawn = !drew_tets ? (feed.physics_state ? ", at rest" : "")
+                          : (feed.physics_state ? ", as simulated" : ", the tets' boundary");
   const SurfaceModel& shown = drew_tets ? tet_model : model;
   text.triangles = shown.liveFaces();
   text.wall_triangles = shown.wallFaces();
@@ -328,6 +343,9 @@ void ViewerWindow::follow(const ViewerFeed& feed, sim::GeometryMirror seeded) {
   impl_->mirror = std::move(seeded);  // a default one asks the new stream for a full copy at the first pull
   impl_->model = SurfaceModel();
   impl_->tet_model = SurfaceModel();
+  impl_->skin = SkinEmbedding();
+  impl_->skin_dirty = true;
+  impl_->skin_tets_version = 0;
   impl_->scalpel = MouseScalpel(feed.scalpel_options);
   impl_->plan_triangles = feed.plan ? planTriangles(*feed.plan) : std::vector<float>{};
   impl_->input.clock = feed.scalpel ? &impl_->feed.clock_s : nullptr;

@@ -22,6 +22,7 @@
 
 #include "incise/sim/geometry_mirror.h"
 #include "incise/sim/tissue_physics.h"
+#include "incise/viewer/skin_embedding.h"
 
 namespace incise::viewer {
 
@@ -39,6 +40,12 @@ class SurfaceModel {
   // nodes), the others where the mirror has them. Rebuilt whole when the tets or the state's step changed
   // (O(boundary) at most once a physics step: a viewer calls it every display frame).
   bool update(const sim::TetMirror& tets, const sim::PhysicsState& state);
+  // The mirror's surface as simulated: its faces and kinds, each vertex where `skin` (embedded in the
+  // mirror's tets) puts it at `state`'s node positions. Rebuilt whole when the state's step or the
+  // embedding changed (O(V + F) at most once a physics step: faces the cut changed without a new vertex
+  // show at the next step). Does nothing and returns false while the mirror is not complete or nothing
+  // changed.
+  bool update(const sim::GeometryMirror& mirror, const SkinEmbedding& skin, const sim::PhysicsState& state);
   // Everything is to be uploaded again (a renderer that drew another model meanwhile).
   void markAllDirty() noexcept { dirty_.all = true; }
 
@@ -87,6 +94,11 @@ class SurfaceModel {
   bool ready_ = false;
   std::uint64_t tets_version_ = 0;
   std::int64_t state_step_ = -1;  // the physics state drawn (update(tets, state)); -1: none
+  // What update(mirror, skin, state) drew: the mirror's resets, the embedding's version.
+  bool skin_drawn_ = false;
+  std::int64_t skin_resets_ = -1;
+  std::uint64_t skin_version_ = 0;
+  std::vector<std::array<double, 3>> skin_m_;
 };
 
 }  // namespace incise::viewer
