@@ -1,12 +1,14 @@
-// The C API's reads of a world's tissue: whole (vertices, faces, hash), as updates since the last read
-// (sim::GeometryStream), and the incisions' figures (incise.h).
+// The C API's reads of a world's tissue: whole (vertices at rest and as simulated, faces, hash), as updates
+// since the last read (sim::GeometryStream), its mechanics, and the incisions' figures (incise.h).
 #include <cstring>
 
 #include "capi_convert.h"
 #include "capi_status.h"
 #include "incise/incision/surface_cutter.h"
 #include "incise/mesh/mesh_hash.h"
+#include "incise/physics/tissue_model.h"
 #include "incise/sim/geometry_mirror.h"
+#include "incise/sim/tissue_physics.h"
 #include "world_registry.h"
 
 using incise::capi::fail;
@@ -85,6 +87,42 @@ INCISE_API incise_status incise_world_get_vertices(incise_world_id world, double
     if (!capi::bufferFits(__func__, xyz_m, capacity, m.n_vertices(), count, &status)) return status;
     static_assert(sizeof(mesh::TriMesh::Point) == 3 * sizeof(double));
     if (m.n_vertices() > 0) std::memcpy(xyz_m, m.points(), m.n_vertices() * sizeof(mesh::TriMesh::Point));
+    return INCISE_SUCCESS;
+  });
+}
+
+INCISE_API incise_status incise_world_get_simulated_vertices(incise_world_id world, double* xyz_m, uint32_t capacity,
+                                                             uint32_t* count) {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
+    using namespace incise;
+    const mesh::SurfaceMesh& rest = w.world->tissue();
+    incise_status status;
+    if (!capi::bufferFits(__func__, xyz_m, capacity, rest.mesh().n_vertices(), count, &status)) return status;
+    const sim::TissuePhysics* physics = w.world->physics();
+    const mesh::SurfaceMesh now = physics ? physics->deformedSurface(rest) : rest;
+    const mesh::TriMesh& m = now.mesh();
+    if (m.n_vertices() > 0) std::memcpy(xyz_m, m.points(), m.n_vertices() * sizeof(mesh::TriMesh::Point));
+    return INCISE_SUCCESS;
+  });
+}
+
+INCISE_API incise_status incise_world_get_physics(incise_world_id world, incise_physics_info* info) {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
+    using namespace incise;
+    if (!info) return capi::nullArgument(__func__, "info");
+    *info = incise_physics_info{};
+    const sim::TissuePhysics* physics = w.world->physics();
+    if (!physics) return INCISE_SUCCESS;
+    const physics::TissueModel& model = physics->model();
+    info->simulated = 1;
+    info->rate_hz = physics->rateHz();
+    info->steps = physics->stepsDone();
+    info->node_count = static_cast<uint32_t>(model.nodeCount());
+    info->tet_count = static_cast<uint32_t>(model.elementCount());
+    const Eigen::Vector3d press_N = model.toolPressForce_N();
+    info->pressing = press_N.squaredNorm() > 0.0 ? 1 : 0;
+    for (int a = 0; a < 3; ++a) info->press_force_N[a] = press_N[a];
+    info->max_displacement_m = model.maxDisplacement_m();
     return INCISE_SUCCESS;
   });
 }

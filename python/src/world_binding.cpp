@@ -1,5 +1,6 @@
 // incise.World: a world stepped from Python — poses in as numpy rows, the haptic force and the contact out
-// — or run over a whole trace in C++ as `incise replay --fast` runs it; the tissue read as copies.
+// — or run over a whole trace in C++ as `incise replay --fast` runs it; the tissue read as copies (at rest
+// and, for a tissue with a material, as simulated).
 #include <atomic>
 #include <cmath>
 #include <map>
@@ -15,7 +16,9 @@
 #include "incise/jobs/run_report.h"
 #include "incise/jobs/scenario_run.h"
 #include "incise/mesh/mesh_hash.h"
+#include "incise/physics/tissue_model.h"
 #include "incise/sim/simulation.h"
+#include "incise/sim/tissue_physics.h"
 
 namespace incise::python {
 
@@ -195,7 +198,31 @@ void bindStep(py::module_& m) {
           "An internal topology failure stopped the current incision (World.incision_figures).");
 }
 
-// What a world offers to read: its tissue (copies), hash, incisions, poses and rates.
+// The tissue as simulated (the rest tissue itself when it does not deform).
+mesh::SurfaceMesh simulatedTissue(const sim::World& world) {
+  const sim::TissuePhysics* physics = world.physics();
+  return physics ? physics->deformedSurface(world.tissue()) : world.tissue();
+}
+
+py::dict physicsInfo(const sim::World& world) {
+  py::dict out;
+  const sim::TissuePhysics* physics = world.physics();
+  out["simulated"] = physics != nullptr;
+  if (!physics) return out;
+  const physics::TissueModel& model = physics->model();
+  out["rate_hz"] = physics->rateHz();
+  out["steps"] = physics->stepsDone();
+  out["nodes"] = model.nodeCount();
+  out["tets"] = model.elementCount();
+  const Eigen::Vector3d press_N = model.toolPressForce_N();
+  out["pressing"] = press_N.squaredNorm() > 0.0;
+  out["press_force_N"] = vector3(press_N);
+  out["max_displacement_m"] = model.maxDisplacement_m();
+  return out;
+}
+
+// What a world offers to read: its tissue (copies; at rest and as simulated), its mechanics, hash,
+// incisions, poses and rates.
 void addWorldReads(py::class_<World>& cls) {
   cls.def_property_readonly(
          "vertices", [](const World& w) { return copyVertices(w.world().tissue()); },
@@ -209,6 +236,20 @@ void addWorldReads(py::class_<World>& cls) {
       .def(
           "mesh", [](const World& w) { return MeshView::owning(w.world().tissue()); },
           "A snapshot of the tissue as a Mesh (a copy: it stays as it is while the world steps on).")
+      .def_property_readonly(
+          "simulated_vertices", [](const World& w) { return copyVertices(simulatedTissue(w.world())); },
+          "N x 3 float64, metres: the tissue as simulated, row for row as `vertices` (a copy). A tissue with a "
+          "material deforms: `vertices` is its rest shape (where the cut is made), these are where the skin and "
+          "walls are now, embedded in the deformed tets (each on its own side of every cut). The same as "
+          "`vertices` for a tissue that does not deform. Locates every vertex in the tets: milliseconds.")
+      .def(
+          "simulated_mesh", [](const World& w) { return MeshView::owning(simulatedTissue(w.world())); },
+          "A snapshot of the tissue as simulated, as a Mesh (`replay`'s cut.obj; `mesh()` is cut_rest.obj).")
+      .def_property_readonly(
+          "physics", [](const World& w) { return physicsInfo(w.world()); },
+          "The tissue's mechanics as a dict: simulated (bool; False and nothing else for a tissue without a "
+          "material), rate_hz, steps, nodes, tets, pressing (the tool dented the skin at the last step), "
+          "press_force_N (3,), max_displacement_m (the largest node displacement from rest).")
       .def_property_readonly(
           "geometry_hash", [](const World& w) { return jobs::hexText(mesh::geometryHash(w.world().tissue())); },
           "The tissue's hash as 16 hex digits (report.json's geometry_hash).")

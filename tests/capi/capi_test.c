@@ -354,6 +354,88 @@ static void check_score(void) {
   CHECK(s & INCISE_INVALID_PARAMETER, "scoring NULL poses is refused");
 }
 
+/* A tissue with a material (the shipped tensioned pad) deforms as it is stepped: its mechanics are read,
+ * and its vertices as simulated, written to OUT_DIR/simulated_xyz.txt (capi_test.sh compares them with
+ * `incise replay --fast`'s cut.obj). A tissue without one reads the same at rest and as simulated. */
+static void check_simulated_world(void) {
+  incise_world_id world = {0, 0};
+  incise_world_info info;
+  incise_physics_info physics;
+  incise_pose* poses;
+  incise_step_result r;
+  double *rest, *now, moved_m = 0.0, d;
+  uint32_t n = 0, fed = 0, taken = 0, frame = 0, count = 0, i, a, first_nodes, finite = 1;
+  double t0, t, end_s;
+  FILE* out;
+  CHECK(incise_succeeded(incise_world_create_from_scenario(path_in(scenarios, "pad-tension.json"), &world)),
+        "a world from the tensioned pad (a tissue with a material)");
+  CHECK(incise_world_get_physics(world, NULL) == (INCISE_FAILURE | INCISE_INVALID_PARAMETER), "a NULL info is refused");
+  CHECK(incise_succeeded(incise_world_get_physics(world, &physics)) && physics.simulated && physics.steps == 0 &&
+            physics.rate_hz >= 100.0 && physics.node_count > 100 && physics.tet_count > 100,
+        "it is simulated: its rate, nodes and tets before the first step");
+  first_nodes = physics.node_count;
+  incise_world_get_info(world, &info);
+  incise_world_scenario_poses(world, NULL, 0, &n);
+  poses = (incise_pose*)malloc(sizeof *poses * n);
+  incise_world_scenario_poses(world, poses, n, &n);
+  t0 = poses[0].time_s;
+  end_s = poses[n - 1].time_s + info.settle_s;
+  for (;; ++frame) { /* as `incise replay --fast` feeds them */
+    t = t0 + (double)frame * info.period_s;
+    while (fed < n && poses[fed].time_s <= t + 1e-12) ++fed;
+    if (!incise_succeeded(incise_world_step(world, poses + taken, fed - taken, info.period_s, t, &r))) break;
+    taken = fed;
+    if (taken == n && !r.pending && t >= end_s) break;
+  }
+  free(poses);
+  CHECK(taken == n && r.incisions >= 1, "the pad's stroke stepped, an incision made");
+  CHECK(incise_succeeded(incise_world_get_physics(world, &physics)) &&
+            physics.steps >= (int64_t)(0.9 * physics.rate_hz * (t - t0)) && physics.node_count > first_nodes &&
+            physics.max_displacement_m > 1e-4,
+        "the physics stepped at its rate, the cut added nodes, the tissue moved");
+  incise_world_get_info(world, &info);
+  CHECK(incise_succeeded(incise_world_get_simulated_vertices(world, NULL, 0, &count)) && count == info.vertex_count,
+        "the simulated vertices: one per vertex slot");
+  CHECK(
+      incise_world_get_simulated_vertices(world, (double*)&d, 0, &count) == (INCISE_FAILURE | INCISE_BUFFER_TOO_SMALL),
+      "... into a buffer too small: refused");
+  rest = (double*)malloc(sizeof *rest * 3 * count);
+  now = (double*)malloc(sizeof *now * 3 * count);
+  incise_world_get_vertices(world, rest, count, &count);
+  CHECK(incise_succeeded(incise_world_get_simulated_vertices(world, now, count, &count)), "read as simulated");
+  for (i = 0; i < count; ++i) {
+    d = 0.0;
+    for (a = 0; a < 3; ++a) {
+      finite = finite && isfinite(now[3 * i + a]);
+      d += (now[3 * i + a] - rest[3 * i + a]) * (now[3 * i + a] - rest[3 * i + a]);
+    }
+    if (sqrt(d) > moved_m) moved_m = sqrt(d);
+  }
+  CHECK(finite && moved_m > 5e-4, "the skin as simulated is away from its rest (the wound gapes: over 0.5 mm)");
+  out = fopen(path_in(out_dir, "simulated_xyz.txt"), "w");
+  for (i = 0; out && i < count; ++i) fprintf(out, "%.17g %.17g %.17g\n", now[3 * i], now[3 * i + 1], now[3 * i + 2]);
+  if (out) fclose(out);
+  free(rest);
+  free(now);
+  CHECK(incise_succeeded(incise_world_destroy(world)), "the pad's world destroyed");
+
+  CHECK(incise_succeeded(incise_world_create_from_scenario(path_in(scenarios, "pad-straight.json"), &world)),
+        "a world from the pad without a material");
+  CHECK(incise_succeeded(incise_world_get_physics(world, &physics)) && !physics.simulated && physics.steps == 0 &&
+            physics.node_count == 0,
+        "... is not simulated");
+  incise_world_get_info(world, &info);
+  rest = (double*)malloc(sizeof *rest * 3 * info.vertex_count);
+  now = (double*)malloc(sizeof *now * 3 * info.vertex_count);
+  incise_world_get_vertices(world, rest, info.vertex_count, &count);
+  CHECK(incise_succeeded(incise_world_get_simulated_vertices(world, now, info.vertex_count, &count)) &&
+            memcmp(rest, now, sizeof *rest * 3 * count) == 0,
+        "... its vertices as simulated are its vertices");
+  free(rest);
+  free(now);
+  CHECK(incise_succeeded(incise_world_destroy(world)), "destroyed");
+}
+
 int main(int argc, char** argv) {
   if (argc != 3) {
     fprintf(stderr, "usage: capi_test SCENARIOS_DIR OUT_DIR\n");
@@ -367,6 +449,7 @@ int main(int argc, char** argv) {
   check_handles();
   check_inputs();
   check_scenario_world();
+  check_simulated_world();
   check_score();
   incise_set_log(NULL, NULL);
   printf("%d failure(s)\n", failures);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs capi_test (the C API from C99) and compares what it made with the CLI's: the geometry hash of the
-# scenario stepped frame by frame through incise_world_step with `incise replay --fast`'s, and the score line
-# of incise_score_trace with the first line `incise score` prints.
+# scenario stepped frame by frame through incise_world_step with `incise replay --fast`'s, the tensioned
+# pad's vertices as simulated with replay's cut.obj, and the score line of incise_score_trace with the first
+# line `incise score` prints.
 #   capi_test.sh CAPI_TEST INCISE SCENARIOS_DIR
 set -euo pipefail
 capi_test=$1
@@ -19,6 +20,12 @@ if [ "$replay_hash" != "$step_hash" ]; then
   exit 1
 fi
 echo "ok - stepped through the C API, the geometry incise replay --fast makes ($step_hash)"
+"$incise" replay "$scenarios/pad-tension.json" --fast --out "$work/tension" > /dev/null
+if ! cmp -s <(grep '^v ' "$work/tension/cut.obj" | cut -c3-) "$work/simulated_xyz.txt"; then
+  echo "FAIL - incise_world_get_simulated_vertices of the stepped tensioned pad differ from incise replay --fast's cut.obj"
+  exit 1
+fi
+echo "ok - the tensioned pad's vertices as simulated through the C API are replay's cut.obj, bit for bit"
 "$incise" score "$scenarios/pad-straight.json" "$scenarios/traces/pad-straight.csv" 2> /dev/null | head -1 > "$work/cli_line.json"
 if ! cmp -s <(tr -d '\n' < "$work/cli_line.json") "$work/score_line.json"; then
   echo "FAIL - incise_score_trace's line differs from incise score's:"

@@ -90,6 +90,32 @@ def test_a_worlds_arrays_are_copies_of_its_mesh_now(scenarios):
     assert fnv1a_hash(after, world.faces, world.face_kinds) == world.geometry_hash
 
 
+def test_a_simulated_worlds_tissue_as_simulated_and_at_rest_are_the_replays(cli_replays, scenarios, tmp_path):
+    report, obj = cli_replays("pad-tension")
+    world = incise.World.from_scenario(scenarios / "pad-tension.json")
+    before = world.physics
+    assert before["simulated"] and before["steps"] == 0 and before["rate_hz"] >= 100
+    world.run()
+    after = world.physics
+    assert world.geometry_hash == report["geometry_hash"]
+    assert after["steps"] > 100 and after["nodes"] > before["nodes"] and after["tets"] > before["tets"]
+    assert after["max_displacement_m"] > 1e-4 and after["press_force_N"].shape == (3,)
+    world.simulated_mesh().save_obj(tmp_path / "cut.obj")
+    world.mesh().save_obj(tmp_path / "cut_rest.obj")
+    assert (tmp_path / "cut.obj").read_bytes() == obj.read_bytes()
+    assert (tmp_path / "cut_rest.obj").read_bytes() == (obj.parent / "cut_rest.obj").read_bytes()
+    now, rest = world.simulated_vertices, world.vertices
+    assert now.shape == rest.shape and np.isfinite(now).all()
+    assert np.linalg.norm(now - rest, axis=1).max() > 5e-4, "the wound gapes by the tissue's tension"
+
+
+def test_a_tissue_without_a_material_is_not_simulated(scenarios):
+    world = incise.World.from_scenario(scenarios / "pad-straight.json")
+    world.run()
+    assert world.physics == {"simulated": False}
+    assert np.array_equal(world.simulated_vertices, world.vertices)
+
+
 def test_a_world_over_a_mesh_with_options(scenarios):
     mesh = incise.load_mesh(scenarios / "meshes" / "bunny.obj", scale=0.01, subdivide=2)
     world = incise.World(mesh, depth_m=0.003, stiffness_N_per_m=500.0, refine="off")

@@ -251,6 +251,33 @@ typedef enum incise_vertex_kind {
 INCISE_API incise_status incise_world_get_vertices(incise_world_id world, double* xyz_m, uint32_t capacity,
                                                    uint32_t* count);
 
+/** Every vertex slot's position in the tissue as simulated, 3 doubles each (metres), `capacity` vertices:
+ *  the skin and the wound's walls embedded in the deformed tets, each vertex on its own side of every cut
+ *  (a lip follows its own lip). A scenario whose tissue has a `material` (docs/scenarios.md) deforms: the
+ *  vertices of incise_world_get_vertices() are its rest shape, where the cut is made, and these are where
+ *  the tissue is now (`incise replay` writes them as cut.obj, the rest as cut_rest.obj). For a tissue that
+ *  does not deform they are the same as incise_world_get_vertices(). Cost: O(V) point locations in the
+ *  tets (milliseconds for thousands of vertices; it allocates): a read for output and inspection, not for
+ *  every step. Threads: the world's. */
+INCISE_API incise_status incise_world_get_simulated_vertices(incise_world_id world, double* xyz_m, uint32_t capacity,
+                                                             uint32_t* count);
+
+/** A world's tissue mechanics (docs/scenarios.md, `tissue.material`): all zero for a tissue that does not
+ *  deform. The physics steps inline in incise_world_step(), at its own fixed rate in the step's time. */
+typedef struct incise_physics_info {
+  int32_t simulated;         /**< non-zero: the tissue deforms (a finite-element model on its tets) */
+  int32_t pressing;          /**< the tool dented the skin at the last physics step (pressing, not cutting in) */
+  double rate_hz;            /**< the physics' steps per simulated second */
+  int64_t steps;             /**< physics steps taken so far */
+  uint32_t node_count;       /**< the model's tet nodes (cuts add nodes) */
+  uint32_t tet_count;        /**< its tets, the pieces of cut tets included */
+  double press_force_N[3];   /**< the tool's force on the skin at the last step (zero when not pressing) */
+  double max_displacement_m; /**< the largest distance of a node from its rest position now */
+} incise_physics_info;
+
+/** The world's tissue mechanics now (::incise_physics_info). Cost O(nodes). Threads: the world's. */
+INCISE_API incise_status incise_world_get_physics(incise_world_id world, incise_physics_info* info);
+
 /** Every face slot: 3 vertex indices each into `triangles` (counter-clockwise from outside; 0, 0, 0 for a
  *  deleted slot) and, when `kinds` is not NULL, its ::incise_face_kind into kinds[i]; `capacity` in faces
  *  (both buffers). Slots keep their index for the world's life, so the updates below can address them.
