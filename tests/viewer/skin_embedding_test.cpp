@@ -154,8 +154,9 @@ TEST_CASE("skin_embedding: the tensioned pad's skin drawn as simulated is replay
   CHECK(as_embedded == drawn_m.size());
 }
 
-TEST_CASE("skin_embedding: the soft bunny's fine skin follows its coarser tets as the sim puts it", "[viewer]") {
-  // The tet bunny: its skin refined ahead of the cut has vertices inside tets (not on their boundary).
+TEST_CASE("skin_embedding: the soft bunny's fine skin follows its coarser tets as the sim puts it", "[viewer][slow]") {
+  // The tet bunny: its skin refined ahead of the cut has vertices inside tets (not on their boundary). 8 s in
+  // Release, 90 s under the sanitizers (its physics steps): [slow].
   const Followed r("bunny-tets-soft", 1.0);
   INFO(r.d.compared << " vertices, " << r.run->mirror.tets().tetCount() << " tets; followed: " << r.updates
                     << " updates, max " << r.d.max_m << " m, " << r.d.over << " apart (" << r.d.outside

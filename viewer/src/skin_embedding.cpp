@@ -7,9 +7,9 @@ namespace incise::viewer {
 
 namespace {
 
-Eigen::Vector3d point(const std::array<double, 3>& p) { return {p[0], p[1], p[2]}; }
+Eigen::Vector3d asVector(const std::array<double, 3>& p) { return {p[0], p[1], p[2]}; }
 
-bool live(std::uint8_t kind) noexcept { return kind != sim::kDeletedFace; }
+bool liveFace(std::uint8_t kind) noexcept { return kind != sim::kDeletedFace; }
 
 }  // namespace
 
@@ -68,11 +68,11 @@ void SkinEmbedding::positions(const sim::GeometryMirror& mirror, const sim::Phys
         continue;
       }
       p += e.weights[k] * state.x_m[n];
-      displacement_m += std::abs(e.weights[k]) * (state.x_m[n] - point(node_rest_m[n]));
+      displacement_m += std::abs(e.weights[k]) * (state.x_m[n] - asVector(node_rest_m[n]));
       held_weight += std::abs(e.weights[k]);
     }
     if (!all)
-      p = point(rest_m[v]) +
+      p = asVector(rest_m[v]) +
           (held_weight > 0.0 ? Eigen::Vector3d(displacement_m / held_weight) : Eigen::Vector3d::Zero());
     out_m[v] = {p.x(), p.y(), p.z()};
   }
@@ -101,7 +101,7 @@ void SkinEmbedding::rebuildLocator(const sim::TetMirror& tets) {
     base_hash_[b] = h;
   }
   scratch_m_.clear();
-  for (const auto& p : tets.positions_m()) scratch_m_.push_back(point(p));
+  for (const auto& p : tets.positions_m()) scratch_m_.push_back(asVector(p));
   std::vector<physics::LocatorTet> list;
   list.reserve(tets.tetCount());
   for (std::size_t b = 0; b < tets.baseTetCount(); ++b)
@@ -119,14 +119,14 @@ void SkinEmbedding::adjacency(const sim::GeometryMirror& mirror) {
   const auto& kinds = mirror.faceKind();
   face_offsets_.assign(n + 1, 0);
   for (std::size_t f = 0; f < faces.size(); ++f)
-    if (live(kinds[f]))
+    if (liveFace(kinds[f]))
       for (const std::int32_t v : faces[f]) ++face_offsets_[static_cast<std::size_t>(v) + 1];
   for (std::size_t v = 0; v < n; ++v) face_offsets_[v + 1] += face_offsets_[v];
   face_list_.resize(face_offsets_[n]);
   std::vector<std::uint32_t>& next = face_fill_;
   next.assign(face_offsets_.begin(), face_offsets_.end() - 1);
   for (std::size_t f = 0; f < faces.size(); ++f)
-    if (live(kinds[f]))
+    if (liveFace(kinds[f]))
       for (const std::int32_t v : faces[f])
         face_list_[next[static_cast<std::size_t>(v)]++] = static_cast<std::uint32_t>(f);
   // Each vertex's faces as a hash (FNV-1a over their indices, corners and the corners' positions): a vertex
@@ -151,23 +151,23 @@ void SkinEmbedding::adjacency(const sim::GeometryMirror& mirror) {
 void SkinEmbedding::embed(const sim::GeometryMirror& mirror, std::size_t v) {
   const auto& p = mirror.positions_m();
   const auto& faces = mirror.faces();
-  const Eigen::Vector3d x = point(p[v]);
+  const Eigen::Vector3d x = asVector(p[v]);
   std::vector<std::int32_t>& neighbours = neighbour_scratch_;
   neighbours.clear();
   Eigen::Vector3d area_normal = Eigen::Vector3d::Zero();
   double area_sum = 0.0;
   for (std::uint32_t i = face_offsets_[v]; i < face_offsets_[v + 1]; ++i) {
     const auto& t = faces[face_list_[i]];
-    const Eigen::Vector3d a = point(p[static_cast<std::size_t>(t[0])]);
+    const Eigen::Vector3d a = asVector(p[static_cast<std::size_t>(t[0])]);
     const Eigen::Vector3d cross =
-        (point(p[static_cast<std::size_t>(t[1])]) - a).cross(point(p[static_cast<std::size_t>(t[2])]) - a);
+        (asVector(p[static_cast<std::size_t>(t[1])]) - a).cross(asVector(p[static_cast<std::size_t>(t[2])]) - a);
     area_normal += cross, area_sum += cross.norm();
     for (const std::int32_t u : t)
       if (static_cast<std::size_t>(u) != v && std::find(neighbours.begin(), neighbours.end(), u) == neighbours.end())
         neighbours.push_back(u);
   }
   scratch_m_.clear();
-  for (const std::int32_t u : neighbours) scratch_m_.push_back(point(p[static_cast<std::size_t>(u)]));
+  for (const std::int32_t u : neighbours) scratch_m_.push_back(asVector(p[static_cast<std::size_t>(u)]));
   const Eigen::Vector3d beside_m = physics::probeBeside(x, scratch_m_, area_normal, area_sum);
   const std::optional<physics::Embedded> e = physics::embedSurfaceVertex(locator_, x, beside_m, &bases_[v]);
   vertices_[v] = e ? *e : physics::Embedded{};
