@@ -11,6 +11,15 @@ Eigen::Vector3d asVector(const std::array<double, 3>& p) { return {p[0], p[1], p
 
 bool liveFace(std::uint8_t kind) noexcept { return kind != sim::kDeletedFace; }
 
+// FNV-1a over 64-bit words (indices, and doubles by their bits): a change detector, not a stored hash.
+struct WordHash {
+  std::uint64_t h = 14695981039346656037ull;
+  void add(std::uint64_t x) noexcept { h = (h ^ x) * 1099511628211ull; }
+  void add(const std::array<double, 3>& p) noexcept {
+    for (const double c : p) add(std::bit_cast<std::uint64_t>(c));
+  }
+};
+
 }  // namespace
 
 bool SkinEmbedding::update(const sim::GeometryMirror& mirror) {
@@ -85,20 +94,19 @@ void SkinEmbedding::rebuildLocator(const sim::TetMirror& tets) {
   // Which base tets' pieces (their nodes, rest positions, sides) changed since the last build (all of them
   // after a reset).
   const std::size_t bases = tets.baseTetCount();
-  base_changed_.assign(bases, 1);
+  base_changed_.resize(bases);
   base_hash_.resize(bases, 0);
   for (std::size_t b = 0; b < bases; ++b) {
-    std::uint64_t h = 14695981039346656037ull;
+    WordHash h;
     for (const sim::TetMirror::Child& c : tets.children(b)) {
       for (const std::int32_t n : c.nodes) {
-        h = (h ^ static_cast<std::uint32_t>(n)) * 1099511628211ull;
-        for (const double x : tets.positions_m()[static_cast<std::size_t>(n)])
-          h = (h ^ std::bit_cast<std::uint64_t>(x)) * 1099511628211ull;
+        h.add(static_cast<std::uint32_t>(n));
+        h.add(tets.positions_m()[static_cast<std::size_t>(n)]);
       }
-      h = (h ^ static_cast<std::uint8_t>(c.side)) * 1099511628211ull;
+      h.add(static_cast<std::uint8_t>(c.side));
     }
-    base_changed_[b] = reset || h != base_hash_[b];
-    base_hash_[b] = h;
+    base_changed_[b] = reset || h.h != base_hash_[b];
+    base_hash_[b] = h.h;
   }
   scratch_m_.clear();
   for (const auto& p : tets.positions_m()) scratch_m_.push_back(asVector(p));
@@ -134,16 +142,15 @@ void SkinEmbedding::adjacency(const sim::GeometryMirror& mirror) {
   const auto& p = mirror.positions_m();
   faces_now_.assign(n, 0);
   for (std::size_t v = 0; v < n; ++v) {
-    std::uint64_t h = 14695981039346656037ull;
-    const auto mix = [&h](std::uint64_t x) { h = (h ^ x) * 1099511628211ull; };
+    WordHash h;
     for (std::uint32_t i = face_offsets_[v]; i < face_offsets_[v + 1]; ++i) {
-      mix(face_list_[i]);
+      h.add(face_list_[i]);
       for (const std::int32_t u : faces[face_list_[i]]) {
-        mix(static_cast<std::uint32_t>(u));
-        for (const double c : p[static_cast<std::size_t>(u)]) mix(std::bit_cast<std::uint64_t>(c));
+        h.add(static_cast<std::uint32_t>(u));
+        h.add(p[static_cast<std::size_t>(u)]);
       }
     }
-    faces_now_[v] = h;
+    faces_now_[v] = h.h;
   }
 }
 

@@ -5,8 +5,9 @@
 // the sim thread does nothing for it: the embedding is the reader's work.
 //
 // update() follows the mirror: when the tets changed (TetMirror::version) the locator is rebuilt and every
-// vertex whose embedding consulted a base tet whose pieces changed (physics::EmbedBases) is embedded again; a vertex new, moved at rest, or whose faces changed
-// or neighbours moved (its probe beside it depends on them) is embedded when it is seen. Shapes: positions in metres, indexed as the mirror's vertices; node
+// vertex whose embedding consulted a base tet whose pieces changed (physics::EmbedBases) is embedded again;
+// a vertex new, moved at rest, or whose faces changed or neighbours moved (its probe beside it depends on
+// them) is embedded when it is seen. Shapes: positions in metres, indexed as the mirror's vertices; node
 // positions indexed as the tets' nodes. Threads: the viewer's (the one that pulls the mirror). Cost:
 // update() O(V + F) to check, O(tets) to rebuild the locator when the tets changed, a few point locations
 // per vertex embedded (milliseconds for thousands); positions() O(V). Failure: nothing throws but
@@ -56,8 +57,8 @@ class SkinEmbedding {
   std::vector<physics::EmbedBases> bases_;            // the base tets each vertex's embedding consulted
   std::vector<std::uint64_t> base_hash_;              // per base tet, a hash of its pieces at the last build
   std::vector<std::uint8_t> base_changed_;            // ... and whether that build changed them
-  std::vector<std::uint64_t> embedded_faces_,
-      faces_now_;  // a hash of each vertex's faces and their corners: when embedded, now
+  // A hash of each vertex's faces and their corners: when it was embedded, and now.
+  std::vector<std::uint64_t> embedded_faces_, faces_now_;
   std::vector<std::uint32_t> face_offsets_, face_list_, face_fill_;  // each vertex's live faces
   std::vector<std::int32_t> neighbour_scratch_;
   std::vector<Eigen::Vector3d> scratch_m_;
