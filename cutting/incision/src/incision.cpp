@@ -266,7 +266,24 @@ void Incision::finish() noexcept {
   refreshRestColumns(std::max(0, stationCount() - 2) + options_.order - 1);
 }
 
-void Incision::addStation(const Station& station) {
+Eigen::Vector3d Incision::stationNormal(const Eigen::Vector3d& normal, double depth_m) const noexcept {
+  if (stations_.empty()) return normal;
+  const Station& previous = stations_.back();
+  const Eigen::Vector3d& a = previous.normal;
+  const Eigen::Vector3d axis = a.cross(normal);
+  const double turn = std::atan2(axis.norm(), a.dot(normal));
+  const double reach_m =
+      (options_.normal_controls / 2) * options_.beta_m * std::max(depth_m, previous.depth_m) / options_.depth_m;
+  const double max_turn = kRowShiftSpacings * options_.spacing_m / reach_m;
+  // A turn beyond the limit is followed only as far as keeps the lattice within kMaxNormalLag of the
+  // surface's normal (a surface curving faster than the limit: the rows follow it at its own rate).
+  if (turn <= max_turn || axis.norm() < 1e-12) return normal;
+  const double step = std::max(max_turn, turn - kMaxNormalLag);
+  return (std::cos(step) * a + std::sin(step) * axis.normalized().cross(a)).normalized();
+}
+
+void Incision::addStation(Station station) {
+  station.normal = stationNormal(station.normal, station.depth_m);
   stations_.push_back(station);
   // A new station changes the tangent of the one before it and the extrapolated columns after it; while
   // there are at most two stations, T_0 changes too, and with it the padding before the start.

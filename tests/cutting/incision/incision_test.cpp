@@ -67,6 +67,65 @@ TEST_CASE("incision: the lattice follows Eq. (2) and F0(1/2, v, 1/2) follows the
       REQUIRE(rest.control(i + 1, j, 2).z() <= rest.control(i, j, 2).z());
 }
 
+// The unit normal of column j's rows (Eq. 2: row k - row k + 1 = beta_j N_j), read from the lattice.
+Eigen::Vector3d columnNormal(const Incision& incision, int column) {
+  const int n = incision.options().normal_controls;
+  return (incision.rest().control(2, column, n / 2 - 1) - incision.rest().control(2, column, n / 2)).normalized();
+}
+
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+TEST_CASE("incision: the rows' normals turn at most a spacing at their ends, never far from the surface's",
+          "[cutting]") {
+  // Guards against a faceted scan's normals (jumps of 5-13 degrees from face to face) swinging the rows 6 mm
+  // down by a spacing and more from column to column: the walls' strips twisted and crossed each other.
+  const IncisionOptions options;
+  const double reach_m = (options.normal_controls / 2) * options.beta_m;  // the blade at full depth
+  const double max_turn = options.spacing_m / reach_m;
+  const double tilt = 5.0 * M_PI / 180.0;
+  SECTION("a flat stroke whose normals zigzag by 10 degrees every 0.3 mm") {
+    std::vector<StrokeSample> samples;
+    for (int k = 0; k <= 400; ++k) {
+      const double a = (k / 6) % 2 ? tilt : -tilt;
+      samples.push_back(
+          {Eigen::Vector3d(0.00005 * k, 0.0, 0.0), Eigen::Vector3d(0.0, std::cos(a), std::sin(a)), 0.001 * k});
+    }
+    Incision incision(options, samples[0], Eigen::Vector3d::UnitX());
+    for (size_t k = 1; k < samples.size(); ++k) REQUIRE(incision.extend(samples[k]) == SampleStatus::Accepted);
+    double largest = 0.0;
+    for (int j = options.order; j < incision.finalColumns(); ++j)
+      largest = std::max(largest, angleBetween(columnNormal(incision, j - 1), columnNormal(incision, j)));
+    REQUIRE(largest <= max_turn + 1e-12);
+    REQUIRE(largest > 0.9 * max_turn);  // it does turn, as far as it may
+  }
+  SECTION("a stroke round a cylinder of radius 4 mm follows it, at most 0.15 rad behind") {
+    const double radius_m = 0.004;
+    std::vector<StrokeSample> samples;
+    for (int k = 0; k <= 200; ++k) {  // 0.01 rad a sample: 2 rad in all
+      const double a = 0.01 * k;
+      const Eigen::Vector3d normal(std::sin(a), std::cos(a), 0.0);
+      samples.push_back({radius_m * normal, normal, 0.001 * k});
+    }
+    Incision incision(options, samples[0], Eigen::Vector3d::UnitX());
+    for (size_t k = 1; k < samples.size(); ++k) REQUIRE(incision.extend(samples[k]) == SampleStatus::Accepted);
+    incision.finish();
+    const int last = options.order - 1 + incision.stationCount() - 1;
+    for (int j = options.order - 1; j <= last; ++j) {
+      const Eigen::Vector3d g = incision.rest().control(2, j, options.normal_controls / 2);
+      const Eigen::Vector3d surface = Eigen::Vector3d(g.x(), g.y(), 0.0).normalized();
+      REQUIRE(angleBetween(columnNormal(incision, j), surface) <= 0.15 + 1e-9);
+    }
+    // The last station is 1.875 rad round (7.5 mm): the rows have turned with the surface.
+    REQUIRE(angleBetween(columnNormal(incision, last), Eigen::Vector3d::UnitY()) > 1.875 - 0.15 - 1e-9);
+  }
+  SECTION("a flat stroke: the rows along the samples' normal, exactly") {
+    const Incision incision = planeIncision(400, options);
+    for (int j = 0; j < incision.finalColumns(); ++j) REQUIRE(columnNormal(incision, j) == Eigen::Vector3d::UnitY());
+  }
+}
+
 TEST_CASE("incision: the opening grows with the time response and settles at the full width", "[cutting]") {
   const IncisionOptions options;
   Incision incision = planeIncision(400, options);
