@@ -28,6 +28,16 @@ Incision planeIncision(int count, const IncisionOptions& options = {}) {
   return incision;
 }
 
+// The unit normal of column j's rows (Eq. 2: row k - row k + 1 = beta_j N_j), read from the lattice.
+Eigen::Vector3d columnNormal(const Incision& incision, int column) {
+  const int n = incision.options().normal_controls;
+  return (incision.rest().control(2, column, n / 2 - 1) - incision.rest().control(2, column, n / 2)).normalized();
+}
+
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
 }  // namespace
 
 TEST_CASE("incision: the stroke is resampled into stations every spacing", "[cutting]") {
@@ -65,16 +75,6 @@ TEST_CASE("incision: the lattice follows Eq. (2) and F0(1/2, v, 1/2) follows the
   for (int j = 0; j < incision.finalColumns(); ++j)
     for (int i = 0; i + 1 < rest.controlCounts()[0]; ++i)
       REQUIRE(rest.control(i + 1, j, 2).z() <= rest.control(i, j, 2).z());
-}
-
-// The unit normal of column j's rows (Eq. 2: row k - row k + 1 = beta_j N_j), read from the lattice.
-Eigen::Vector3d columnNormal(const Incision& incision, int column) {
-  const int n = incision.options().normal_controls;
-  return (incision.rest().control(2, column, n / 2 - 1) - incision.rest().control(2, column, n / 2)).normalized();
-}
-
-double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
 TEST_CASE("incision: the rows' normals turn at most a spacing at their ends, never far from the surface's",
