@@ -12,6 +12,7 @@
 
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <Eigen/Geometry>
 
 #include "incise/core/union_find.h"
@@ -98,7 +99,8 @@ PointIndex indexPoints(const TriMesh& tissue) {
 // that touch the cut (a vertex of the result not in the tissue), CGAL collapses edges shorter than a
 // fiftieth of the tissue's mean edge `mean_edge_m` and flips caps that low. Nothing moves farther than that:
 // the cut stays where it was to within a fiftieth of an edge (the kerf the surface cutter removes is wider).
-void removeSlivers(CgalMesh& out, const OriginMap& origin, const PointIndex& old, double mean_edge_m) {
+// The faces of `out` that touch the cut: from the solid, or with a corner the tissue did not have.
+std::vector<Face> facesTouchingCut(const CgalMesh& out, const OriginMap& origin, const PointIndex& old) {
   std::vector<Face> near;
   for (const Face f : out.faces()) {
     bool touches = origin[f] == kFromSolid;
@@ -106,12 +108,33 @@ void removeSlivers(CgalMesh& out, const OriginMap& origin, const PointIndex& old
       touches = touches || !old.count(key(out.point(v)));
     if (touches) near.push_back(f);
   }
+  return near;
+}
+
+void removeSlivers(CgalMesh& out, const OriginMap& origin, const PointIndex& old, double mean_edge_m) {
+  std::vector<Face> near = facesTouchingCut(out, origin, old);
   constexpr double kCapCosine = -0.94;  // an angle over about 160 degrees
   constexpr double kNeedleRatio = 6.0;  // the longest edge over six times the shortest
   const double small_m = 0.02 * mean_edge_m;
   PMP::experimental::remove_almost_degenerate_faces(near, out, kCapCosine, kNeedleRatio, small_m,
                                                     CGAL::parameters::flip_triangle_height_threshold(small_m));
   out.collect_garbage();
+}
+
+// Whether two faces of `out` cross near the cut: the faces whose bounding boxes meet the box round the faces
+// touching the cut (every face that could cross one of them, and every face a sliver's collapse moved),
+// tested pairwise with CGAL's exact predicates. Cost O(k log k) in those faces.
+bool crossesNearCut(const CgalMesh& out, const OriginMap& origin, const PointIndex& old) {
+  CGAL::Bbox_3 cut_box;
+  for (const Face f : facesTouchingCut(out, origin, old))
+    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out)) cut_box += out.point(v).bbox();
+  std::vector<Face> region;
+  for (const Face f : out.faces()) {
+    CGAL::Bbox_3 box;
+    for (const auto v : CGAL::vertices_around_face(out.halfedge(f), out)) box += out.point(v).bbox();
+    if (CGAL::do_overlap(box, cut_box)) region.push_back(f);
+  }
+  return PMP::does_self_intersect(region, out);
 }
 
 // `out` (tissue minus solid) as changes to `tissue`: faces of the result that are faces of the tissue, same
@@ -202,11 +225,18 @@ SolidDifference differenceOf(const SurfaceMesh& tissue, const SurfaceMesh& solid
     CgalMesh out = difference(tissue.mesh(), solid.mesh(), origin);
     origin = out.property_map<Face, int>("f:incise_origin").first;
     const PointIndex old = indexPoints(tissue.mesh());
+    CgalMesh corefined = out;  // with its slivers
     try {
       removeSlivers(out, origin, old, edgeLengths(tissue.mesh()).mean_m);
     } catch (const std::exception& e) {
       d.message = std::string("CGAL could not remove the cut's slivers: ") + e.what();
       return d;
+    }
+    // A collapse or a flip can fold a face through its neighbour: the result with its slivers instead.
+    if (crossesNearCut(out, origin, old)) {
+      out = std::move(corefined);
+      origin = out.property_map<Face, int>("f:incise_origin").first;
+      d.slivers_kept = true;
     }
     describe(tissue, old, out, origin, d);
   } catch (const PMP::Corefinement::Self_intersection_exception&) {

@@ -505,6 +505,12 @@ TEST_CASE("surface_cutter: strokes up the bunny's faceted steep flank leave no w
     }
 }
 
+TEST_CASE("surface_cutter: a slab cut through leaves no face beside the lip crossing a wall", "[cutting]") {
+  // Guards against the through-cut's Boolean collapsing a needle beside the lip into a face that crossed a
+  // wall face (15 pairs in this stroke of the property generator: the 3 mm slab, the tip 2.8-3.7 mm deep).
+  cutAndCheck(propertyCase(99, 340));
+}
+
 TEST_CASE("surface_cutter: property: random strokes on icospheres, pads, a torus and the bunny cut clean",
           "[cutting]") {
   runProperty(14, 10);

@@ -50,6 +50,7 @@ struct SolidDifference {
   std::vector<FaceKind> added_kinds;            // their kinds
   std::vector<int> touched_vertices;            // corners of removed and added faces, ascending, once each
   std::vector<Piece> pieces;                    // the result's pieces (mesh::pieces), largest first
+  bool slivers_kept = false;                    // the sliver removal made faces cross: not applied
 };
 
 // Computes tissue minus the closed solid `solid` (outward oriented) through
@@ -57,7 +58,10 @@ struct SolidDifference {
 // itself where the solid meets it), and checks that it applies (on a copy of the tissue). Reads `tissue`
 // only: it may run on another thread while the owner of the tissue reads it too (never while it writes it).
 // Kinds: a face on the solid's boundary is Wall; a piece of a tissue face keeps Wall if the face was a Wall
-// face, else it is Split; a new vertex is Wall if all its faces are, else Seam. Failure (CGAL refuses:
+// face, else it is Split; a new vertex is Wall if all its faces are, else Seam. Needles and caps along the cut
+// (edges under a fiftieth of the tissue's mean edge) are collapsed or flipped, unless that makes two faces
+// near the cut cross (checked with exact predicates): then the corefined result is kept as it is
+// (`slivers_kept`). Failure (CGAL refuses:
 // self-intersection, a non-manifold result; OpenMesh refuses a face): `ok` false and why. Cost
 // O((V + F) log (V + F)) over both meshes (the copies), plus CGAL's corefinement near the solid.
 SolidDifference differenceOf(const SurfaceMesh& tissue, const SurfaceMesh& solid);
