@@ -5,7 +5,8 @@
 // a torus and the bunny, with random starts, directions, lengths, bends and depths. After every cut: a
 // closed two-manifold with its Euler characteristic, no two faces crossing, no zero-area or sliver face,
 // no NaN, walls facing out
-// of the tissue (the volume drops by the wound, stays positive), the groove as deep as the blade within 5%,
+// of the tissue (the volume drops by the wound, stays positive), the groove as deep as the blade within 5%
+// (below the track, along its normal; not checked near the bunny's thin ears),
 // vertices beyond the lattice's reach bit for bit unchanged, and a groove about as long as the stroke, or
 // a shortfall that says why.
 #include "incise/incision/surface_cutter.h"
@@ -16,15 +17,18 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "incise/incision/stroke_path.h"
 #include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
 #include "incise/mesh/solid.h"
+#include "incise/mesh/thickness.h"
 #include "stroke_fixture.h"
 
 using namespace incise;
@@ -117,7 +121,28 @@ struct Case {
   // SurfaceCutter's 0.8 of it).
   double depth0_m = -1.0, depth1_m = -1.0;
   double thickness_m = std::numeric_limits<double>::infinity();
+  // A tissue thick under most strokes and thin in places (the bunny's ears, 3.3 mm): thickness_m holds
+  // where the stroke stays 2 mm from every part thinner than the blade's depth over 0.8 (mesh::
+  // thicknessBelowVertices); a stroke coming nearer skips the checks that take one thickness for all of it.
+  bool thin_in_places = false;
 };
+
+// Whether a sample of `stroke` passes within 2 mm of a vertex of `c`'s tissue whose thickness below
+// (mesh::thicknessBelowVertices, computed once per tissue) would limit the blade's depth.
+bool nearThinPart(const Case& c, const Stroke& stroke) {
+  static std::map<const mesh::SurfaceMesh*, std::vector<float>> thickness;
+  const mesh::TriMesh& m = c.tissue->mesh();
+  auto found = thickness.find(c.tissue);
+  if (found == thickness.end()) found = thickness.emplace(c.tissue, mesh::thicknessBelowVertices(m, 0.02, 1e-5)).first;
+  const double limiting_m = c.options.incision.depth_m / 0.8;
+  for (const auto v : m.vertices()) {
+    if (found->second[static_cast<size_t>(v.idx())] >= limiting_m) continue;
+    const Eigen::Vector3d p = mesh::toEigen(m.point(v));
+    for (const StrokeSample& s : stroke.samples)
+      if ((s.point_m - p).norm() < 0.002) return true;
+  }
+  return false;
+}
 
 // The floor's depth a sample asks for: its depth clamped to the incision's [min_depth_m, depth_m], at most
 // 0.8 of the tissue's thickness.
@@ -149,6 +174,12 @@ constexpr double kThroughQuality = 1e-5;  // seed 1414: 10 through-cuts, the wor
 int& throughCuts() {
   static int cuts = 0;
   return cuts;
+}
+
+// How many cases so far came near a thin part of a tissue thin in places (their depth not checked).
+int& nearThinCases() {
+  static int cases = 0;
+  return cases;
 }
 
 // Cuts the case's stroke on a copy of its tissue and checks everything the header lists. Returns whether
@@ -220,10 +251,14 @@ bool cutAndCheck(const Case& c) {
   const IncisionOptions& io = c.options.incision;
   if (std::min(c.depth0_m, c.depth1_m) > 1.06 * io.depth_m) REQUIRE(f.depth_clamped_samples > 0);
   if (std::max(c.depth0_m, c.depth1_m) < io.depth_m) REQUIRE(f.depth_clamped_samples == 0);
+  REQUIRE(volume_after < volume_before);              // the walls face out of the tissue: the wound removes volume
+  if (c.thin_in_places && nearThinPart(c, stroke)) {  // its depth varies with a thickness not known here
+    ++nearThinCases();
+    return true;
+  }
   const double asked_m = c.depth0_m < 0.0 ? io.depth_m : std::min({c.depth0_m, c.depth1_m, io.depth_m});
   if (asked_m > 0.85 * c.thickness_m) REQUIRE(f.thickness_limited_samples > 0);
   if (std::isinf(c.thickness_m)) REQUIRE(f.thickness_limited_samples == 0);
-  REQUIRE(volume_after < volume_before);  // the walls face out of the tissue: the wound removes volume
 
   // Vertices beyond the lattice's reach are bit for bit where they were; the groove's bottom is the
   // blade's depth below the original surface.
@@ -236,8 +271,9 @@ bool cutAndCheck(const Case& c) {
     for (const auto& s : stroke.samples) nearest_m = std::min(nearest_m, (s.point_m - p).norm());
     if (nearest_m > reach_m) REQUIRE(mesh.mesh().point(v) == original.mesh().point(v));
   }
-  // Depth below the blade's track (not the closest surface: near a pad's edge that is its side): the depth
-  // the nearest sample asked for.
+  // Depth below the blade's track (not the closest surface: near a pad's edge that is its side): along the
+  // nearest sample's normal (the floor is as wide as the wound is open: its vertices are beside the track,
+  // not under it), the depth that sample asked for.
   for (const auto v : mesh.mesh().vertices()) {
     const auto b = cutter.binding(v);
     if (!b || b->side != 2) continue;
@@ -246,7 +282,7 @@ bool cutAndCheck(const Case& c) {
     for (const auto& s : stroke.samples)
       if ((s.point_m - p).norm() < (nearest->point_m - p).norm()) nearest = &s;
     INFO("floor vertex " << v.idx() << ": the nearest sample's tip " << nearest->depth_m);
-    REQUIRE((nearest->point_m - p).norm() == Approx(expectedDepth(c, *nearest)).epsilon(0.05));
+    REQUIRE((nearest->point_m - p).dot(nearest->normal) == Approx(expectedDepth(c, *nearest)).epsilon(0.05));
   }
   return true;
 }
@@ -303,6 +339,7 @@ Case randomCase(std::mt19937& rng, int index) {
       break;
     case 4:
       c.tissue = &t.bunny2, c.what = "bunny (2 subdivisions)", centre = {-0.005, 0.015}, radius_m = 0.006;
+      c.thin_in_places = true;
       break;
     case 5:
       c.tissue = &t.coarse_sphere, c.what = "coarse icosphere (3 subdivisions, r 5 cm), refined", radius_m = 0.01;
@@ -342,7 +379,7 @@ Case randomCase(std::mt19937& rng, int index) {
 void runProperty(unsigned seed, int cases) {
   std::mt19937 rng(seed);
   int grooves = 0;
-  const int through_before = throughCuts();
+  const int through_before = throughCuts(), thin_before = nearThinCases();
   for (int i = 0; i < cases; ++i) {
     const Case c = randomCase(rng, i);
     INFO("seed " << seed);
@@ -354,7 +391,8 @@ void runProperty(unsigned seed, int cases) {
   // The slab's strokes (one case in nine) reach its far side in about a third of them.
   INFO(throughCuts() - through_before << " cases cut through their tissue");
   WARN("through-cuts: " << throughCuts() - through_before << ", the worst face they made: quality "
-                        << worstThroughQuality());
+                        << worstThroughQuality()
+                        << "; near the bunny's ears (depth not checked): " << nearThinCases() - thin_before);
   if (cases >= 90) REQUIRE(throughCuts() - through_before > 0);
 }
 
