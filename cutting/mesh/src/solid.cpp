@@ -94,11 +94,6 @@ PointIndex indexPoints(const TriMesh& tissue) {
   return index;
 }
 
-// Where the solid's surface passes near a vertex or an edge of the tissue, the pieces of the tissue's faces
-// are needles and caps (two crossings of the cut a hair apart, a vertex a hair from the cut): among the faces
-// that touch the cut (a vertex of the result not in the tissue), CGAL collapses edges shorter than a
-// fiftieth of the tissue's mean edge `mean_edge_m` and flips caps that low. Nothing moves farther than that:
-// the cut stays where it was to within a fiftieth of an edge (the kerf the surface cutter removes is wider).
 // The faces of `out` that touch the cut: from the solid, or with a corner the tissue did not have.
 std::vector<Face> facesTouchingCut(const CgalMesh& out, const OriginMap& origin, const PointIndex& old) {
   std::vector<Face> near;
@@ -111,6 +106,11 @@ std::vector<Face> facesTouchingCut(const CgalMesh& out, const OriginMap& origin,
   return near;
 }
 
+// Where the solid's surface passes near a vertex or an edge of the tissue, the pieces of the tissue's faces
+// are needles and caps (two crossings of the cut a hair apart, a vertex a hair from the cut): among the faces
+// that touch the cut (a vertex of the result not in the tissue), CGAL collapses edges shorter than a
+// fiftieth of the tissue's mean edge `mean_edge_m` and flips caps that low. Nothing moves farther than that:
+// the cut stays where it was to within a fiftieth of an edge (the kerf the surface cutter removes is wider).
 void removeSlivers(CgalMesh& out, const OriginMap& origin, const PointIndex& old, double mean_edge_m) {
   std::vector<Face> near = facesTouchingCut(out, origin, old);
   constexpr double kCapCosine = -0.94;  // an angle over about 160 degrees
