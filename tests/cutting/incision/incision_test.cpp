@@ -100,17 +100,23 @@ TEST_CASE("incision: the rows' normals turn at most a spacing at their ends, nev
     REQUIRE(largest <= max_turn + 1e-12);
     REQUIRE(largest > 0.9 * max_turn);  // it does turn, as far as it may
   }
-  SECTION("a stroke round a cylinder of radius 4 mm follows it, at most 0.15 rad behind") {
-    const double radius_m = 0.004;
+  // A stroke round a cylinder of radius r (its axis z), 0.01 rad a sample, 2 rad in all.
+  const auto roundCylinder = [](const IncisionOptions& o, double radius_m) {
     std::vector<StrokeSample> samples;
-    for (int k = 0; k <= 200; ++k) {  // 0.01 rad a sample: 2 rad in all
+    for (int k = 0; k <= 200; ++k) {
       const double a = 0.01 * k;
       const Eigen::Vector3d normal(std::sin(a), std::cos(a), 0.0);
       samples.push_back({radius_m * normal, normal, 0.001 * k});
     }
-    Incision incision(options, samples[0], Eigen::Vector3d::UnitX());
+    Incision incision(o, samples[0], Eigen::Vector3d::UnitX());
     for (size_t k = 1; k < samples.size(); ++k) REQUIRE(incision.extend(samples[k]) == SampleStatus::Accepted);
     incision.finish();
+    return incision;
+  };
+  SECTION("a stroke round a cylinder of radius 4 mm, the blade 3 mm deep: the rows at most 0.15 rad behind") {
+    IncisionOptions shallow = options;
+    shallow.depth_m = 0.003;
+    const Incision incision = roundCylinder(shallow, 0.004);
     const int last = options.order - 1 + incision.stationCount() - 1;
     for (int j = options.order - 1; j <= last; ++j) {
       const Eigen::Vector3d g = incision.rest().control(2, j, options.normal_controls / 2);
@@ -119,6 +125,18 @@ TEST_CASE("incision: the rows' normals turn at most a spacing at their ends, nev
     }
     // The last station is 1.875 rad round (7.5 mm): the rows have turned with the surface.
     REQUIRE(angleBetween(columnNormal(incision, last), Eigen::Vector3d::UnitY()) > 1.875 - 0.15 - 1e-9);
+  }
+  SECTION("round a ridge of radius 2 mm, the blade 4 mm deep: neighbouring rows do not meet above the tip") {
+    // Rows a spacing apart that turn by more than spacing / depth cross before the blade's depth (the
+    // ridge's focal point, 2 mm down): the walls' strips beyond it would cross each other.
+    const Incision incision = roundCylinder(options, 0.002);
+    const double fold_turn = options.spacing_m / options.depth_m;
+    const int last = options.order - 1 + incision.stationCount() - 1;
+    double largest = 0.0;
+    for (int j = options.order; j <= last; ++j)
+      largest = std::max(largest, angleBetween(columnNormal(incision, j - 1), columnNormal(incision, j)));
+    REQUIRE(largest <= fold_turn + 1e-9);
+    REQUIRE(largest > 0.9 * fold_turn);  // it turns as fast as it may, behind the surface
   }
   SECTION("a flat stroke: the rows along the samples' normal, exactly") {
     const Incision incision = planeIncision(400, options);

@@ -210,7 +210,9 @@ class Incision {
   // kRowShiftSpacings * spacing_m / ((n / 2) beta_j), so the ends of the lattice's rows, (n / 2) beta_j from the
   // surface, move at most one spacing between neighbouring columns; but never more than kMaxNormalLag from
   // the samples' (a surface curving faster is followed at its own rate, that far behind: the floor within
-  // 1.1% of the blade's depth, 1 - cos(kMaxNormalLag), on a flat surface). A faceted scan's normals jump
+  // 1.1% of the blade's depth, 1 - cos(kMaxNormalLag), on a flat surface), unless that takes a turn over
+  // spacing_m / d_j: rows a spacing apart turning more meet above the blade's tip (a ridge sharper than the
+  // blade is deep, its focal point), so there the rows lag further behind. A faceted scan's normals jump
   // 5-13 degrees from face to face (the bunny's steep flank, every half millimetre); followed as they were,
   // the rows 6 mm down swung over a spacing from column to column, the walls' strips twisted through 50
   // degrees and crossed each other. Cost O(1).
