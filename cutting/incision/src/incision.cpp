@@ -277,10 +277,10 @@ Eigen::Vector3d Incision::stationNormal(const Eigen::Vector3d& normal, double de
   const double max_turn = kRowShiftSpacings * options_.spacing_m / reach_m;
   // A turn beyond the limit is followed only as far as keeps the lattice within kMaxNormalLag of the
   // surface's normal (a surface curving faster than the limit: the rows follow it at its own rate), but
-  // never so far that neighbouring rows meet above the blade's depth (a ridge sharper than the blade is
-  // deep: its focal point).
+  // never so far that neighbouring rows meet within kFoldDepths of the blade's depth (a ridge about as
+  // sharp as the blade is deep: its focal point).
   if (turn <= max_turn || axis.norm() < 1e-12) return normal;
-  const double fold_turn = options_.spacing_m / std::max(depth_m, previous.depth_m);
+  const double fold_turn = options_.spacing_m / (kFoldDepths * std::max(depth_m, previous.depth_m));
   const double step = std::max(max_turn, std::min(turn - kMaxNormalLag, fold_turn));
   return (std::cos(step) * a + std::sin(step) * axis.normalized().cross(a)).normalized();
 }

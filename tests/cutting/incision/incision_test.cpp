@@ -113,9 +113,9 @@ TEST_CASE("incision: the rows' normals turn at most a spacing at their ends, nev
     incision.finish();
     return incision;
   };
-  SECTION("a stroke round a cylinder of radius 4 mm, the blade 3 mm deep: the rows at most 0.15 rad behind") {
+  SECTION("a stroke round a cylinder of radius 4 mm, the blade 2.5 mm deep: the rows at most 0.15 rad behind") {
     IncisionOptions shallow = options;
-    shallow.depth_m = 0.003;
+    shallow.depth_m = 0.0025;
     const Incision incision = roundCylinder(shallow, 0.004);
     const int last = options.order - 1 + incision.stationCount() - 1;
     for (int j = options.order - 1; j <= last; ++j) {
@@ -126,11 +126,12 @@ TEST_CASE("incision: the rows' normals turn at most a spacing at their ends, nev
     // The last station is 1.875 rad round (7.5 mm): the rows have turned with the surface.
     REQUIRE(angleBetween(columnNormal(incision, last), Eigen::Vector3d::UnitY()) > 1.875 - 0.15 - 1e-9);
   }
-  SECTION("round a ridge of radius 2 mm, the blade 4 mm deep: neighbouring rows do not meet above the tip") {
+  SECTION("round a ridge of radius 2 mm, the blade 4 mm deep: neighbouring rows meet 1.5 depths down") {
     // Rows a spacing apart that turn by more than spacing / depth cross before the blade's depth (the
-    // ridge's focal point, 2 mm down): the walls' strips beyond it would cross each other.
+    // ridge's focal point, 2 mm down): the walls' strips would cross each other. They turn at most
+    // spacing / (1.5 depth), so the floor keeps a third of the stations' spacing.
     const Incision incision = roundCylinder(options, 0.002);
-    const double fold_turn = options.spacing_m / options.depth_m;
+    const double fold_turn = options.spacing_m / (1.5 * options.depth_m);
     const int last = options.order - 1 + incision.stationCount() - 1;
     double largest = 0.0;
     for (int j = options.order; j <= last; ++j)

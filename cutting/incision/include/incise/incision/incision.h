@@ -183,6 +183,10 @@ class Incision {
  private:
   static constexpr double kRowShiftSpacings = 1.0;
   static constexpr double kMaxNormalLag = 0.15;  // radians (8.6 degrees)
+  // Neighbouring rows meet no nearer than this many blade depths below the surface: the floor keeps a third
+  // of the stations' spacing over a sharp ridge (rows meeting at the floor left it no width, and the walls'
+  // strips crossed there: CGAL's elephant, 69 pairs, with 1).
+  static constexpr double kFoldDepths = 1.5;
   struct Station {
     Eigen::Vector3d point, normal;
     double time_s;
@@ -211,8 +215,9 @@ class Incision {
   // surface, move at most one spacing between neighbouring columns; but never more than kMaxNormalLag from
   // the samples' (a surface curving faster is followed at its own rate, that far behind: the floor within
   // 1.1% of the blade's depth, 1 - cos(kMaxNormalLag), on a flat surface), unless that takes a turn over
-  // spacing_m / d_j: rows a spacing apart turning more meet above the blade's tip (a ridge sharper than the
-  // blade is deep, its focal point), so there the rows lag further behind. A faceted scan's normals jump
+  // spacing_m / (kFoldDepths d_j): rows a spacing apart turning more meet within kFoldDepths d_j of the
+  // surface (a ridge about as sharp as the blade is deep, its focal point), so there the rows lag further
+  // behind. A faceted scan's normals jump
   // 5-13 degrees from face to face (the bunny's steep flank, every half millimetre); followed as they were,
   // the rows 6 mm down swung over a spacing from column to column, the walls' strips twisted through 50
   // degrees and crossed each other. Cost O(1).
