@@ -23,11 +23,13 @@ std::string mm(double length_m) {
 Shortfall classify(const IncisionFigures& f, bool failed, bool no_contact) {
   if (failed) return Shortfall::Failed;
   if (no_contact) return Shortfall::NoContact;
+  // Shorter than the lattice needs, the wound never opens (a groove, if cut, is a slit whose walls lie on
+  // each other).
+  if (f.stroke_length_m > 0.0 && f.stroke_length_m < f.min_stroke_m) return Shortfall::TooShort;
   const double tolerance_m = std::max(f.min_stroke_m, 0.2 * f.stroke_length_m);
   const bool short_groove =
       f.groove_length_m + tolerance_m < f.stroke_length_m || (f.groove_length_m == 0.0 && f.stroke_length_m > 0.0);
   if (!short_groove) return Shortfall::None;
-  if (f.stroke_length_m < f.min_stroke_m) return Shortfall::TooShort;
   if (f.columns > 0 && 4 * f.empty_columns >= f.columns) return Shortfall::CoarseMesh;
   if (f.inversions_failed > 0) return Shortfall::InversionFailed;
   if (f.seam_vertices == 0) return Shortfall::NoCrossing;

@@ -493,6 +493,30 @@ TEST_CASE(
   REQUIRE_THAT(describeShortfall(f), Contains("mean edge is") && Contains("along the stroke"));
 }
 
+TEST_CASE("surface_cutter: a stroke too short for the wound to open is reported too short", "[cutting]") {
+  // The opening is 0 at the two stations at each end of a cubic lattice: under 5 stations (2 mm) the
+  // columns cut leave a slit whose walls lie on each other, which is not a groove.
+  for (const double length_m : {0.0006, 0.0012, 0.0019}) {
+    INFO("a stroke of " << 1e3 * length_m << " mm");
+    mesh::SurfaceMesh pad = tissues().pad2;
+    mesh::ManifoldReport after;
+    const IncisionFigures f = cutFigures(pad, strokeAlongX({-0.0101, 0.05, 0.0031}, length_m), after);
+    REQUIRE(f.done);
+    REQUIRE(f.stroke_length_m > 0.0);
+    CHECK(f.shortfall == Shortfall::TooShort);
+    CHECK_THAT(describeShortfall(f), Contains("shorter than the 2.0 mm"));
+    CHECK(after.closed_two_manifold);
+  }
+  // Just long enough: a groove that opens, its walls apart.
+  mesh::SurfaceMesh pad = tissues().pad2;
+  mesh::ManifoldReport after;
+  const IncisionFigures f = cutFigures(pad, strokeAlongX({-0.0101, 0.05, 0.0031}, 0.0026), after);
+  CHECK(f.groove_length_m > 0.0);
+  CHECK(f.shortfall == Shortfall::None);
+  CHECK(after.closed_two_manifold);
+  CHECK(mesh::findSelfIntersections(pad.mesh()).empty());
+}
+
 TEST_CASE("surface_cutter: a stroke that starts off the surface reports no contact", "[cutting]") {
   mesh::SurfaceMesh pad = tissues().pad2;
   SurfaceCutter cutter(pad, CutterOptions{});
