@@ -365,7 +365,7 @@ double Incision::lastStationV() const noexcept { return startV() + (stationCount
 // goes on, from finalEndV() (the last `order` final stations wait: the wound opens that far behind the
 // blade), once finished from lastStationV(). A station's ramp only grows as stations are added.
 double Incision::stationRamp(int station, bool settled_end) const noexcept {
-  const int o = options_.order, closed = (o + 1) / 2;
+  const int o = options_.order, closed = closedEndStations();
   const int last_open = stationCount() - 1 - (finished_ || settled_end ? closed : o);
   // Over taper_m the opening rises as a smoothstep: its curvature along the cut is what a face beside the
   // seam must withstand without folding (a long, gentle taper keeps it small).

@@ -138,7 +138,7 @@ void SurfaceCutter::diagnose() noexcept {
   f.mean_edge_m = mean_edge_m_;
   const IncisionOptions& o = options_.incision;
   f.lattice_width_m = (o.across_controls - 1) * o.alpha_m;
-  f.min_stroke_m = o.order * spacing_m;
+  f.min_stroke_m = (incision_->minOpeningStations() - 1) * spacing_m;
   f.shortfall = classify(f, failed_, no_contact_);
 }
 

@@ -507,6 +507,16 @@ TEST_CASE("surface_cutter: a stroke too short for the wound to open is reported 
     CHECK_THAT(describeShortfall(f), Contains("shorter than the 2.0 mm"));
     CHECK(after.closed_two_manifold);
   }
+  // A quadratic lattice (order 3) keeps 2 stations shut at each end too: 1.75 mm is too short for it.
+  {
+    mesh::SurfaceMesh pad = tissues().pad2;
+    CutterOptions quadratic;
+    quadratic.incision.order = 3;
+    mesh::ManifoldReport after;
+    const IncisionFigures f = cutFigures(pad, strokeAlongX({-0.0101, 0.05, 0.0031}, 0.00175), after, quadratic);
+    CHECK(f.shortfall == Shortfall::TooShort);
+    CHECK_THAT(describeShortfall(f), Contains("shorter than the 2.0 mm"));
+  }
   // Just long enough: a groove that opens, its walls apart.
   mesh::SurfaceMesh pad = tissues().pad2;
   mesh::ManifoldReport after;

@@ -137,6 +137,9 @@ class Incision {
   }
 
   int stationCount() const noexcept { return static_cast<int>(stations_.size()); }
+  // The fewest stations of a finished stroke whose wound opens anywhere: the opening is 0 at the
+  // closedEndStations() at each end (their columns reach beyond the cut's ends). 5 for a cubic lattice.
+  int minOpeningStations() const noexcept { return 2 * closedEndStations() + 1; }
   // Column j is final once station j - P + 1 exists (its tangent is known) or the stroke is
   // finished. Only final columns open and only the parameter range they determine, v < finalEndV(), is cut;
   // so the cut trails the newest sample by about (order/2 + 1) * spacing_m, and the result depends only on
@@ -184,8 +187,8 @@ class Incision {
   static constexpr double kRowShiftSpacings = 1.0;
   static constexpr double kMaxNormalLag = 0.15;  // radians (8.6 degrees)
   // Neighbouring rows meet no nearer than this many blade depths below the surface: the floor keeps a third
-  // of the stations' spacing over a sharp ridge (rows meeting at the floor left it no width, and the walls'
-  // strips crossed there: CGAL's elephant, 69 pairs, with 1).
+  // of the stations' spacing over a sharp ridge (rows meeting at the floor would leave it no width, and the
+  // walls' strips would cross there).
   static constexpr double kFoldDepths = 1.5;
   struct Station {
     Eigen::Vector3d point, normal;
@@ -217,10 +220,9 @@ class Incision {
   // 1.1% of the blade's depth, 1 - cos(kMaxNormalLag), on a flat surface), unless that takes a turn over
   // spacing_m / (kFoldDepths d_j): rows a spacing apart turning more meet within kFoldDepths d_j of the
   // surface (a ridge about as sharp as the blade is deep, its focal point), so there the rows lag further
-  // behind. A faceted scan's normals jump
-  // 5-13 degrees from face to face (the bunny's steep flank, every half millimetre); followed as they were,
-  // the rows 6 mm down swung over a spacing from column to column, the walls' strips twisted through 50
-  // degrees and crossed each other. Cost O(1).
+  // behind. A faceted scan's normals jump 5-13 degrees from face to face (the bunny's steep flank, every
+  // half millimetre); rows that followed them 6 mm down would swing over a spacing from column to column,
+  // and the walls' strips twist and cross each other. Cost O(1).
   Eigen::Vector3d stationNormal(const Eigen::Vector3d& normal, double depth_m) const noexcept;
   Frame columnFrame(int column) const noexcept;
   void setRestColumn(int column);
@@ -229,6 +231,7 @@ class Incision {
   // The share of the full opening station `station` may have (0 at the cut's ends, 1 inside); with
   // `settled_end` as it will be once the stroke is finished.
   double stationRamp(int station, bool settled_end) const noexcept;
+  int closedEndStations() const noexcept { return (options_.order + 1) / 2; }
   double stationOpening(int station, double t_s) const noexcept;
   void setDisplacementColumn(int column, double opening_m);
 

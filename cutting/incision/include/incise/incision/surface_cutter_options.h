@@ -127,7 +127,7 @@ struct IncisionFigures {
   int seam_vertices_chained = 0;  // of seam_vertices, those in the chain
   double mean_edge_m = 0.0;       // the surface's mean edge length when the cutter was made
   double lattice_width_m = 0.0;   // the lattice's extent across the cut ((l - 1) alpha)
-  double min_stroke_m = 0.0;      // the shortest stroke that opens a groove (about order spacings)
+  double min_stroke_m = 0.0;      // the shortest stroke that opens a groove (Incision::minOpeningStations)
   Shortfall shortfall = Shortfall::None;
   // Set when the incision settles, for a cut through the tissue (through_samples > 0):
   ThroughCut through = ThroughCut::None;
