@@ -4,8 +4,11 @@
 #include "incise/mesh/surface_mesh.h"
 
 #include <algorithm>
+#include <array>
+#include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 
@@ -17,6 +20,7 @@ namespace {
 
 constexpr const char* kVertexKindProperty = "incise:vertex_kind";
 constexpr const char* kFaceKindProperty = "incise:face_kind";
+constexpr const char* kTexCoordProperty = "incise:texcoord";
 
 using VertexHandle = TriMesh::VertexHandle;
 using FaceHandle = TriMesh::FaceHandle;
@@ -55,6 +59,7 @@ void SurfaceMesh::attachKinds() {
   if (!mesh_.get_property_handle(vertex_kind_, kVertexKindProperty))
     mesh_.add_property(vertex_kind_, kVertexKindProperty);
   if (!mesh_.get_property_handle(face_kind_, kFaceKindProperty)) mesh_.add_property(face_kind_, kFaceKindProperty);
+  if (!mesh_.get_property_handle(texcoord_, kTexCoordProperty)) texcoord_.reset();
 }
 
 namespace {
@@ -84,6 +89,44 @@ FaceKind SurfaceMesh::kind(TriMesh::FaceHandle f) const {
 void SurfaceMesh::setKind(TriMesh::FaceHandle f, FaceKind kind) {
   checkHandle(f, mesh_.n_faces(), "face");
   mesh_.property(face_kind_, f) = kind;
+}
+
+void SurfaceMesh::addTexCoords() {
+  if (hasTexCoords()) return;
+  mesh_.add_property(texcoord_, kTexCoordProperty);
+  for (const auto h : mesh_.all_halfedges()) mesh_.property(texcoord_, h) = OpenMesh::Vec2d(0.0, 0.0);
+}
+
+Eigen::Vector2d SurfaceMesh::texCoord(TriMesh::HalfedgeHandle h) const {
+  if (!hasTexCoords()) throw std::logic_error("SurfaceMesh::texCoord: the mesh has no texture coordinates");
+  checkHandle(h, mesh_.n_halfedges(), "halfedge");
+  const OpenMesh::Vec2d& uv = mesh_.property(texcoord_, h);
+  return {uv[0], uv[1]};
+}
+
+void SurfaceMesh::setTexCoord(TriMesh::HalfedgeHandle h, const Eigen::Vector2d& uv) {
+  if (!hasTexCoords()) throw std::logic_error("SurfaceMesh::setTexCoord: the mesh has no texture coordinates");
+  checkHandle(h, mesh_.n_halfedges(), "halfedge");
+  mesh_.property(texcoord_, h) = OpenMesh::Vec2d(uv.x(), uv.y());
+}
+
+std::optional<Eigen::Vector2d> FaceCorners::at(TriMesh::VertexHandle v) const noexcept {
+  for (std::size_t i = 0; i < 3; ++i)
+    if (vertex[i] == v) return uv[i];
+  return std::nullopt;
+}
+
+FaceCorners faceCorners(const SurfaceMesh& surface, TriMesh::FaceHandle f) {
+  const TriMesh& m = surface.mesh();
+  const auto property = surface.texCoordProperty();
+  FaceCorners corners;
+  auto h = m.halfedge_handle(f);
+  for (std::size_t i = 0; i < 3; ++i, h = m.next_halfedge_handle(h)) {
+    corners.vertex[i] = m.to_vertex_handle(h);
+    const OpenMesh::Vec2d& uv = m.property(property, h);
+    corners.uv[i] = {uv[0], uv[1]};
+  }
+  return corners;
 }
 
 TriMesh::VertexHandle SurfaceMesh::addVertex(const Eigen::Vector3d& p, VertexKind kind) {
@@ -124,7 +167,75 @@ TriMesh subdivideLoop(const TriMesh& mesh, int iterations) {
   return result;
 }
 
+namespace {
+
+// The old vertices a new vertex of one Loop round lies between: (v, v) for an old vertex (index below
+// old_vertices), the old edge's two ends for an edge vertex (its only neighbours among the old vertices).
+std::vector<std::array<int, 2>> loopParents(const TriMesh& fine, int old_vertices) {
+  std::vector<std::array<int, 2>> parents(fine.n_vertices(), {-1, -1});
+  for (const VertexHandle v : fine.vertices()) {
+    if (v.idx() < old_vertices) {
+      parents[static_cast<std::size_t>(v.idx())] = {v.idx(), v.idx()};
+      continue;
+    }
+    int found = 0;
+    for (const VertexHandle n : fine.vv_range(v))
+      if (n.idx() < old_vertices && found < 2) parents[static_cast<std::size_t>(v.idx())][found++] = n.idx();
+  }
+  return parents;
+}
+
+// The old face holding the old vertices of `ends` (two or three distinct ones; with two, the one of the
+// faces at that edge whose third corner is `third`, or either when `third` is -1).
+FaceHandle oldFaceOf(const TriMesh& coarse, int a, int b, int third) {
+  const auto h = coarse.find_halfedge(VertexHandle(a), VertexHandle(b));
+  if (!h.is_valid()) return FaceHandle();
+  for (const auto side : {h, coarse.opposite_halfedge_handle(h)}) {
+    const FaceHandle f = coarse.face_handle(side);
+    if (!f.is_valid()) continue;
+    if (third < 0) return f;
+    for (const VertexHandle v : coarse.fv_range(f))
+      if (v.idx() == third) return f;
+  }
+  return FaceHandle();
+}
+
+// One Loop round's texture coordinates: each fine face lies in one coarse face; its corners take the
+// coarse face's coordinates (old vertices) or the mean of an edge's two (edge vertices).
+void subdivideTexCoords(const SurfaceMesh& coarse, SurfaceMesh& fine) {
+  const int old_vertices = static_cast<int>(coarse.mesh().n_vertices());
+  const std::vector<std::array<int, 2>> parents = loopParents(fine.mesh(), old_vertices);
+  TriMesh& m = fine.mesh();
+  for (const FaceHandle f : m.faces()) {
+    std::vector<int> old;  // the distinct old vertices the face's corners lie between
+    for (const VertexHandle v : m.fv_range(f))
+      for (const int p : parents[static_cast<std::size_t>(v.idx())])
+        if (p >= 0 && std::find(old.begin(), old.end(), p) == old.end()) old.push_back(p);
+    const FaceHandle parent =
+        old.size() >= 2 ? oldFaceOf(coarse.mesh(), old[0], old[1], old.size() > 2 ? old[2] : -1) : FaceHandle();
+    if (!parent.is_valid()) continue;  // not a Loop round of this mesh: left (0, 0)
+    const FaceCorners corners = faceCorners(coarse, parent);
+    for (const auto h : m.fh_range(f)) {
+      const auto& [a, b] = parents[static_cast<std::size_t>(m.to_vertex_handle(h).idx())];
+      const Eigen::Vector2d uv = 0.5 * (corners.at(VertexHandle(a)).value_or(Eigen::Vector2d::Zero()) +
+                                        corners.at(VertexHandle(b)).value_or(Eigen::Vector2d::Zero()));
+      m.property(fine.texCoordProperty(), h) = OpenMesh::Vec2d(uv.x(), uv.y());
+    }
+  }
+}
+
+}  // namespace
+
 SurfaceMesh subdivided(const SurfaceMesh& surface, int iterations) {
+  if (surface.hasTexCoords() && iterations > 0) {
+    SurfaceMesh coarse(subdivideLoop(surface.mesh(), 0));  // garbage-collected: indices as the rounds see them
+    for (int round = 0; round < iterations; ++round) {
+      SurfaceMesh fine(subdivideLoop(coarse.mesh(), 1));
+      subdivideTexCoords(coarse, fine);
+      coarse = std::move(fine);
+    }
+    return subdivided(coarse, 0);
+  }
   SurfaceMesh result(subdivideLoop(surface.mesh(), iterations));
   for (const VertexHandle v : result.mesh().vertices()) result.setKind(v, VertexKind::Original);
   for (const FaceHandle f : result.mesh().faces()) result.setKind(f, FaceKind::Original);

@@ -29,6 +29,11 @@ struct RawMesh {
   std::vector<std::int64_t> point_lines;  // source line (or byte offset) of each point
   std::vector<Triangle> triangles;
   std::vector<std::int64_t> triangle_lines;  // source line (or byte offset) of each triangle
+  // Texture coordinates (OBJ `vt`), and per triangle its corners' indices into them (parallel to
+  // `triangles`; empty when the file's faces give none).
+  std::vector<Eigen::Vector2d> texcoords;
+  std::vector<Triangle> triangle_texcoords;
+  std::vector<Eigen::Vector2d> corner_texcoords;  // the PLY reader's per-corner ones, until it chooses
   bool binary = false;
   int index_base = 1;  // how the file numbers vertices (OBJ 1, OFF and PLY 0), for messages
   std::string vertex_note = " (vertex numbers 1-based, as in the file)";
@@ -42,6 +47,8 @@ struct RawMesh {
   void addPoint(const Eigen::Vector3d& p, double scale, std::int64_t where);
   // Appends the fan (first, previous, next) of a convex polygon given as 0-based indices.
   void addPolygon(const std::vector<int>& polygon, std::int64_t where);
+  // The same fan of the polygon's texture coordinate indices (into `texcoords`), after addPolygon.
+  void addPolygonTexCoords(const std::vector<int>& polygon_texcoords);
 };
 
 [[noreturn]] inline void fail(const std::string& message) { throw MeshError(message); }

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string_view>
@@ -38,25 +39,48 @@ using FaceHandle = TriMesh::FaceHandle;
 // ---------------------------------------------------------------------------------------------------------
 // OBJ parsing
 
-// The vertex part of `a`, `a/t`, `a//n` or `a/t/n`, resolved to a 0-based index. Positive indices may
-// point past the vertices read so far (checked at the end); negative ones count back from the last.
-int parseFaceIndex(std::string_view token, int vertices_so_far, const std::string& where) {
-  const std::string_view text = token.substr(0, token.find('/'));
+// A 1-based OBJ index (negative: counting back from the last of `so_far` elements), resolved to 0-based.
+// `what` names the element ("face index", "texture coordinate index") and `elements` its plural.
+int resolveObjIndex(std::string_view text, std::string_view token, int so_far, const std::string& where,
+                    const char* what, const char* elements) {
   long long value = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || text.empty())
-    fail(where + "face index '" + std::string(token) + "' is not an integer");
-  if (value == 0) fail(where + "face index 0 is invalid (OBJ indices start at 1)");
+    fail(where + what + " '" + std::string(token) + "' is not an integer");
+  if (value == 0) fail(where + what + " 0 is invalid (OBJ indices start at 1)");
   if (value < 0) {
-    const long long resolved = vertices_so_far + value;
+    const long long resolved = so_far + value;
     if (resolved < 0)
-      fail(where + "face index " + std::to_string(value) + " out of range (" + std::to_string(vertices_so_far) +
-           " vertices so far)");
+      fail(where + what + " " + std::to_string(value) + " out of range (" + std::to_string(so_far) + " " + elements +
+           " so far)");
     return static_cast<int>(resolved);
   }
-  if (value > std::numeric_limits<int>::max()) fail(where + "face index " + std::to_string(value) + " out of range");
+  if (value > std::numeric_limits<int>::max()) fail(where + what + " " + std::to_string(value) + " out of range");
   return static_cast<int>(value - 1);
 }
+
+// The vertex part of `a`, `a/t`, `a//n` or `a/t/n`, resolved to a 0-based index. Positive indices may
+// point past the vertices read so far (checked at the end); negative ones count back from the last.
+int parseFaceIndex(std::string_view token, int vertices_so_far, const std::string& where) {
+  return resolveObjIndex(token.substr(0, token.find('/')), token, vertices_so_far, where, "face index", "vertices");
+}
+
+// The texture part `t` of `a/t` or `a/t/n`, 0-based; nullopt for `a` and `a//n`.
+std::optional<int> parseTexCoordIndex(std::string_view token, int texcoords_so_far, const std::string& where) {
+  const size_t slash = token.find('/');
+  if (slash == std::string_view::npos) return std::nullopt;
+  const std::string_view rest = token.substr(slash + 1);
+  const std::string_view text = rest.substr(0, rest.find('/'));
+  if (text.empty()) return std::nullopt;
+  return resolveObjIndex(text, token, texcoords_so_far, where, "texture coordinate index", "texture coordinates");
+}
+
+// What the OBJ reader carries from line to line.
+struct ObjState {
+  std::vector<std::string_view> tokens;
+  std::vector<int> polygon, polygon_texcoords;
+  bool all_textured = true;  // every face so far gave a texture coordinate at every corner
+};
 
 void parseVertex(const std::vector<std::string_view>& tokens, double scale, int line, RawMesh& raw) {
   const std::string where = raw.at(line);
@@ -66,27 +90,44 @@ void parseVertex(const std::vector<std::string_view>& tokens, double scale, int 
   raw.addPoint(p, scale, line);
 }
 
-void parseFace(const std::vector<std::string_view>& tokens, int line, RawMesh& raw, std::vector<int>& polygon) {
+void parseTexCoord(const std::vector<std::string_view>& tokens, int line, RawMesh& raw) {
+  const std::string where = raw.at(line);
+  if (tokens.size() < 3 || tokens.size() > 4)
+    fail(where + "expected 2 texture coordinates (and an optional w), got " + std::to_string(tokens.size() - 1));
+  raw.texcoords.emplace_back(parseCoordinate(tokens[1], where), parseCoordinate(tokens[2], where));
+}
+
+void parseFace(int line, RawMesh& raw, ObjState& state) {
+  const auto& tokens = state.tokens;
   const std::string where = raw.at(line);
   if (tokens.size() < 4) fail(where + "a face needs at least 3 vertices, got " + std::to_string(tokens.size() - 1));
   const int so_far = static_cast<int>(raw.points.size());
-  polygon.clear();
-  for (size_t k = 1; k < tokens.size(); ++k) polygon.push_back(parseFaceIndex(tokens[k], so_far, where));
-  raw.addPolygon(polygon, line);
+  const int texcoords_so_far = static_cast<int>(raw.texcoords.size());
+  state.polygon.clear();
+  state.polygon_texcoords.clear();
+  for (size_t k = 1; k < tokens.size(); ++k) {
+    state.polygon.push_back(parseFaceIndex(tokens[k], so_far, where));
+    if (const std::optional<int> t = parseTexCoordIndex(tokens[k], texcoords_so_far, where))
+      state.polygon_texcoords.push_back(*t);
+  }
+  raw.addPolygon(state.polygon, line);
+  state.all_textured = state.all_textured && state.polygon_texcoords.size() == state.polygon.size();
+  if (state.all_textured) raw.addPolygonTexCoords(state.polygon_texcoords);
 }
 
 bool ignoredStatement(std::string_view keyword) {
-  static constexpr std::array<std::string_view, 8> kIgnored = {"vn", "vt", "vp", "g", "o", "s", "usemtl", "mtllib"};
+  static constexpr std::array<std::string_view, 7> kIgnored = {"vn", "vp", "g", "o", "s", "usemtl", "mtllib"};
   return std::find(kIgnored.begin(), kIgnored.end(), keyword) != kIgnored.end();
 }
 
-void parseObjLine(std::string_view line, double scale, int number, RawMesh& raw, std::vector<std::string_view>& tokens,
-                  std::vector<int>& polygon) {
+void parseObjLine(std::string_view line, double scale, int number, RawMesh& raw, ObjState& state) {
   line = line.substr(0, line.find('#'));
-  splitTokens(line, tokens);
+  splitTokens(line, state.tokens);
+  const auto& tokens = state.tokens;
   if (tokens.empty() || ignoredStatement(tokens[0])) return;
   if (tokens[0] == "v") return parseVertex(tokens, scale, number, raw);
-  if (tokens[0] == "f") return parseFace(tokens, number, raw, polygon);
+  if (tokens[0] == "vt") return parseTexCoord(tokens, number, raw);
+  if (tokens[0] == "f") return parseFace(number, raw, state);
   fail(raw.at(number) + "unsupported OBJ statement '" + std::string(tokens[0]) + "'");
 }
 
@@ -97,6 +138,12 @@ void checkIndexRange(const RawMesh& raw) {
       if (v >= n)
         fail(raw.faceAt(static_cast<int>(t)) + "face index " + std::to_string(v + 1) + " out of range (" +
              std::to_string(n) + " vertices)");
+  const int nt = static_cast<int>(raw.texcoords.size());
+  for (size_t t = 0; t < raw.triangle_texcoords.size(); ++t)
+    for (int i : raw.triangle_texcoords[t])
+      if (i >= nt)
+        fail(raw.faceAt(static_cast<int>(t)) + "texture coordinate index " + std::to_string(i + 1) + " out of range (" +
+             std::to_string(nt) + " texture coordinates)");
 }
 
 RawMesh readObj(const std::filesystem::path& path, double scale) {
@@ -105,12 +152,29 @@ RawMesh readObj(const std::filesystem::path& path, double scale) {
   RawMesh raw;
   raw.file = path.string();
   std::string line;
-  std::vector<std::string_view> tokens;
-  std::vector<int> polygon;
-  for (int number = 1; std::getline(in, line); ++number) parseObjLine(line, scale, number, raw, tokens, polygon);
+  ObjState state;
+  for (int number = 1; std::getline(in, line); ++number) parseObjLine(line, scale, number, raw, state);
   if (in.bad()) fail(raw.file + ": read error");
+  if (!state.all_textured) raw.triangle_texcoords.clear();  // some face gave none: the mesh has none
   checkIndexRange(raw);
   return raw;
+}
+
+// Each face's corners (built from raw.triangles in order: face t is FaceHandle t) take their coordinates.
+void setTexCoords(const RawMesh& raw, SurfaceMesh& surface) {
+  surface.addTexCoords();
+  TriMesh& mesh = surface.mesh();
+  for (size_t t = 0; t < raw.triangles.size(); ++t) {
+    const FaceHandle f(static_cast<int>(t));
+    for (const auto h : mesh.fh_range(f)) {
+      const int v = mesh.to_vertex_handle(h).idx();
+      for (size_t c = 0; c < 3; ++c)
+        if (raw.triangles[t][c] == v) {
+          const Eigen::Vector2d& uv = raw.texcoords[static_cast<size_t>(raw.triangle_texcoords[t][c])];
+          mesh.property(surface.texCoordProperty(), h) = OpenMesh::Vec2d(uv.x(), uv.y());
+        }
+    }
+  }
 }
 
 SurfaceMesh buildMesh(const RawMesh& raw) {
@@ -123,6 +187,7 @@ SurfaceMesh buildMesh(const RawMesh& raw) {
     const FaceHandle f = mesh.add_face(VertexHandle(a), VertexHandle(b), VertexHandle(c));
     if (!f.is_valid()) fail(raw.faceAt(static_cast<int>(t)) + "OpenMesh rejected face " + std::to_string(t));
   }
+  if (!raw.triangle_texcoords.empty()) setTexCoords(raw, surface);
   mesh.update_normals();
   return surface;
 }
@@ -167,16 +232,52 @@ void writeFaceVertices(core::AtomicFile& out, const TriMesh& mesh, FaceHandle f,
 // The OBJ groups, in file order: tissue (original and split faces), then wall.
 enum class ObjGroup { Tissue, Wall };
 
-void writeObjGroup(core::AtomicFile& out, const SurfaceMesh& surface, const std::vector<int>& index, ObjGroup group) {
+bool inGroup(const SurfaceMesh& surface, FaceHandle f, ObjGroup group) {
+  return (surface.kind(f) == FaceKind::Wall) == (group == ObjGroup::Wall);
+}
+
+// The distinct corner texture coordinates in the order the written faces first use them, and each
+// halfedge's index among them (-1: no face, or a face not written).
+struct ObjTexCoords {
+  std::vector<OpenMesh::Vec2d> values;
+  std::vector<int> of_halfedge;
+};
+
+ObjTexCoords objTexCoords(const SurfaceMesh& surface) {
   const TriMesh& mesh = surface.mesh();
-  const bool wall = group == ObjGroup::Wall;
+  ObjTexCoords result;
+  result.of_halfedge.assign(mesh.n_halfedges(), -1);
+  std::map<std::pair<double, double>, int> seen;
+  for (const ObjGroup group : {ObjGroup::Tissue, ObjGroup::Wall})
+    for (const FaceHandle f : mesh.faces()) {
+      if (!inGroup(surface, f, group)) continue;
+      for (const auto h : mesh.fh_range(f)) {
+        const OpenMesh::Vec2d& uv = mesh.property(surface.texCoordProperty(), h);
+        const auto [it, added] = seen.try_emplace({uv[0], uv[1]}, static_cast<int>(result.values.size()));
+        if (added) result.values.push_back(uv);
+        result.of_halfedge[static_cast<size_t>(h.idx())] = it->second;
+      }
+    }
+  return result;
+}
+
+void writeObjGroup(core::AtomicFile& out, const SurfaceMesh& surface, const std::vector<int>& index,
+                   const ObjTexCoords* texcoords, ObjGroup group) {
+  const TriMesh& mesh = surface.mesh();
   bool header = false;
   for (const FaceHandle f : mesh.faces()) {
-    if ((surface.kind(f) == FaceKind::Wall) != wall) continue;
-    if (!header) out << (wall ? "g wall\n" : "g tissue\n");
+    if (!inGroup(surface, f, group)) continue;
+    if (!header) out << (group == ObjGroup::Wall ? "g wall\n" : "g tissue\n");
     header = true;
     out << 'f';
-    writeFaceVertices(out, mesh, f, index, 1);
+    if (texcoords == nullptr) {
+      writeFaceVertices(out, mesh, f, index, 1);
+    } else {
+      // Corner by corner from the face's halfedge, as faceCorners and fv_range go.
+      for (const auto h : mesh.fh_range(f))
+        out << ' ' << index[static_cast<size_t>(mesh.to_vertex_handle(h).idx())] + 1 << '/'
+            << texcoords->of_halfedge[static_cast<size_t>(h.idx())] + 1;
+    }
     out << '\n';
   }
 }
@@ -188,12 +289,13 @@ void writePoint(core::AtomicFile& out, const OpenMesh::Vec3d& p) {
   }
 }
 
-void writePlyHeader(core::AtomicFile& out, const TriMesh& mesh) {
+void writePlyHeader(core::AtomicFile& out, const TriMesh& mesh, bool texcoords) {
   out << "ply\nformat ascii 1.0\ncomment incise surface mesh; vertex kind 0 original, 1 seam, 2 wall; "
          "face kind 0 original, 1 split, 2 wall\nelement vertex "
       << countOf(mesh.vertices())
       << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar kind\nelement face "
-      << countOf(mesh.faces()) << "\nproperty list uchar int vertex_indices\nproperty uchar kind\nend_header\n";
+      << countOf(mesh.faces()) << "\nproperty list uchar int vertex_indices\nproperty uchar kind\n"
+      << (texcoords ? "property list uchar double texcoord\n" : "") << "end_header\n";
 }
 
 }  // namespace
@@ -217,8 +319,18 @@ void saveObj(const SurfaceMesh& surface, const std::filesystem::path& path) {
       writePoint(out, mesh.point(v));
       out << '\n';
     }
-    writeObjGroup(out, surface, index, ObjGroup::Tissue);
-    writeObjGroup(out, surface, index, ObjGroup::Wall);
+    std::optional<ObjTexCoords> texcoords;
+    if (surface.hasTexCoords()) texcoords = objTexCoords(surface);
+    if (texcoords)
+      for (const OpenMesh::Vec2d& uv : texcoords->values) {
+        out << "vt ";
+        out.number17(uv[0]);
+        out << ' ';
+        out.number17(uv[1]);
+        out << '\n';
+      }
+    writeObjGroup(out, surface, index, texcoords ? &*texcoords : nullptr, ObjGroup::Tissue);
+    writeObjGroup(out, surface, index, texcoords ? &*texcoords : nullptr, ObjGroup::Wall);
     out.commit();
   });
 }
@@ -228,7 +340,7 @@ void savePly(const SurfaceMesh& surface, const std::filesystem::path& path) {
   const std::vector<int> index = compactVertices(mesh, path);
   core::rethrowFileErrorAs<MeshError>([&] {
     core::AtomicFile out(path);
-    writePlyHeader(out, mesh);
+    writePlyHeader(out, mesh, surface.hasTexCoords());
     for (const VertexHandle v : mesh.vertices()) {
       writePoint(out, mesh.point(v));
       out << ' ' << static_cast<int>(surface.kind(v)) << '\n';
@@ -236,7 +348,18 @@ void savePly(const SurfaceMesh& surface, const std::filesystem::path& path) {
     for (const FaceHandle f : mesh.faces()) {
       out << static_cast<long long>(mesh.valence(f));
       writeFaceVertices(out, mesh, f, index, 0);
-      out << ' ' << static_cast<int>(surface.kind(f)) << '\n';
+      out << ' ' << static_cast<int>(surface.kind(f));
+      if (surface.hasTexCoords()) {
+        out << ' ' << 2 * static_cast<long long>(mesh.valence(f));
+        for (const auto h : mesh.fh_range(f)) {  // the corners in fv_range's order, as the indices
+          const OpenMesh::Vec2d& uv = mesh.property(surface.texCoordProperty(), h);
+          out << ' ';
+          out.number17(uv[0]);
+          out << ' ';
+          out.number17(uv[1]);
+        }
+      }
+      out << '\n';
     }
     out.commit();
   });

@@ -1,7 +1,9 @@
 // The PLY reader (surface_mesh_internal.h): ascii, binary_little_endian and binary_big_endian 1.0. The
 // vertex element's x, y, z (any numeric type) and the face element's list "vertex_indices" (or
-// "vertex_index"; any integer count and index types) are read; every other property (normals, colours,
-// kinds) and element (edges, materials) is read past and ignored. Polygons become fans from their first
+// "vertex_index"; any integer count and index types) are read, and texture coordinates: per face corner
+// from the face's list "texcoord" (MeshLab's: u v per corner, in the index list's order), else per vertex
+// from its "s" "t", "texture_u" "texture_v" or "u" "v"; every other property (normals, colours, kinds) and
+// element (edges, materials) is read past and ignored. Polygons become fans from their first
 // vertex. Errors name file:line in the header and in ascii data, the byte offset in binary data.
 // Bounded: a binary element count is checked against the bytes left before anything is read.
 #include <algorithm>
@@ -254,19 +256,34 @@ struct Target {
   long long vertices = 0;  // declared, for the face indices
   double scale = 1.0;
   std::vector<int> polygon;
+  std::vector<double> corner_texcoords;  // a face's "texcoord" list
+  bool has_corner_texcoords = false;     // the face element has one
 };
+
+// Which texture coordinate a vertex property holds: 0 (u), 1 (v) or -1 (none).
+int texCoordAxis(const std::string& name) {
+  if (name == "s" || name == "texture_u" || name == "u") return 0;
+  if (name == "t" || name == "texture_v" || name == "v") return 1;
+  return -1;
+}
 
 void readList(const RawMesh& raw, Values& values, const Property& p, const std::string& what, Target& target) {
   const double n = values.next(p.count_type, what);
   if (n < 0)
     fail(raw.at(values.where()) + what + ": negative list length " + std::to_string(static_cast<long long>(n)));
   const bool indices = target.face && isIndexList(p);
+  const bool texcoords = target.face && p.name == "texcoord";
   if (indices && n < 3)
     fail(raw.at(values.where()) + what + " has " + std::to_string(static_cast<long long>(n)) +
          " vertices (at least 3)");
   if (indices) target.polygon.clear();
+  if (texcoords) target.corner_texcoords.clear(), target.has_corner_texcoords = true;
   for (double j = 0; j < n; ++j) {
     const double v = values.next(p.type, what);
+    if (texcoords) {
+      if (!std::isfinite(v)) fail(raw.at(values.where()) + what + " has a non-finite texture coordinate");
+      target.corner_texcoords.push_back(v);
+    }
     if (!indices) continue;
     if (v < 0 || v >= static_cast<double>(target.vertices))
       fail(raw.at(values.where()) + what + " has index " + std::to_string(static_cast<long long>(v)) +
@@ -275,12 +292,29 @@ void readList(const RawMesh& raw, Values& values, const Property& p, const std::
   }
 }
 
+// A face's fan, and its corners' texture coordinates when its "texcoord" list has two per corner.
+// `where` is the face's (as the other readers give it), `end` where its data ended (for the message).
+void addFace(RawMesh& raw, Target& target, const std::string& what, std::int64_t where, std::int64_t end) {
+  raw.addPolygon(target.polygon, where);
+  if (!target.has_corner_texcoords) return;
+  if (target.corner_texcoords.size() != 2 * target.polygon.size())
+    fail(raw.at(end) + what + " has " + std::to_string(target.corner_texcoords.size()) + " texture coordinates for " +
+         std::to_string(target.polygon.size()) + " corners (2 each)");
+  std::vector<int> corners;
+  for (size_t c = 0; c < target.polygon.size(); ++c) {
+    corners.push_back(static_cast<int>(raw.corner_texcoords.size()));
+    raw.corner_texcoords.emplace_back(target.corner_texcoords[2 * c], target.corner_texcoords[2 * c + 1]);
+  }
+  raw.addPolygonTexCoords(corners);
+}
+
 void readElement(RawMesh& raw, Values& values, const Element& e, Target& target) {
   if (e.properties.empty()) return;  // nothing to read, however many
   for (long long i = 0; i < e.count; ++i) {
     const std::int64_t where = values.where();
     const std::string what = e.name + " " + std::to_string(i);
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    Eigen::Vector2d uv = Eigen::Vector2d::Zero();
     for (const Property& prop : e.properties) {
       if (prop.count_type.bytes > 0) {
         readList(raw, values, prop, what, target);
@@ -289,13 +323,32 @@ void readElement(RawMesh& raw, Values& values, const Element& e, Target& target)
       const double v = values.next(prop.type, what);
       if (target.vertex && prop.name.size() == 1 && prop.name[0] >= 'x' && prop.name[0] <= 'z')
         p[prop.name[0] - 'x'] = v;
+      if (target.vertex && texCoordAxis(prop.name) >= 0) uv[texCoordAxis(prop.name)] = v;
     }
     if (target.vertex) {
       if (!p.allFinite()) fail(raw.at(where) + what + " has a non-finite coordinate");
+      if (!uv.allFinite()) fail(raw.at(where) + what + " has a non-finite texture coordinate");
       raw.addPoint(p, target.scale, where);
+      raw.texcoords.push_back(uv);
     }
-    if (target.face) raw.addPolygon(target.polygon, where);
+    if (target.face) addFace(raw, target, what, where, values.where());
   }
+}
+
+// Per-vertex coordinates (the vertex element has both axes) when no face gave its corners'.
+void vertexTexCoords(RawMesh& raw, const Element& vertex) {
+  const auto has = [&](int axis) {
+    return std::any_of(vertex.properties.begin(), vertex.properties.end(),
+                       [&](const Property& p) { return p.count_type.bytes == 0 && texCoordAxis(p.name) == axis; });
+  };
+  if (!raw.triangle_texcoords.empty()) {
+    raw.texcoords = std::move(raw.corner_texcoords);
+  } else if (has(0) && has(1)) {
+    raw.triangle_texcoords = raw.triangles;
+  } else {
+    raw.texcoords.clear();
+  }
+  raw.corner_texcoords.clear();
 }
 
 }  // namespace
@@ -311,10 +364,13 @@ RawMesh readPly(const std::filesystem::path& path, double scale) {
   long long vertices = 0;
   for (const Element& e : header.elements)
     if (e.name == "vertex") vertices = e.count;
+  const Element* vertex = nullptr;
   for (const Element& e : header.elements) {
-    Target target{e.name == "vertex", e.name == "face", vertices, scale, {}};
+    Target target{e.name == "vertex", e.name == "face", vertices, scale, {}, {}, false};
     readElement(raw, values, e, target);
+    if (e.name == "vertex") vertex = &e;
   }
+  if (vertex != nullptr) vertexTexCoords(raw, *vertex);
   return raw;
 }
 

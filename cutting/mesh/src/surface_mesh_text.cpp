@@ -92,4 +92,9 @@ void RawMesh::addPolygon(const std::vector<int>& polygon, std::int64_t where) {
   }
 }
 
+void RawMesh::addPolygonTexCoords(const std::vector<int>& polygon_texcoords) {
+  for (size_t k = 2; k < polygon_texcoords.size(); ++k)
+    triangle_texcoords.push_back({polygon_texcoords[0], polygon_texcoords[k - 1], polygon_texcoords[k]});
+}
+
 }  // namespace incise::mesh::detail

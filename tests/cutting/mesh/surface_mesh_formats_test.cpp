@@ -386,3 +386,70 @@ TEST_CASE("surface_mesh: truncated and corrupted files of every format throw Mes
 
 }  // namespace
 }  // namespace incise::mesh
+
+namespace incise::mesh {
+namespace {
+
+// The cube as ASCII PLY with texture coordinates: per vertex (`s t`: u = x + 2 z, v = y) or per corner (a
+// face "texcoord" list, each quad on its own unit square at (10 q, 0)).
+std::string texturedPly(bool per_corner) {
+  std::string s = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n";
+  if (!per_corner) s += "property float s\nproperty float t\n";
+  s += "element face 6\nproperty list uchar int vertex_indices\n";
+  if (per_corner) s += "property list uchar float texcoord\n";
+  s += "end_header\n";
+  for (int v = 0; v < 8; ++v) {
+    const auto& c = kCorners[static_cast<size_t>(v)];
+    // Appended, not " " + ...: GCC 12 -Wrestrict, PR 105651.
+    const std::string st =
+        std::string(" ").append(std::to_string(c[0] + 2 * c[2])).append(" ").append(std::to_string(c[1]));
+    s += cornerLine(v, per_corner ? "" : st);
+  }
+  const char* square = " 8 0 0 1 0 1 1 0 1";
+  for (int q = 0; q < 6; ++q) {
+    std::string extra;
+    if (per_corner) {
+      extra = square;
+      extra.replace(3, 1, std::to_string(10 * q));  // the first corner's u
+    }
+    s += quadLine(q, "4", extra);
+  }
+  return s;
+}
+
+TEST_CASE("surface_mesh: PLY texture coordinates per vertex (s t) and per corner (texcoord) load and save",
+          "[cutting]") {
+  TempDir dir;
+  const SurfaceMesh by_vertex = loadSurfaceMesh(dir.write("st.ply", texturedPly(false)));
+  REQUIRE(by_vertex.hasTexCoords());
+  for (const auto f : by_vertex.mesh().faces()) {
+    const FaceCorners c = faceCorners(by_vertex, f);
+    for (size_t i = 0; i < 3; ++i) {
+      const auto p = by_vertex.mesh().point(c.vertex[i]);
+      CHECK(c.uv[i] == Eigen::Vector2d(p[0] + 2 * p[2], p[1]));
+    }
+  }
+  const SurfaceMesh by_corner = loadSurfaceMesh(dir.write("texcoord.ply", texturedPly(true)));
+  REQUIRE(by_corner.hasTexCoords());
+  // Quad 0 (0 3 2 1) fans to (0 3 2), (0 2 1): its first triangle's corners (0,0), (1,0), (1,1) in file order.
+  const FaceCorners first = faceCorners(by_corner, TriMesh::FaceHandle(0));
+  CHECK(first.at(TriMesh::VertexHandle(0)) == Eigen::Vector2d(0, 0));
+  CHECK(first.at(TriMesh::VertexHandle(3)) == Eigen::Vector2d(1, 0));
+  CHECK(first.at(TriMesh::VertexHandle(2)) == Eigen::Vector2d(1, 1));
+  // Saved with a per-corner list and read back the same, corner by corner.
+  savePly(by_corner, dir.path() / "out.ply");
+  const SurfaceMesh again = loadSurfaceMesh(dir.path() / "out.ply");
+  REQUIRE(again.hasTexCoords());
+  for (const auto f : by_corner.mesh().faces()) {
+    const FaceCorners a = faceCorners(by_corner, f), b = faceCorners(again, f);
+    for (size_t i = 0; i < 3; ++i) CHECK(b.at(a.vertex[i]) == a.uv[i]);
+  }
+  // A list of the wrong length is refused with the line.
+  std::string bad = texturedPly(true);
+  bad.replace(bad.find(" 8 0 0 1 0 1 1 0 1"), 18, " 6 0 0 1 0 1 1");
+  CHECK_THAT(loadError(dir.write("bad.ply", bad)),
+             Catch::Matchers::Contains("bad.ply:19: face 0 has 6 texture coordinates for 4 corners (2 each)"));
+}
+
+}  // namespace
+}  // namespace incise::mesh

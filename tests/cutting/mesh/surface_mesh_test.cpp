@@ -1,6 +1,6 @@
 // Tests for cutting/mesh/src/surface_mesh.cpp, surface_mesh_io.cpp and surface_mesh_check.cpp: OBJ loading and
-// its error messages, the closed-two-manifold check, OBJ/PLY saving, kinds, the JSON summary and Loop
-// subdivision of the bunny.
+// its error messages, the closed-two-manifold check, OBJ/PLY saving, kinds, the JSON summary, Loop
+// subdivision of the bunny, and texture coordinates (read, written, subdivided).
 #include "incise/mesh/surface_mesh.h"
 #include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
@@ -574,3 +574,151 @@ TEST_CASE("surface_mesh: summarize counts the pairs of faces that cross", "[cutt
 
 }  // namespace
 }  // namespace incise::mesh
+
+// ---------------------------------------------------------------------------------------------------------
+// Texture coordinates
+
+// A unit cube of 8 vertices and 6 quads, each quad mapped onto its own rectangle of a 3 x 2 atlas: every cube
+// vertex has three texture coordinates (one per face around it), every cube edge is a texture seam.
+std::string texturedCubeObj() {
+  std::ostringstream obj;
+  obj.precision(17);
+  obj << "mtllib cube.mtl\nusemtl skin\n";
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) obj << "v " << x << ' ' << y << ' ' << z << '\n';
+  const int quads[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+  for (int f = 0; f < 6; ++f) {  // a 0.25 x 0.375 rectangle each, apart from the others
+    const double u0 = (f % 3) / 3.0, v0 = (f / 3) / 2.0;
+    obj << "vt " << u0 << ' ' << v0 << "\nvt " << u0 + 0.25 << ' ' << v0 << "\nvt " << u0 + 0.25 << ' ' << v0 + 0.375
+        << "\nvt " << u0 << ' ' << v0 + 0.375 << '\n';
+  }
+  for (int f = 0; f < 6; ++f) {
+    obj << 'f';
+    for (int k = 0; k < 4; ++k) obj << ' ' << quads[f][k] << '/' << 4 * f + k + 1 << "/1";
+    obj << '\n';
+  }
+  return obj.str();
+}
+
+SurfaceMesh loadText(const TempDir& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir.path() / name) << text;
+  return loadSurfaceMesh(dir.path() / name);
+}
+
+// The distinct texture coordinates of each vertex's corners.
+std::vector<std::vector<Eigen::Vector2d>> coordinatesAt(const SurfaceMesh& s) {
+  std::vector<std::vector<Eigen::Vector2d>> at(s.mesh().n_vertices());
+  for (const auto f : s.mesh().faces())
+    for (const auto h : s.mesh().fh_range(f)) {
+      auto& list = at[static_cast<size_t>(s.mesh().to_vertex_handle(h).idx())];
+      const Eigen::Vector2d uv = s.texCoord(h);
+      if (std::none_of(list.begin(), list.end(), [&](const Eigen::Vector2d& o) { return (o - uv).norm() < 1e-12; }))
+        list.push_back(uv);
+    }
+  return at;
+}
+
+// The sum of the faces' signed areas in texture space.
+double textureArea(const SurfaceMesh& s) {
+  double area = 0.0;
+  for (const auto f : s.mesh().faces()) {
+    const FaceCorners c = faceCorners(s, f);
+    const Eigen::Vector2d a = c.uv[1] - c.uv[0], b = c.uv[2] - c.uv[0];
+    area += 0.5 * (a.x() * b.y() - a.y() * b.x());
+  }
+  return area;
+}
+
+TEST_CASE("surface_mesh: an OBJ's texture coordinates are read per corner, seams kept, and written back", "[cutting]") {
+  const TempDir dir;
+  const SurfaceMesh cube = loadText(dir, "cube.obj", texturedCubeObj());
+  REQUIRE(cube.hasTexCoords());
+  REQUIRE(cube.mesh().n_faces() == 12);
+  // Each cube vertex lies on three faces of the atlas: three coordinates, one per quad around it.
+  for (const auto& list : coordinatesAt(cube)) CHECK(list.size() == 3);
+  CHECK(textureArea(cube) == Approx(6 * 0.25 * 0.375));  // the atlas's six rectangles, counter-clockwise
+  // Quad 1 (v 1 3 4 2 with vt 1..4): vertex 4 (index 3) has vt 3 = (0.25, 0.375) in its faces.
+  bool found = false;
+  for (const auto f : cube.mesh().faces()) {
+    const FaceCorners c = faceCorners(cube, f);
+    if (c.at(TriMesh::VertexHandle(0)) && c.at(TriMesh::VertexHandle(2)) && c.at(TriMesh::VertexHandle(3)) &&
+        (*c.at(TriMesh::VertexHandle(0)) - Eigen::Vector2d(0, 0)).norm() < 1e-12) {
+      found = true;
+      CHECK((*c.at(TriMesh::VertexHandle(3)) - Eigen::Vector2d(0.25, 0.375)).norm() < 1e-12);
+    }
+  }
+  CHECK(found);
+
+  saveObj(cube, dir.path() / "out.obj");
+  const std::string text = readFile(dir.path() / "out.obj");
+  CHECK(std::count(text.begin(), text.end(), '/') == 36);  // every corner of the 12 faces as v/vt
+  CHECK(text.find("\nvt ") != std::string::npos);
+  const SurfaceMesh again = loadSurfaceMesh(dir.path() / "out.obj");
+  REQUIRE(again.hasTexCoords());
+  for (const auto f : cube.mesh().faces()) {
+    const FaceCorners a = faceCorners(cube, f), b = faceCorners(again, f);
+    for (size_t i = 0; i < 3; ++i) CHECK(b.at(a.vertex[i]) == a.uv[i]);  // bit for bit (%.17g)
+  }
+  saveObj(again, dir.path() / "again.obj");
+  CHECK(readFile(dir.path() / "again.obj") == text);
+}
+
+TEST_CASE("surface_mesh: a mesh without texture coordinates has none and is written as before", "[cutting]") {
+  const TempDir dir;
+  const SurfaceMesh tet = loadText(dir, "tet.obj", kTet);
+  CHECK_FALSE(tet.hasTexCoords());
+  CHECK_THROWS_AS(tet.texCoord(TriMesh::HalfedgeHandle(0)), std::logic_error);
+  saveObj(tet, dir.path() / "out.obj");
+  const std::string text = readFile(dir.path() / "out.obj");
+  CHECK(text.find("vt") == std::string::npos);
+  CHECK(text.find('/') == std::string::npos);
+}
+
+TEST_CASE("surface_mesh: texture coordinates out of range are refused with file:line, partial ones dropped",
+          "[cutting]") {
+  const TempDir dir;
+  const std::string v = kTetVertices + "vt 0 0\nvt 1 0\nvt 0 1\n";  // vt on lines 5..7
+  const std::string faces = "f 1/1 3/2 2/3\nf 1/1 2/2 4/3\nf 1/1 4/2 3/3\n";
+  // A face (or one corner) without: the mesh loads without texture coordinates, as a mesh without vt.
+  std::ofstream(dir.path() / "mixed.obj") << v << faces << "f 2 3 4\n";
+  CHECK_FALSE(loadSurfaceMesh(dir.path() / "mixed.obj").hasTexCoords());
+  std::ofstream(dir.path() / "partial.obj") << v << faces << "f 2/1 3 4/3\n";
+  CHECK_FALSE(loadSurfaceMesh(dir.path() / "partial.obj").hasTexCoords());
+  std::ofstream(dir.path() / "all.obj") << v << faces << "f 2/1 3/2 4/3\n";
+  CHECK(loadSurfaceMesh(dir.path() / "all.obj").hasTexCoords());
+  std::ofstream(dir.path() / "range.obj") << v << "f 1/1 3/2 2/9\n";
+  CHECK_THAT(loadError(dir.path() / "range.obj"),
+             Catch::Matchers::Contains("range.obj:8: texture coordinate index 9 out of range (3 texture coordinates)"));
+  std::ofstream(dir.path() / "word.obj") << v << "f 1/x 3/2 2/3\n";
+  CHECK_THAT(loadError(dir.path() / "word.obj"),
+             Catch::Matchers::Contains("word.obj:8: texture coordinate index '1/x' is not an integer"));
+  std::ofstream(dir.path() / "short.obj") << kTetVertices << "vt 0.5\n";
+  CHECK_THAT(loadError(dir.path() / "short.obj"), Catch::Matchers::Contains("short.obj:5: expected 2 texture"));
+}
+
+TEST_CASE("surface_mesh: subdivision carries texture coordinates linearly and keeps their seams", "[cutting]") {
+  const TempDir dir;
+  const SurfaceMesh cube = loadText(dir, "cube.obj", texturedCubeObj());
+  const SurfaceMesh fine = subdivided(cube, 2);
+  REQUIRE(fine.hasTexCoords());
+  REQUIRE(fine.mesh().n_faces() == 12 * 16);
+  // Midpoint subdivision within each face keeps the texture area exactly, and no face turns over in it.
+  CHECK(textureArea(fine) == Approx(6 * 0.25 * 0.375).epsilon(1e-12));
+  for (const auto f : fine.mesh().faces()) {
+    const FaceCorners c = faceCorners(fine, f);
+    const Eigen::Vector2d a = c.uv[1] - c.uv[0], b = c.uv[2] - c.uv[0];
+    CHECK(a.x() * b.y() - a.y() * b.x() > 0.0);
+  }
+  // The seams: the 8 corners keep 3 coordinates each; a vertex inside a cube edge has 2, inside a face 1.
+  const auto at = coordinatesAt(fine);
+  int on_corners = 0, on_edges = 0, inside = 0;
+  for (size_t v = 0; v < at.size(); ++v) {
+    on_corners += at[v].size() == 3;
+    on_edges += at[v].size() == 2;
+    inside += at[v].size() == 1;
+  }
+  CHECK(on_corners == 8);
+  CHECK(on_edges == 12 * 3);  // three new vertices on each cube edge after two rounds
+  CHECK(inside == 6 * 9);     // each quad a 5 x 5 grid: 9 vertices inside it (its diagonal's 3 among them)
+}

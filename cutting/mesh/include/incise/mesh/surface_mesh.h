@@ -15,8 +15,10 @@
 // handles. Loading, saving and checking allocate: not for the sim thread.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -91,22 +93,52 @@ class SurfaceMesh {
   TriMesh::FaceHandle addFace(TriMesh::VertexHandle v0, TriMesh::VertexHandle v1, TriMesh::VertexHandle v2,
                               FaceKind kind = FaceKind::Original);
 
+  // Texture coordinates, per face corner: a halfedge's is the coordinate of its to-vertex in its face, so a
+  // vertex on a texture seam has one per side. Stored as the OpenMesh halfedge property "incise:texcoord"
+  // (OpenMesh::Vec2d, (u, v) as in OBJ's `vt`), present only on a mesh that has them: a mesh without them
+  // carries nothing and costs nothing. addTexCoords adds the property (every corner (0, 0)); no-op when
+  // present. texCoord/setTexCoord throw std::logic_error on a mesh without them and std::out_of_range for a
+  // bad handle. O(1) (addTexCoords O(halfedges)).
+  bool hasTexCoords() const noexcept { return texcoord_.is_valid(); }
+  void addTexCoords();
+  Eigen::Vector2d texCoord(TriMesh::HalfedgeHandle h) const;
+  void setTexCoord(TriMesh::HalfedgeHandle h, const Eigen::Vector2d& uv);
+  // The property itself, for code that walks many corners (invalid without texture coordinates).
+  OpenMesh::HPropHandleT<OpenMesh::Vec2d> texCoordProperty() const noexcept { return texcoord_; }
+
  private:
   void attachKinds();
 
   TriMesh mesh_;
   OpenMesh::VPropHandleT<VertexKind> vertex_kind_;
   OpenMesh::FPropHandleT<FaceKind> face_kind_;
+  OpenMesh::HPropHandleT<OpenMesh::Vec2d> texcoord_;  // invalid: no texture coordinates
 };
+
+// Wall faces' texture coordinates are metres over this tile (a wall texture repeats every centimetre).
+inline constexpr double kWallTextureTile_m = 0.01;
+
+// The corners of face f as (vertex, texture coordinate) in the face's order (counter-clockwise from the
+// halfedge OpenMesh stores for it). Requires mesh.hasTexCoords(). O(1).
+struct FaceCorners {
+  std::array<TriMesh::VertexHandle, 3> vertex;
+  std::array<Eigen::Vector2d, 3> uv;
+  // The coordinate of v in this face; nullopt if v is not a corner.
+  std::optional<Eigen::Vector2d> at(TriMesh::VertexHandle v) const noexcept;
+};
+FaceCorners faceCorners(const SurfaceMesh& mesh, TriMesh::FaceHandle f);
 
 // Reads a closed, consistently oriented triangle mesh and multiplies positions by `scale` (finite, > 0,
 // else std::invalid_argument). All kinds Original; normals computed.
 // OBJ (by extension, case-insensitive) goes through incise's own parser: `v x y z` (a w or colour after
 // the three coordinates is ignored), `f a b c ...` with `a`, `a/t`, `a//n`, `a/t/n` and negative (relative)
-// indices, polygons fan-triangulated (a b c d -> a b c, a c d), `#` comments; vn vt vp g o s usemtl mtllib
-// ignored; any other statement is an error. Errors name file:line ("bunny.obj:1234: face index 9999 out of
-// range (1839 vertices)", "...: expected 3 coordinates", "...: coordinate 'abc' is not a number",
-// "...: coordinate 'nan' is not finite").
+// indices, polygons fan-triangulated (a b c d -> a b c, a c d), `#` comments; `vt u v [w]` texture
+// coordinates (w ignored): when every face gives one at every corner (`a/t`, `a/t/n`) the mesh has them
+// (hasTexCoords), else (a face or a corner without) it has none; vn vp g o s usemtl mtllib ignored; any
+// other statement is an error. Errors name file:line ("bunny.obj:1234: face index 9999 out of range (1839
+// vertices)", "...: expected 3 coordinates", "...: coordinate 'abc' is not a number", "...: coordinate 'nan'
+// is not finite", "...: texture coordinate index 7 out of range (4 texture coordinates)", "...: expected 2
+// texture coordinates (and an optional w), got 1").
 // The triangle list is then checked before the mesh is built (first failing check reported, in this
 // order): index range; degenerate faces (repeated vertex or exactly zero area); unreferenced vertices;
 // every undirected edge in exactly 2 faces ("non-manifold edge (a, b) shared by 3 faces", then
@@ -121,8 +153,9 @@ class SurfaceMesh {
 // byte 80 (even if the header begins with "solid"), ASCII when the text begins with "solid" and has no NUL
 // byte; exactly equal positions welded (vertices numbered in order of first use). .ply: ascii,
 // binary_little_endian, binary_big_endian; x y z of "vertex" (any numeric type) and the list
-// "vertex_indices" (or "vertex_index") of "face" (any integer types); other properties and elements
-// ignored. Polygons of every format become fans from their first vertex (right for convex polygons).
+// "vertex_indices" (or "vertex_index") of "face" (any integer types); texture coordinates from the face's
+// list "texcoord" (u v per corner), else from the vertex's "s" "t", "texture_u" "texture_v" or "u" "v"
+// (one per vertex: no texture seam); other properties and elements ignored. Polygons of every format become fans from their first vertex (right for convex polygons).
 // Errors name file:line for text ("bad.off:16: face 5 has index 12 but there are 8 vertices"), the byte
 // offset for binary data ("x.ply: byte 463: the file ends inside face 1") or both sizes ("x.stl: binary STL
 // declares 1200 triangles (60084 bytes) but the file has 5000 bytes"). Any input gives a mesh or a
@@ -150,14 +183,17 @@ ManifoldReport checkManifold(const TriMesh& mesh);
 
 // Writes non-deleted vertices as `v x y z` (%.17g, which round-trips exactly; locale-independent), then
 // faces as `f a b c` (1-based, re-indexed past deleted vertices) in two groups: `g tissue` (Original and
-// Split faces) and `g wall` (Wall faces); an empty group is left out. Kinds are not stored otherwise (use
+// Split faces) and `g wall` (Wall faces); an empty group is left out. A mesh with texture coordinates gets
+// `vt u v` lines (each distinct corner coordinate once, in the order faces first use it) and faces
+// `f a/t b/t c/t`. Kinds are not stored otherwise (use
 // savePly). Writes path + ".tmp", then renames it to path: nothing half-written on failure. Same mesh ->
 // same bytes. Throws MeshError naming the path on I/O failure (the .tmp is removed) or for a non-finite
 // vertex position (nothing written). Cost O(V + F).
 void saveObj(const SurfaceMesh& mesh, const std::filesystem::path& path);
 
 // ASCII PLY: `element vertex` with double x y z and `uchar kind` (0 original, 1 seam, 2 wall), `element
-// face` with `list uchar int vertex_indices` (0-based) and `uchar kind` (0 original, 1 split, 2 wall).
+// face` with `list uchar int vertex_indices` (0-based) and `uchar kind` (0 original, 1 split, 2 wall), and
+// with texture coordinates `list uchar double texcoord` (u v per corner, in the indices' order: MeshLab's).
 // Deleted elements skipped and re-indexed. Same atomic write, determinism and failures as saveObj.
 void savePly(const SurfaceMesh& mesh, const std::filesystem::path& path);
 
@@ -188,7 +224,10 @@ std::string toJson(const MeshSummary& summary);
 // garbage-collected first; kinds and other custom properties of the input are not carried meaningfully.
 // Throws std::invalid_argument for iterations < 0. Cost O(F * 4^iterations) time and memory.
 TriMesh subdivideLoop(const TriMesh& mesh, int iterations);
-// The same on a SurfaceMesh; every element of the result is Original.
+// The same on a SurfaceMesh; every element of the result is Original. Texture coordinates, when the mesh
+// has them, are subdivided linearly within each face (a new edge vertex takes the mean of its edge's two
+// corners on each side, so a texture seam stays a seam; the positions are smoothed, the coordinates not, as
+// modelling tools do with UV smoothing off).
 SurfaceMesh subdivided(const SurfaceMesh& mesh, int iterations);
 
 // Deletes the triangle f as OpenMesh's PolyConnectivity::delete_face(f, false) does (OpenMesh 9.0,
