@@ -23,6 +23,7 @@ using detail::VH;
 
 SurfaceCutter::SurfaceCutter(mesh::SurfaceMesh& mesh, const CutterOptions& options)
     : mesh_(mesh), options_(options), grid_(1.0), coarse_grid_(1.0) {
+  textured_ = mesh.hasTexCoords();
   if (options.max_inversions_per_call < 0)
     throw std::invalid_argument("SurfaceCutter: max_inversions_per_call = " +
                                 std::to_string(options.max_inversions_per_call) + " must be >= 0");

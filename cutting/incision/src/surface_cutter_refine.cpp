@@ -161,8 +161,10 @@ VH SurfaceCutter::bisect(EH e, CutStep& step) {
   const Eigen::Vector3d p = refinedPoint(m.halfedge_handle(e, 0));
   const VH v = mesh_.addVertex(p, mesh::VertexKind::Original);
   adoptParents(e);
+  const SplitCorners before = splitCorners(e);
   m.split_copy(e, v);  // the new faces take their split faces' kinds (Original or an earlier cut's Split) and
                        // rest parents
+  cornersAfterSplit(v, 0.5, before);
   grid_.insert(v.idx(), p);
   m.property(coarse_, v) = 0;
   updateCoarseAround(v);  // the halved edge's ends, the new vertex and the faces' far corners

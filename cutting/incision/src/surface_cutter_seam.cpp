@@ -102,7 +102,8 @@ bool SurfaceCutter::flipSliver(VH p, mesh::TriMesh::HalfedgeHandle ab) {
   const auto ba = m.opposite_halfedge_handle(ab);
   if (m.is_boundary(ab) || m.is_boundary(ba)) return false;
   const FH f = m.face_handle(ab), g = m.face_handle(ba);
-  if (mesh_.kind(f) == mesh::FaceKind::Wall || mesh_.kind(g) == mesh::FaceKind::Wall) return false;
+  if (mesh_.kind(f) == mesh::FaceKind::Wall || mesh_.kind(g) == mesh::FaceKind::Wall || textureSeamAlong(ab))
+    return false;
   const VH a = m.from_vertex_handle(ab), b = m.to_vertex_handle(ab), d = m.to_vertex_handle(m.next_halfedge_handle(ba));
   // d and the off-seam ends of a-b on one side: the new edge p-d ends on the cut and crosses nothing.
   if (!sideVertex(d) || (!sideVertex(a) && !sideVertex(b))) return false;
@@ -120,8 +121,11 @@ bool SurfaceCutter::flipSliver(VH p, mesh::TriMesh::HalfedgeHandle ab) {
   if (q_new <= std::min(q_old, triangleQuality(B, A, D)) || !m.is_flip_ok(m.edge_handle(ab))) return false;
   adoptParent(f);
   adoptParent(g);
+  const std::optional<mesh::FaceCorners> was_f = textured_ ? std::optional(mesh::faceCorners(mesh_, f)) : std::nullopt;
+  const std::optional<mesh::FaceCorners> was_g = textured_ ? std::optional(mesh::faceCorners(mesh_, g)) : std::nullopt;
   m.flip(m.edge_handle(ab));
   afterFlip(f, g);
+  if (textured_) cornersAfterFlip(f, g, *was_f, *was_g);
   for (const FH face : {f, g}) {
     mesh_.setKind(face, mesh::FaceKind::Split);
     faceChanged(face);
@@ -144,7 +148,9 @@ VH SurfaceCutter::splitAtCut(mesh::TriMesh::EdgeHandle e) {
                     mesh_.kind(m.face_handle(m.opposite_halfedge_handle(h))) == mesh::FaceKind::Wall;
   const VH v = addBoundVertex(rest_m, uvw, 0, mesh::VertexKind::Seam);
   adoptParents(e);
+  const SplitCorners before = splitCorners(e);
   m.split_copy(e, v);  // the new faces take their split faces' rest parents (their kinds are set below)
+  cornersAfterSplit(v, lambda, before);
   for (auto f = m.vf_iter(v); f.is_valid(); ++f) {  // the two faces split and the two new ones
     mesh_.setKind(*f, wall ? mesh::FaceKind::Wall : mesh::FaceKind::Split);
     faceChanged(*f);

@@ -56,6 +56,7 @@ bool SurfaceCutter::duplicate(VH c, VH prev, VH next) {
     for (auto v = m.fv_ccwiter(a.face); v.is_valid() && i < 3; ++v) t.v[i++] = *v;
     t.kind = mesh_.kind(a.face);
     t.parent = m.property(rest_parent_, a.face);
+    keepCorners(a.face, t);
     pushReserved(plus_, t);
   }
   for (const Around& a : around_)
@@ -82,6 +83,7 @@ bool SurfaceCutter::duplicate(VH c, VH prev, VH next) {
     mesh_.setKind(m.find_halfedge(t.v[0], t.v[1]).is_valid() ? m.face_handle(m.find_halfedge(t.v[0], t.v[1])) : FH(),
                   t.kind);
     m.property(rest_parent_, added) = t.parent;
+    restoreCorners(added, t);
   }
   if (wall_columns_used_ == wall_columns_.size()) {
     ++stats_.reserve_overflows;
@@ -89,10 +91,8 @@ bool SurfaceCutter::duplicate(VH c, VH prev, VH next) {
   }
   data(c).wall_column = static_cast<int>(wall_columns_used_);
   WallColumn& column = wall_columns_[wall_columns_used_++];
-  column.minus.clear();
-  column.plus.clear();
-  column.minus.push_back(c);
-  column.plus.push_back(c_plus);
+  column.minus.assign(1, c);  // within the room reserved for a column, as push_back after clear
+  column.plus.assign(1, c_plus);
   return true;
 }
 
@@ -166,6 +166,7 @@ bool SurfaceCutter::addStripSide(const std::vector<VH>& a, const std::vector<VH>
       const FH f = mesh_.mesh().add_face(t[0], t[1], t[2]);
       if (!f.is_valid()) return fail("could not add a wall face at seam vertex " + std::to_string(a[0].idx())), false;
       mesh_.setKind(f, mesh::FaceKind::Wall);
+      setWallCorners(f);
       faceChanged(f);
       pushReserved(faces, f);
     }

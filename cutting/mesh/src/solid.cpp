@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <exception>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 
@@ -137,6 +139,46 @@ bool crossesNearCut(const CgalMesh& out, const OriginMap& origin, const PointInd
   return PMP::does_self_intersect(region, out);
 }
 
+// The texture coordinate of p in the triangle of `corners` (its projection's barycentric coordinates).
+Eigen::Vector2d interpolate(const std::array<Eigen::Vector3d, 3>& x, const std::array<Eigen::Vector2d, 3>& uv,
+                            const Eigen::Vector3d& p) {
+  const Eigen::Vector3d e1 = x[1] - x[0], e2 = x[2] - x[0], d = p - x[0];
+  const double a = e1.dot(e1), b = e1.dot(e2), c = e2.dot(e2), s = d.dot(e1), t = d.dot(e2);
+  const double det = a * c - b * b;
+  if (!(std::abs(det) > 0.0)) return uv[0];
+  const double l1 = (c * s - b * t) / det, l2 = (a * t - b * s) / det;
+  return (1.0 - l1 - l2) * uv[0] + l1 * uv[1] + l2 * uv[2];
+}
+
+// A solid face's corners projected on its plane, in metres over the wall's tile.
+std::array<Eigen::Vector2d, 3> planarTexCoords(const std::array<Eigen::Vector3d, 3>& x) {
+  const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]);
+  const Eigen::Vector3d axis = std::abs(n.z()) < 0.9 * n.norm() ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d t1 = n.cross(axis).normalized(), t2 = n.normalized().cross(t1);
+  std::array<Eigen::Vector2d, 3> uv;
+  for (std::size_t i = 0; i < 3; ++i) uv[i] = Eigen::Vector2d(x[i].dot(t1), x[i].dot(t2)) / kWallTextureTile_m;
+  return uv;
+}
+
+// The corners' texture coordinates of an added face (corners c, from `from`: a tissue face or the solid).
+std::array<Eigen::Vector2d, 3> addedTexCoords(const SurfaceMesh& tissue, const SolidDifference& d,
+                                              const std::array<int, 3>& c, int from) {
+  std::array<Eigen::Vector3d, 3> x;
+  for (std::size_t i = 0; i < 3; ++i)
+    x[i] = c[i] < d.vertices_before ? toEigen(tissue.mesh().point(TriMesh::VertexHandle(c[i])))
+                                    : d.added_points_m[static_cast<std::size_t>(c[i] - d.vertices_before)];
+  if (from < 0) return planarTexCoords(x);
+  const FaceCorners corners = faceCorners(tissue, TriMesh::FaceHandle(from));
+  std::array<Eigen::Vector3d, 3> y;
+  for (std::size_t i = 0; i < 3; ++i) y[i] = toEigen(tissue.mesh().point(corners.vertex[i]));
+  std::array<Eigen::Vector2d, 3> uv;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::optional<Eigen::Vector2d> at = corners.at(TriMesh::VertexHandle(c[i]));
+    uv[i] = at ? *at : interpolate(y, corners.uv, x[i]);
+  }
+  return uv;
+}
+
 // `out` (tissue minus solid) as changes to `tissue`: faces of the result that are faces of the tissue, same
 // corners in the same order, are kept; every other tissue face is removed, the result's other faces added.
 void describe(const SurfaceMesh& tissue, const PointIndex& old, const CgalMesh& out, const OriginMap& origin,
@@ -173,6 +215,7 @@ void describe(const SurfaceMesh& tissue, const PointIndex& old, const CgalMesh& 
     const bool wall = from == kFromSolid || (from >= 0 && tissue.kind(TriMesh::FaceHandle(from)) == FaceKind::Wall);
     d.added_faces.push_back(c);
     d.added_kinds.push_back(wall ? FaceKind::Wall : FaceKind::Split);
+    if (tissue.hasTexCoords()) d.added_texcoords.push_back(addedTexCoords(tissue, d, c, from));
     d.touched_vertices.insert(d.touched_vertices.end(), c.begin(), c.end());
   }
   for (const auto f : m.faces()) {
@@ -196,6 +239,12 @@ void apply(SurfaceMesh& tissue, const SolidDifference& d, SubtractResult& result
     const auto made = tissue.addFace(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]),
                                      TriMesh::VertexHandle(c[2]), d.added_kinds[i]);
     if (made.idx() != d.faces_before + static_cast<int>(i)) throw MeshError("a face of the difference was refused");
+    if (tissue.hasTexCoords() && i < d.added_texcoords.size())
+      for (const auto h : m.fh_range(made))
+        for (std::size_t k = 0; k < 3; ++k)
+          if (m.to_vertex_handle(h).idx() == c[k])
+            m.property(tissue.texCoordProperty(), h) =
+                OpenMesh::Vec2d(d.added_texcoords[i][k].x(), d.added_texcoords[i][k].y());
     m.update_normal(made);
   }
   result.faces_added = static_cast<int>(d.added_faces.size());

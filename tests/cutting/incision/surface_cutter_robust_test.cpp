@@ -4,7 +4,7 @@
 // resolutions (a 4 mm one and a coarse icosphere cut through local refinement),
 // a torus and the bunny, with random starts, directions, lengths, bends and depths. After every cut: a
 // closed two-manifold with its Euler characteristic, no two faces crossing, no zero-area or sliver face,
-// no NaN, walls facing out
+// no NaN, a planar texture map exact at every skin corner (in the rest frame), walls facing out
 // of the tissue (the volume drops by the wound, stays positive), the groove as deep as the blade within 5%
 // (below the track, along its normal; not checked near the bunny's thin ears),
 // vertices beyond the lattice's reach bit for bit unchanged, and a groove about as long as the stroke, or
@@ -182,12 +182,33 @@ int& nearThinCases() {
   return cases;
 }
 
+// How far the skin corners' texture coordinates are from the planar map given before the cut, beyond
+// rounding (1e-9): at the rest position of each vertex the incision bound, where any other vertex is (the
+// incision did not move it); with a through-cut, whose pieces interpolate the faces they come from as they
+// are now, where each corner is now, within the wound's opening (its lips moved at most opening_m / 2).
+double planarMapError(const mesh::SurfaceMesh& mesh, const SurfaceCutter& cutter, bool through, double opening_m) {
+  const mesh::TriMesh& m = mesh.mesh();
+  const double tolerance = through ? testing::kPlanarMap.norm() * 0.5 * opening_m + 1e-9 : 1e-9;
+  double worst = 0.0;
+  for (const auto f : m.faces()) {
+    if (mesh.kind(f) == mesh::FaceKind::Wall) continue;
+    const mesh::FaceCorners c = mesh::faceCorners(mesh, f);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const auto b = cutter.binding(c.vertex[i]);
+      const Eigen::Vector3d p = b && !through ? b->rest_m : mesh::toEigen(m.point(c.vertex[i]));
+      worst = std::max(worst, (c.uv[i] - testing::planar(p)).norm() - tolerance);
+    }
+  }
+  return std::max(worst, 0.0);
+}
+
 // Cuts the case's stroke on a copy of its tissue and checks everything the header lists. Returns whether
 // it opened a groove as long as its stroke (no shortfall).
 bool cutAndCheck(const Case& c) {
   INFO(c.what);
   const mesh::SurfaceMesh& original = *c.tissue;
   mesh::SurfaceMesh mesh = original;
+  testing::mapPlanar(mesh);
   const mesh::ManifoldReport before = mesh::checkManifold(original.mesh());
   const double quality_before = minFaceQuality(original), volume_before = signedVolume(original.mesh());
   const Stroke stroke = caseStroke(mesh, c);
@@ -237,6 +258,7 @@ bool cutAndCheck(const Case& c) {
   worstThroughQuality() = std::min(worstThroughQuality(), through_quality);
   REQUIRE(through_quality >= kThroughQuality);
   for (const auto v : mesh.mesh().vertices()) REQUIRE(mesh::toEigen(mesh.mesh().point(v)).allFinite());
+  REQUIRE(planarMapError(mesh, cutter, through.through_samples > 0, c.options.incision.opening_m) == 0.0);
   const double volume_after = signedVolume(mesh.mesh());
   REQUIRE(volume_after > 0.5 * volume_before);
   const IncisionFigures& f = cutter.stats().figures.back();

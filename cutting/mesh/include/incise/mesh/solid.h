@@ -48,9 +48,13 @@ struct SolidDifference {
   std::vector<Eigen::Vector3d> added_points_m;  // vertices added, in order
   std::vector<std::array<int, 3>> added_faces;  // faces added (corners by index, added vertices included)
   std::vector<FaceKind> added_kinds;            // their kinds
-  std::vector<int> touched_vertices;            // corners of removed and added faces, ascending, once each
-  std::vector<Piece> pieces;                    // the result's pieces (mesh::pieces), largest first
-  bool slivers_kept = false;                    // the sliver removal made faces cross: not applied
+  // Their corners' texture coordinates, when the tissue has them (else empty): a piece of a tissue face
+  // interpolates the face's (barycentric, at the point's projection), a face of the solid's boundary takes
+  // the wall's, its corners projected on the face's plane (metres over kWallTextureTile_m).
+  std::vector<std::array<Eigen::Vector2d, 3>> added_texcoords;
+  std::vector<int> touched_vertices;  // corners of removed and added faces, ascending, once each
+  std::vector<Piece> pieces;          // the result's pieces (mesh::pieces), largest first
+  bool slivers_kept = false;          // the sliver removal made faces cross: not applied
 };
 
 // Computes tissue minus the closed solid `solid` (outward oriented) through
