@@ -4,6 +4,8 @@
 // Reports p50 / p99 / max of the time of SurfaceCutter::extend per sample, and the ratio of the larger
 // mesh's p99 to the smaller one's. Targets: p99 <= 300 us; ratio <= 2 (the cost stays local). Also the time
 // to make the cutter (cutter_setup_s: its grids, headroom and the thickness under each vertex).
+// `--textured`: the bunny gets texture coordinates first (a planar map, subdivided with the mesh), so each
+// split, flip and wall face carries them too: run with and without it side by side for their cost.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -68,12 +70,29 @@ nlohmann::json runMesh(const mesh::SurfaceMesh& base, int subdivisions, int budg
   };
 }
 
+// A planar texture map (x and z over 10 cm) on every corner.
+void mapPlanar(mesh::SurfaceMesh& s) {
+  s.addTexCoords();
+  for (const auto h : s.mesh().halfedges()) {
+    if (s.mesh().is_boundary(h)) continue;
+    const auto p = s.mesh().point(s.mesh().to_vertex_handle(h));
+    s.setTexCoord(h, Eigen::Vector2d(p[0] / 0.1 + 0.5, p[2] / 0.1 + 0.5));
+  }
+}
+
 }  // namespace
 
-int main() {
-  const mesh::SurfaceMesh bunny = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
+int main(int argc, char** argv) {
+  const bool textured = argc > 1 && std::string(argv[1]) == "--textured";
+  if (argc > 2 || (argc == 2 && !textured)) {
+    std::fprintf(stderr, "usage: %s [--textured]\n", argv[0]);
+    return 2;
+  }
+  mesh::SurfaceMesh bunny = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
+  if (textured) mapPlanar(bunny);
   nlohmann::json report = {
       {"benchmark", "incision_per_sample"},
+      {"textured", textured},
       {"stroke", "5 cm over the bunny's back, 1 kHz, 5 cm/s, spacing 0.5 mm, order 4"},
       {"threads", 1},
       {"machine", incise::measure::machineInfo()},
