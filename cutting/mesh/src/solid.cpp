@@ -139,7 +139,8 @@ bool crossesNearCut(const CgalMesh& out, const OriginMap& origin, const PointInd
   return PMP::does_self_intersect(region, out);
 }
 
-// The texture coordinate of p in the triangle of `corners` (its projection's barycentric coordinates).
+// The texture coordinate of p in the triangle x with corner coordinates uv (p projected on its plane,
+// barycentric there).
 Eigen::Vector2d interpolate(const std::array<Eigen::Vector3d, 3>& x, const std::array<Eigen::Vector2d, 3>& uv,
                             const Eigen::Vector3d& p) {
   const Eigen::Vector3d e1 = x[1] - x[0], e2 = x[2] - x[0], d = p - x[0];
