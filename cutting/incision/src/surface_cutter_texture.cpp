@@ -1,5 +1,6 @@
-// The surface cutter's texture coordinates (surface_cutter.h, "Texture coordinates"): the corners of the
-// faces that splits, flips, seam duplication and walls make. Only on a mesh that has them (textured_).
+// The surface cutter's texture coordinates and materials (surface_cutter.h, "Texture coordinates"): the
+// corners of the faces that splits, flips, seam duplication and walls make, and the re-attached faces'
+// materials. Only on a mesh that has them.
 #include <cmath>
 
 #include "incise/incision/surface_cutter.h"
@@ -55,10 +56,13 @@ void SurfaceCutter::cornersAfterSplit(VH v, double lambda, const SplitCorners& b
 }
 
 bool SurfaceCutter::textureSeamAlong(mesh::TriMesh::HalfedgeHandle ab) const {
-  if (!textured_) return false;
   const mesh::TriMesh& m = mesh_.mesh();
   const auto ba = m.opposite_halfedge_handle(ab);
   if (m.is_boundary(ab) || m.is_boundary(ba)) return false;
+  if (mesh_.hasMaterials() && m.property(mesh_.materialProperty(), m.face_handle(ab)) !=
+                                  m.property(mesh_.materialProperty(), m.face_handle(ba)))
+    return true;
+  if (!textured_) return false;
   const auto p = mesh_.texCoordProperty();
   // ab's coordinate is b's in ab's face, prev(ab)'s is a's; across the edge the other way round.
   return m.property(p, ab) != m.property(p, m.prev_halfedge_handle(ba)) ||
@@ -76,14 +80,16 @@ void SurfaceCutter::cornersAfterFlip(FH f, FH g, const mesh::FaceCorners& was_f,
 }
 
 void SurfaceCutter::keepCorners(FH f, PlusTriangle& t) const {
+  if (mesh_.hasMaterials()) t.material = mesh_.mesh().property(mesh_.materialProperty(), f);
   if (!textured_) return;
   const mesh::FaceCorners corners = mesh::faceCorners(mesh_, f);
   for (std::size_t k = 0; k < 3; ++k) t.uv[k] = corners.at(t.v[k]).value_or(Eigen::Vector2d::Zero());
 }
 
 void SurfaceCutter::restoreCorners(FH added, const PlusTriangle& t) {
-  if (!textured_) return;
   mesh::TriMesh& m = mesh_.mesh();
+  if (mesh_.hasMaterials()) m.property(mesh_.materialProperty(), added) = t.material;
+  if (!textured_) return;
   for (auto h = m.fh_iter(added); h.is_valid(); ++h)
     for (std::size_t k = 0; k < 3; ++k)
       if (m.to_vertex_handle(*h) == t.v[k]) setCorner(m, mesh_.texCoordProperty(), *h, t.uv[k]);

@@ -217,6 +217,7 @@ void describe(const SurfaceMesh& tissue, const PointIndex& old, const CgalMesh& 
     d.added_faces.push_back(c);
     d.added_kinds.push_back(wall ? FaceKind::Wall : FaceKind::Split);
     if (tissue.hasTexCoords()) d.added_texcoords.push_back(addedTexCoords(tissue, d, c, from));
+    if (tissue.hasMaterials()) d.added_materials.push_back(from >= 0 ? tissue.material(TriMesh::FaceHandle(from)) : 0);
     d.touched_vertices.insert(d.touched_vertices.end(), c.begin(), c.end());
   }
   for (const auto f : m.faces()) {
@@ -240,6 +241,8 @@ void apply(SurfaceMesh& tissue, const SolidDifference& d, SubtractResult& result
     const auto made = tissue.addFace(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]),
                                      TriMesh::VertexHandle(c[2]), d.added_kinds[i]);
     if (made.idx() != d.faces_before + static_cast<int>(i)) throw MeshError("a face of the difference was refused");
+    if (tissue.hasMaterials() && i < d.added_materials.size())
+      m.property(tissue.materialProperty(), made) = d.added_materials[i];
     if (tissue.hasTexCoords() && i < d.added_texcoords.size())
       for (const auto h : m.fh_range(made))
         for (std::size_t k = 0; k < 3; ++k)

@@ -21,6 +21,8 @@ namespace {
 constexpr const char* kVertexKindProperty = "incise:vertex_kind";
 constexpr const char* kFaceKindProperty = "incise:face_kind";
 constexpr const char* kTexCoordProperty = "incise:texcoord";
+constexpr const char* kMaterialsProperty = "incise:materials";
+constexpr const char* kFaceMaterialProperty = "incise:material";
 
 using VertexHandle = TriMesh::VertexHandle;
 using FaceHandle = TriMesh::FaceHandle;
@@ -60,7 +62,11 @@ void SurfaceMesh::attachKinds() {
     mesh_.add_property(vertex_kind_, kVertexKindProperty);
   if (!mesh_.get_property_handle(face_kind_, kFaceKindProperty)) mesh_.add_property(face_kind_, kFaceKindProperty);
   if (!mesh_.get_property_handle(texcoord_, kTexCoordProperty)) texcoord_.reset();
+  if (!mesh_.get_property_handle(materials_, kMaterialsProperty) ||
+      !mesh_.get_property_handle(face_material_, kFaceMaterialProperty))
+    materials_.reset(), face_material_.reset();
 }
+
 
 namespace {
 template <typename Handle>
@@ -89,6 +95,40 @@ FaceKind SurfaceMesh::kind(TriMesh::FaceHandle f) const {
 void SurfaceMesh::setKind(TriMesh::FaceHandle f, FaceKind kind) {
   checkHandle(f, mesh_.n_faces(), "face");
   mesh_.property(face_kind_, f) = kind;
+}
+
+const std::vector<Material>& SurfaceMesh::materials() const noexcept {
+  static const std::vector<Material> kNone;
+  return hasMaterials() ? mesh_.property(materials_) : kNone;
+}
+
+int SurfaceMesh::addMaterial(const Material& material) {
+  if (!hasMaterials()) {
+    mesh_.add_property(materials_, kMaterialsProperty);
+    mesh_.add_property(face_material_, kFaceMaterialProperty);
+    for (const FaceHandle f : mesh_.all_faces()) mesh_.property(face_material_, f) = 0;
+  }
+  std::vector<Material>& list = mesh_.property(materials_);
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i].name == material.name) {
+      if (list[i].statements.empty()) list[i].statements = material.statements;
+      return static_cast<int>(i);
+    }
+  list.push_back(material);
+  return static_cast<int>(list.size()) - 1;
+}
+
+int SurfaceMesh::material(TriMesh::FaceHandle f) const {
+  checkHandle(f, mesh_.n_faces(), "face");
+  return hasMaterials() ? mesh_.property(face_material_, f) : -1;
+}
+
+void SurfaceMesh::setMaterial(TriMesh::FaceHandle f, int index) {
+  checkHandle(f, mesh_.n_faces(), "face");
+  if (!hasMaterials() || index < 0 || index >= static_cast<int>(materials().size()))
+    throw std::out_of_range("SurfaceMesh::setMaterial: material " + std::to_string(index) + " of " +
+                            std::to_string(materials().size()));
+  mesh_.property(face_material_, f) = index;
 }
 
 void SurfaceMesh::addTexCoords() {
@@ -200,9 +240,10 @@ FaceHandle oldFaceOf(const TriMesh& coarse, int a, int b, int third) {
   return FaceHandle();
 }
 
-// One Loop round's texture coordinates: each fine face lies in one coarse face; its corners take the
-// coarse face's coordinates (old vertices) or the mean of an edge's two (edge vertices).
-void subdivideTexCoords(const SurfaceMesh& coarse, SurfaceMesh& fine) {
+// One Loop round's texture coordinates and materials: each fine face lies in one coarse face and takes its
+// material; its corners take the coarse face's coordinates (old vertices) or the mean of an edge's two
+// (edge vertices).
+void subdivideCorners(const SurfaceMesh& coarse, SurfaceMesh& fine) {
   const int old_vertices = static_cast<int>(coarse.mesh().n_vertices());
   const std::vector<std::array<int, 2>> parents = loopParents(fine.mesh(), old_vertices);
   TriMesh& m = fine.mesh();
@@ -213,7 +254,9 @@ void subdivideTexCoords(const SurfaceMesh& coarse, SurfaceMesh& fine) {
         if (p >= 0 && std::find(old.begin(), old.end(), p) == old.end()) old.push_back(p);
     const FaceHandle parent =
         old.size() >= 2 ? oldFaceOf(coarse.mesh(), old[0], old[1], old.size() > 2 ? old[2] : -1) : FaceHandle();
-    if (!parent.is_valid()) continue;  // not a Loop round of this mesh: left (0, 0)
+    if (!parent.is_valid()) continue;  // not a Loop round of this mesh: left as it is
+    if (coarse.hasMaterials()) m.property(fine.materialProperty(), f) = coarse.material(parent);
+    if (!coarse.hasTexCoords()) continue;
     const FaceCorners corners = faceCorners(coarse, parent);
     for (const auto h : m.fh_range(f)) {
       const auto& [a, b] = parents[static_cast<std::size_t>(m.to_vertex_handle(h).idx())];
@@ -227,11 +270,11 @@ void subdivideTexCoords(const SurfaceMesh& coarse, SurfaceMesh& fine) {
 }  // namespace
 
 SurfaceMesh subdivided(const SurfaceMesh& surface, int iterations) {
-  if (surface.hasTexCoords() && iterations > 0) {
+  if ((surface.hasTexCoords() || surface.hasMaterials()) && iterations > 0) {
     SurfaceMesh coarse(subdivideLoop(surface.mesh(), 0));  // garbage-collected: indices as the rounds see them
     for (int round = 0; round < iterations; ++round) {
       SurfaceMesh fine(subdivideLoop(coarse.mesh(), 1));
-      subdivideTexCoords(coarse, fine);
+      subdivideCorners(coarse, fine);
       coarse = std::move(fine);
     }
     return subdivided(coarse, 0);

@@ -34,6 +34,9 @@ struct RawMesh {
   std::vector<Eigen::Vector2d> texcoords;
   std::vector<Triangle> triangle_texcoords;
   std::vector<Eigen::Vector2d> corner_texcoords;  // the PLY reader's per-corner ones, until it chooses
+  // Materials (OBJ usemtl and its MTL files), and per triangle its index into them (empty: none named).
+  std::vector<Material> materials;
+  std::vector<int> triangle_materials;
   bool binary = false;
   int index_base = 1;  // how the file numbers vertices (OBJ 1, OFF and PLY 0), for messages
   std::string vertex_note = " (vertex numbers 1-based, as in the file)";

@@ -11,12 +11,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <string_view>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -77,10 +79,69 @@ std::optional<int> parseTexCoordIndex(std::string_view token, int texcoords_so_f
 
 // What the OBJ reader carries from line to line.
 struct ObjState {
+  std::filesystem::path folder;  // the OBJ's, where its MTL files are
   std::vector<std::string_view> tokens;
   std::vector<int> polygon, polygon_texcoords;
   bool all_textured = true;  // every face so far gave a texture coordinate at every corner
+  int material = -1;         // the last usemtl's, -1 before any
+  bool named_material = false;
 };
+
+// The index of the material called `name` in `materials`, added (with no statements) when new.
+int materialNamed(std::vector<Material>& materials, const std::string& name) {
+  for (std::size_t i = 0; i < materials.size(); ++i)
+    if (materials[i].name == name) return static_cast<int>(i);
+  materials.push_back(Material{name, {}});
+  return static_cast<int>(materials.size()) - 1;
+}
+
+bool isMapStatement(std::string_view keyword) {
+  return keyword.substr(0, 4) == "map_" || keyword == "bump" || keyword == "disp" || keyword == "decal" ||
+         keyword == "refl" || keyword == "norm";
+}
+
+// One MTL statement as written back: its tokens joined by single spaces, a texture map's path (its last
+// token) made absolute against the MTL file's folder.
+std::string mtlStatement(const std::vector<std::string_view>& tokens, const std::filesystem::path& folder) {
+  std::string statement;
+  for (std::size_t k = 0; k < tokens.size(); ++k) {
+    std::string token(tokens[k]);
+    if (k + 1 == tokens.size() && k > 0 && isMapStatement(tokens[0])) {
+      const std::filesystem::path map(token);
+      if (map.is_relative()) token = (folder / map).lexically_normal().string();
+    }
+    if (k > 0) statement += ' ';
+    statement += token;
+  }
+  return statement;
+}
+
+// The materials an MTL file defines, merged into `materials` by name; a file that cannot be opened, is not
+// a regular file (a device, a folder) or is over kMaxMtlBytes adds nothing (the OBJ still loads, its
+// materials named only).
+constexpr std::uintmax_t kMaxMtlBytes = 16u << 20;
+
+void readMtl(const std::filesystem::path& path, std::vector<Material>& materials) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error) || std::filesystem::file_size(path, error) > kMaxMtlBytes ||
+      error)
+    return;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;
+  std::string line;
+  std::vector<std::string_view> tokens;
+  int current = -1;
+  while (std::getline(in, line)) {
+    splitTokens(std::string_view(line).substr(0, line.find('#')), tokens);
+    if (tokens.empty()) continue;
+    if (tokens[0] == "newmtl") {
+      current = tokens.size() > 1 ? materialNamed(materials, std::string(tokens[1])) : -1;
+      if (current >= 0) materials[static_cast<std::size_t>(current)].statements.clear();
+    } else if (current >= 0) {
+      materials[static_cast<std::size_t>(current)].statements.push_back(mtlStatement(tokens, path.parent_path()));
+    }
+  }
+}
 
 void parseVertex(const std::vector<std::string_view>& tokens, double scale, int line, RawMesh& raw) {
   const std::string where = raw.at(line);
@@ -113,10 +174,33 @@ void parseFace(int line, RawMesh& raw, ObjState& state) {
   raw.addPolygon(state.polygon, line);
   state.all_textured = state.all_textured && state.polygon_texcoords.size() == state.polygon.size();
   if (state.all_textured) raw.addPolygonTexCoords(state.polygon_texcoords);
+  raw.triangle_materials.insert(raw.triangle_materials.end(), state.polygon.size() - 2, state.material);
+}
+
+// `mtllib a.mtl b.mtl`: each file's materials; `usemtl name`: the material of the faces that follow.
+void parseMaterialStatement(RawMesh& raw, ObjState& state) {
+  const auto& tokens = state.tokens;
+  if (tokens[0] == "mtllib") {
+    for (std::size_t k = 1; k < tokens.size(); ++k) readMtl(state.folder / std::string(tokens[k]), raw.materials);
+  } else if (tokens.size() > 1) {
+    state.material = materialNamed(raw.materials, std::string(tokens[1]));
+    state.named_material = true;
+  }
+}
+
+// After the last line: without a usemtl, no materials; with, the faces before the first get "default".
+void finishMaterials(RawMesh& raw, const ObjState& state) {
+  if (!state.named_material) {
+    raw.materials.clear();
+    raw.triangle_materials.clear();
+    return;
+  }
+  for (int& m : raw.triangle_materials)
+    if (m < 0) m = materialNamed(raw.materials, "default");
 }
 
 bool ignoredStatement(std::string_view keyword) {
-  static constexpr std::array<std::string_view, 7> kIgnored = {"vn", "vp", "g", "o", "s", "usemtl", "mtllib"};
+  static constexpr std::array<std::string_view, 5> kIgnored = {"vn", "vp", "g", "o", "s"};
   return std::find(kIgnored.begin(), kIgnored.end(), keyword) != kIgnored.end();
 }
 
@@ -128,6 +212,7 @@ void parseObjLine(std::string_view line, double scale, int number, RawMesh& raw,
   if (tokens[0] == "v") return parseVertex(tokens, scale, number, raw);
   if (tokens[0] == "vt") return parseTexCoord(tokens, number, raw);
   if (tokens[0] == "f") return parseFace(number, raw, state);
+  if (tokens[0] == "mtllib" || tokens[0] == "usemtl") return parseMaterialStatement(raw, state);
   fail(raw.at(number) + "unsupported OBJ statement '" + std::string(tokens[0]) + "'");
 }
 
@@ -153,9 +238,11 @@ RawMesh readObj(const std::filesystem::path& path, double scale) {
   raw.file = path.string();
   std::string line;
   ObjState state;
+  state.folder = path.parent_path();
   for (int number = 1; std::getline(in, line); ++number) parseObjLine(line, scale, number, raw, state);
   if (in.bad()) fail(raw.file + ": read error");
   if (!state.all_textured) raw.triangle_texcoords.clear();  // some face gave none: the mesh has none
+  finishMaterials(raw, state);
   checkIndexRange(raw);
   return raw;
 }
@@ -188,6 +275,11 @@ SurfaceMesh buildMesh(const RawMesh& raw) {
     if (!f.is_valid()) fail(raw.faceAt(static_cast<int>(t)) + "OpenMesh rejected face " + std::to_string(t));
   }
   if (!raw.triangle_texcoords.empty()) setTexCoords(raw, surface);
+  if (!raw.triangle_materials.empty()) {
+    for (const Material& material : raw.materials) surface.addMaterial(material);
+    for (size_t t = 0; t < raw.triangle_materials.size(); ++t)
+      mesh.property(surface.materialProperty(), FaceHandle(static_cast<int>(t))) = raw.triangle_materials[t];
+  }
   mesh.update_normals();
   return surface;
 }
@@ -261,14 +353,28 @@ ObjTexCoords objTexCoords(const SurfaceMesh& surface) {
   return result;
 }
 
+// The material statement before face f, when the mesh has materials: the wall's once at the wall group's
+// start, a tissue face's when it differs from the face written before it (`last`).
+void writeUseMaterial(core::AtomicFile& out, const SurfaceMesh& surface, FaceHandle f, ObjGroup group, int& last) {
+  if (!surface.hasMaterials()) return;
+  const int material = group == ObjGroup::Wall ? -2 : surface.material(f);
+  if (material == last) return;
+  last = material;
+  out << "usemtl "
+      << (material >= 0 ? surface.materials()[static_cast<size_t>(material)].name : std::string(kWallMaterialName))
+      << '\n';
+}
+
 void writeObjGroup(core::AtomicFile& out, const SurfaceMesh& surface, const std::vector<int>& index,
                    const ObjTexCoords* texcoords, ObjGroup group) {
   const TriMesh& mesh = surface.mesh();
   bool header = false;
+  int last_material = -3;
   for (const FaceHandle f : mesh.faces()) {
     if (!inGroup(surface, f, group)) continue;
     if (!header) out << (group == ObjGroup::Wall ? "g wall\n" : "g tissue\n");
     header = true;
+    writeUseMaterial(out, surface, f, group, last_material);
     out << 'f';
     if (texcoords == nullptr) {
       writeFaceVertices(out, mesh, f, index, 1);
@@ -308,12 +414,33 @@ SurfaceMesh loadSurfaceMesh(const std::filesystem::path& path, double scale) {
   return buildMesh(raw);
 }
 
+// The MTL file beside an OBJ: the mesh's materials as read, then the walls' (unless the mesh has it).
+void saveMtl(const SurfaceMesh& surface, const std::filesystem::path& path) {
+  core::rethrowFileErrorAs<MeshError>([&] {
+    core::AtomicFile out(path);
+    out << "# incise materials: the tissue's, then its walls' (" << kWallMaterialName << ")\n";
+    bool wall = false;
+    for (const Material& material : surface.materials()) {
+      out << "\nnewmtl " << material.name << '\n';
+      for (const std::string& statement : material.statements) out << statement << '\n';
+      wall = wall || material.name == kWallMaterialName;
+    }
+    if (!wall)
+      out << "\nnewmtl " << kWallMaterialName
+          << "\n# the wound's walls: flesh\nKa 0.2 0.05 0.05\nKd 0.62 0.16 0.14\nKs 0.25 0.25 0.25\nNs 30\n";
+    out.commit();
+  });
+}
+
 void saveObj(const SurfaceMesh& surface, const std::filesystem::path& path) {
   const TriMesh& mesh = surface.mesh();
   const std::vector<int> index = compactVertices(mesh, path);
+  const std::filesystem::path mtl = std::filesystem::path(path).replace_extension(".mtl");
+  if (surface.hasMaterials()) saveMtl(surface, mtl);
   core::rethrowFileErrorAs<MeshError>([&] {
     core::AtomicFile out(path);
     out << "# incise surface mesh: groups tissue (original and split faces) and wall\n";
+    if (surface.hasMaterials()) out << "mtllib " << mtl.filename().string() << '\n';
     for (const VertexHandle v : mesh.vertices()) {
       out << "v ";
       writePoint(out, mesh.point(v));

@@ -80,11 +80,19 @@ TEST_CASE("Texture coordinates of a planar map come out exact at every skin corn
   CHECK(worst < 1e-9);
 }
 
-TEST_CASE("A texture seam crossing the stroke stays a seam through the cut", "[surface_cutter][texture]") {
+TEST_CASE("A texture seam and a material boundary crossing the stroke stay where they were through the cut",
+          "[surface_cutter][texture]") {
   mesh::SurfaceMesh s = bunny(1);
   const double seam_x_m = 0.003;  // the stroke runs from x = -12 mm to 18 mm
   const Eigen::Vector2d shift(0.5, 0.0);
   mapPlanar(s, seam_x_m, shift);
+  // Material 1 on the shifted side (the same faces), 0 on the other.
+  s.addMaterial({"left", {}});
+  s.addMaterial({"right", {}});
+  for (const auto f : s.mesh().faces()) {
+    const mesh::FaceCorners c = mesh::faceCorners(s, f);
+    s.setMaterial(f, (c.uv[0] - planar(mesh::toEigen(s.mesh().point(c.vertex[0])))).norm() > 0.25 ? 1 : 0);
+  }
   const auto cutter = cutAlong(s, backStroke(s, 0.03), CutterOptions{});
   REQUIRE(cutter->stats().figures.back().groove_length_m > 0.02);
   // Every skin face keeps one of the two maps at all three corners; split faces of both are there.
@@ -100,6 +108,7 @@ TEST_CASE("A texture seam crossing the stroke stays a seam through the cut", "[s
     }
     if (s.kind(f) == mesh::FaceKind::Split) plain += is_plain, shifted += is_shifted;
     neither += !is_plain && !is_shifted;
+    CHECK(s.material(f) == (is_shifted ? 1 : 0));
   }
   INFO("split faces plain " << plain << ", shifted " << shifted);
   CHECK(neither == 0);

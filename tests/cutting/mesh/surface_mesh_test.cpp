@@ -580,10 +580,11 @@ TEST_CASE("surface_mesh: summarize counts the pairs of faces that cross", "[cutt
 
 // A unit cube of 8 vertices and 6 quads, each quad mapped onto its own rectangle of a 3 x 2 atlas: every cube
 // vertex has three texture coordinates (one per face around it), every cube edge is a texture seam.
-std::string texturedCubeObj() {
+// With `materials`: `mtllib cube.mtl`, the first two quads `usemtl skin`, the others `usemtl nail`.
+std::string texturedCubeObj(bool materials = false) {
   std::ostringstream obj;
   obj.precision(17);
-  obj << "mtllib cube.mtl\nusemtl skin\n";
+  if (materials) obj << "mtllib cube.mtl\nusemtl skin\n";
   for (int z = 0; z < 2; ++z)
     for (int y = 0; y < 2; ++y)
       for (int x = 0; x < 2; ++x) obj << "v " << x << ' ' << y << ' ' << z << '\n';
@@ -594,6 +595,7 @@ std::string texturedCubeObj() {
         << "\nvt " << u0 << ' ' << v0 + 0.375 << '\n';
   }
   for (int f = 0; f < 6; ++f) {
+    if (materials && f == 2) obj << "usemtl nail\n";
     obj << 'f';
     for (int k = 0; k < 4; ++k) obj << ' ' << quads[f][k] << '/' << 4 * f + k + 1 << "/1";
     obj << '\n';
@@ -721,4 +723,70 @@ TEST_CASE("surface_mesh: subdivision carries texture coordinates linearly and ke
   CHECK(on_corners == 8);
   CHECK(on_edges == 12 * 3);  // three new vertices on each cube edge after two rounds
   CHECK(inside == 6 * 9);     // each quad a 5 x 5 grid: 9 vertices inside it (its diagonal's 3 among them)
+}
+
+TEST_CASE("surface_mesh: an OBJ's materials come from its MTL file, stay per face and are written back with the "
+          "walls'",
+          "[cutting]") {
+  const TempDir dir;
+  fs::create_directories(dir.path() / "in");
+  std::ofstream(dir.path() / "in" / "cube.mtl")
+      << "# skin and nail\nnewmtl skin\nKd 0.9 0.7 0.6\nmap_Kd  textures/skin.png   # relative\n\nnewmtl nail\n"
+         "Kd 1 1 1\nmap_Kd /abs/nail.png\n";
+  std::ofstream(dir.path() / "in" / "cube.obj") << texturedCubeObj(true);
+  const SurfaceMesh cube = loadSurfaceMesh(dir.path() / "in" / "cube.obj");
+  REQUIRE(cube.hasMaterials());
+  REQUIRE(cube.materials().size() == 2);
+  CHECK(cube.materials()[0].name == "skin");
+  CHECK(cube.materials()[0].statements ==
+        std::vector<std::string>{"Kd 0.9 0.7 0.6", "map_Kd " + (dir.path() / "in" / "textures" / "skin.png").string()});
+  CHECK(cube.materials()[1].statements == std::vector<std::string>{"Kd 1 1 1", "map_Kd /abs/nail.png"});
+  for (const auto f : cube.mesh().faces()) CHECK(cube.material(f) == (f.idx() < 4 ? 0 : 1));  // 2 quads skin
+
+  // A subdivided copy keeps each face's material (a fine face lies in one coarse face).
+  const SurfaceMesh fine = subdivided(cube, 1);
+  REQUIRE(fine.hasMaterials());
+  int skin = 0;
+  for (const auto f : fine.mesh().faces()) skin += fine.material(f) == 0;
+  CHECK(skin == 16);
+
+  // Written: cut.mtl beside cut.obj with both materials and the walls', usemtl before each run.
+  SurfaceMesh walled = cube;
+  walled.setKind(TriMesh::FaceHandle(11), FaceKind::Wall);
+  saveObj(walled, dir.path() / "cut.obj");
+  const std::string obj = readFile(dir.path() / "cut.obj"), mtl = readFile(dir.path() / "cut.mtl");
+  CHECK(obj.find("mtllib cut.mtl\n") != std::string::npos);
+  CHECK(obj.find("g tissue\nusemtl skin\nf ") != std::string::npos);
+  CHECK(obj.find("usemtl nail\nf ") != std::string::npos);
+  CHECK(obj.find("g wall\nusemtl incise_wall\nf ") != std::string::npos);
+  CHECK(mtl.find("newmtl skin\nKd 0.9 0.7 0.6\nmap_Kd " + (dir.path() / "in" / "textures" / "skin.png").string()) !=
+        std::string::npos);
+  CHECK(mtl.find("newmtl nail\n") != std::string::npos);
+  CHECK(mtl.find("newmtl incise_wall\n") != std::string::npos);
+  // Read back: the same materials per face, the walls' one added to the list once.
+  const SurfaceMesh again = loadSurfaceMesh(dir.path() / "cut.obj");
+  REQUIRE(again.materials().size() == 3);
+  for (const auto f : cube.mesh().faces())
+    CHECK(again.materials()[static_cast<size_t>(again.material(f))].name ==
+          (f.idx() == 11 ? "incise_wall" : cube.materials()[static_cast<size_t>(cube.material(f))].name));
+  saveObj(again, dir.path() / "again.obj");
+  CHECK(readFile(dir.path() / "again.mtl").find("newmtl incise_wall") ==
+        readFile(dir.path() / "again.mtl").rfind("newmtl incise_wall"));
+}
+
+TEST_CASE("surface_mesh: usemtl without its MTL file loads, materials named only; no usemtl, no materials",
+          "[cutting]") {
+  const TempDir dir;
+  std::ofstream(dir.path() / "cube.obj") << texturedCubeObj(true);  // no cube.mtl beside it
+  const SurfaceMesh cube = loadSurfaceMesh(dir.path() / "cube.obj");
+  REQUIRE(cube.hasMaterials());
+  CHECK(cube.materials() == std::vector<Material>{{"skin", {}}, {"nail", {}}});
+  std::ofstream(dir.path() / "devices.obj") << "mtllib /dev/zero /proc\n" << kTet;  // not regular files: skipped
+  CHECK_FALSE(loadSurfaceMesh(dir.path() / "devices.obj").hasMaterials());
+  std::ofstream(dir.path() / "late.obj") << kTetVertices << kTetFaces[0] << "usemtl skin\n"
+                                         << kTetFaces[1] << kTetFaces[2] << kTetFaces[3];
+  const SurfaceMesh late = loadSurfaceMesh(dir.path() / "late.obj");
+  REQUIRE(late.materials().size() == 2);
+  CHECK(late.materials()[static_cast<size_t>(late.material(TriMesh::FaceHandle(0)))].name == "default");
+  CHECK(late.materials()[static_cast<size_t>(late.material(TriMesh::FaceHandle(1)))].name == "skin");
 }

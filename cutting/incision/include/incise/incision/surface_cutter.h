@@ -248,6 +248,7 @@ class SurfaceCutter {
     mesh::FaceKind kind;
     RestParent parent;
     std::array<Eigen::Vector2d, 3> uv;  // the corners' texture coordinates (with the mesh's), as v
+    int material = -1;                  // the face's material (with the mesh's)
   };
 
   VertexData& data(mesh::TriMesh::VertexHandle v) { return mesh_.mesh().property(vertex_data_, v); }
@@ -385,23 +386,27 @@ class SurfaceCutter {
   void afterFlip(mesh::TriMesh::FaceHandle f, mesh::TriMesh::FaceHandle g);  // parents of a flipped pair
   std::array<Eigen::Vector3d, 3> contactCorners(mesh::TriMesh::FaceHandle f) const;
   OpenMesh::FPropHandleT<RestParent> rest_parent_;
-  // Texture coordinates, when the mesh has them (surface_cutter_texture.cpp): every face the cutter makes
-  // gets its corners' coordinates. A split point takes, in each face it splits, the interpolation of the
-  // edge's ends there (so a texture seam along or across the edge stays one); a flip keeps each corner's
-  // coordinate (an edge with a texture seam along it is not flipped); faces moved to a seam vertex's copy
-  // keep theirs; wall faces get the wall's (wallTexCoord). No allocation. O(1) each.
+  // Texture coordinates and materials, when the mesh has them (surface_cutter_texture.cpp): every face the
+  // cutter makes gets its corners' coordinates and a material. A split point takes, in each face it splits,
+  // the interpolation of the edge's ends there (so a texture seam along or across the edge stays one), and
+  // the new faces their split faces' materials (OpenMesh's split_copy); a flip keeps each corner's
+  // coordinate (an edge with a texture seam or a material boundary along it is not flipped); faces moved to
+  // a seam vertex's copy keep theirs; wall faces get the wall's (wallTexCoord; their material is the
+  // writer's, by kind). No allocation. O(1) each.
   struct SplitCorners {
     std::array<std::optional<mesh::FaceCorners>, 2> side;  // the faces on edge e's two sides, before
     mesh::TriMesh::VertexHandle a, b;                      // halfedge(e, 0)'s from and to vertex
   };
   SplitCorners splitCorners(mesh::TriMesh::EdgeHandle e) const;
   void cornersAfterSplit(mesh::TriMesh::VertexHandle v, double lambda, const SplitCorners& before);
-  bool textureSeamAlong(mesh::TriMesh::HalfedgeHandle ab) const;  // ab's ends differ between its two faces
+  // ab's ends' coordinates differ between its two faces, or the faces' materials do.
+  bool textureSeamAlong(mesh::TriMesh::HalfedgeHandle ab) const;
   void cornersAfterFlip(mesh::TriMesh::FaceHandle f, mesh::TriMesh::FaceHandle g, const mesh::FaceCorners& was_f,
                         const mesh::FaceCorners& was_g);
   void setWallCorners(mesh::TriMesh::FaceHandle f);
-  void keepCorners(mesh::TriMesh::FaceHandle f, PlusTriangle& t) const;         // f's corners' into t.uv, as t.v
-  void restoreCorners(mesh::TriMesh::FaceHandle added, const PlusTriangle& t);  // t.uv onto t's face re-added
+  // f's corners' coordinates into t.uv (as t.v) and its material; back onto t's face re-added.
+  void keepCorners(mesh::TriMesh::FaceHandle f, PlusTriangle& t) const;
+  void restoreCorners(mesh::TriMesh::FaceHandle added, const PlusTriangle& t);
   // A wall vertex's texture coordinate: (arc length along the stroke from its start, depth below the lip
   // as a fraction of the blade's depth option x that depth), both in metres over mesh::kWallTextureTile_m.
   Eigen::Vector2d wallTexCoord(mesh::TriMesh::VertexHandle v) const;

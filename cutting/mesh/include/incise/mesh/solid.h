@@ -52,6 +52,9 @@ struct SolidDifference {
   // interpolates the face's (barycentric, at the point's projection), a face of the solid's boundary takes
   // the wall's, its corners projected on the face's plane (metres over kWallTextureTile_m).
   std::vector<std::array<Eigen::Vector2d, 3>> added_texcoords;
+  // Their materials, when the tissue has them (else empty): a piece of a tissue face its face's, a face of
+  // the solid's boundary 0 (it is a Wall face: written with the walls' material).
+  std::vector<int> added_materials;
   std::vector<int> touched_vertices;  // corners of removed and added faces, ascending, once each
   std::vector<Piece> pieces;          // the result's pieces (mesh::pieces), largest first
   bool slivers_kept = false;          // the sliver removal made faces cross: not applied

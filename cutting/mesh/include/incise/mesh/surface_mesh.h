@@ -21,6 +21,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 // OpenMesh's VectorT default constructor leaves its elements uninitialised on purpose; GCC 12 then warns
@@ -62,6 +63,17 @@ const char* toString(FaceKind kind) noexcept;
 struct MeshError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// A material of the skin as an OBJ's MTL file defines it: its name and the statements after its `newmtl`
+// line (comments and blank lines dropped; the path of a texture map, `map_Kd` and the like, made absolute
+// against the MTL file's folder when it was read), written back as they are.
+struct Material {
+  std::string name;
+  std::vector<std::string> statements;
+  bool operator==(const Material&) const = default;
+};
+// The material saveObj gives the walls of a mesh with materials (a flesh colour).
+inline constexpr const char* kWallMaterialName = "incise_wall";
 
 inline Eigen::Vector3d toEigen(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 inline OpenMesh::Vec3d toOpenMesh(const Eigen::Vector3d& p) { return {p[0], p[1], p[2]}; }
@@ -106,6 +118,19 @@ class SurfaceMesh {
   // The property itself, for code that walks many corners (invalid without texture coordinates).
   OpenMesh::HPropHandleT<OpenMesh::Vec2d> texCoordProperty() const noexcept { return texcoord_; }
 
+  // Materials (OBJ `usemtl`): the list, stored as the OpenMesh mesh property "incise:materials" (so it
+  // travels with every copy of the TriMesh), and each face's index into it, the face property
+  // "incise:material"; present only on a mesh whose file named a material. addMaterial adds both properties
+  // on first use (every face then has material 0) and returns the index of the material of that name (added
+  // at the end when new; statements given replace empty ones). material(f) is -1 on a mesh without
+  // materials; setMaterial throws std::out_of_range for a bad face or index. O(1) (addMaterial O(materials)).
+  bool hasMaterials() const noexcept { return materials_.is_valid(); }
+  const std::vector<Material>& materials() const noexcept;
+  int addMaterial(const Material& material);
+  int material(TriMesh::FaceHandle f) const;
+  void setMaterial(TriMesh::FaceHandle f, int index);
+  OpenMesh::FPropHandleT<int> materialProperty() const noexcept { return face_material_; }
+
  private:
   void attachKinds();
 
@@ -113,6 +138,8 @@ class SurfaceMesh {
   OpenMesh::VPropHandleT<VertexKind> vertex_kind_;
   OpenMesh::FPropHandleT<FaceKind> face_kind_;
   OpenMesh::HPropHandleT<OpenMesh::Vec2d> texcoord_;  // invalid: no texture coordinates
+  OpenMesh::MPropHandleT<std::vector<Material>> materials_;  // invalid: no materials
+  OpenMesh::FPropHandleT<int> face_material_;
 };
 
 // Wall faces' texture coordinates are metres over this tile (a wall texture repeats every centimetre).
@@ -134,8 +161,10 @@ FaceCorners faceCorners(const SurfaceMesh& mesh, TriMesh::FaceHandle f);
 // the three coordinates is ignored), `f a b c ...` with `a`, `a/t`, `a//n`, `a/t/n` and negative (relative)
 // indices, polygons fan-triangulated (a b c d -> a b c, a c d), `#` comments; `vt u v [w]` texture
 // coordinates (w ignored): when every face gives one at every corner (`a/t`, `a/t/n`) the mesh has them
-// (hasTexCoords), else (a face or a corner without) it has none; vn vp g o s usemtl mtllib ignored; any
-// other statement is an error. Errors name file:line ("bunny.obj:1234: face index 9999 out of range (1839
+// (hasTexCoords), else (a face or a corner without) it has none; `mtllib a.mtl ...` reads each MTL file
+// beside the OBJ (`newmtl` blocks; a file that cannot be opened, is not a regular file or is over 16 MiB
+// is skipped: the materials keep their names only) and `usemtl name` gives the faces after it that material (hasMaterials; faces before the first
+// `usemtl` get one named "default"); vn vp g o s ignored; any other statement is an error. Errors name file:line ("bunny.obj:1234: face index 9999 out of range (1839
 // vertices)", "...: expected 3 coordinates", "...: coordinate 'abc' is not a number", "...: coordinate 'nan'
 // is not finite", "...: texture coordinate index 7 out of range (4 texture coordinates)", "...: expected 2
 // texture coordinates (and an optional w), got 1").
@@ -185,7 +214,10 @@ ManifoldReport checkManifold(const TriMesh& mesh);
 // faces as `f a b c` (1-based, re-indexed past deleted vertices) in two groups: `g tissue` (Original and
 // Split faces) and `g wall` (Wall faces); an empty group is left out. A mesh with texture coordinates gets
 // `vt u v` lines (each distinct corner coordinate once, in the order faces first use it) and faces
-// `f a/t b/t c/t`. Kinds are not stored otherwise (use
+// `f a/t b/t c/t`. A mesh with materials gets `mtllib` naming an MTL file written beside it (path with the
+// extension .mtl, written first, atomically too): its materials as read, then kWallMaterialName (a flesh
+// colour) unless it has one; `usemtl` before each run of tissue faces of one material, and the wall group
+// with kWallMaterialName. Kinds are not stored otherwise (use
 // savePly). Writes path + ".tmp", then renames it to path: nothing half-written on failure. Same mesh ->
 // same bytes. Throws MeshError naming the path on I/O failure (the .tmp is removed) or for a non-finite
 // vertex position (nothing written). Cost O(V + F).
@@ -224,8 +256,8 @@ std::string toJson(const MeshSummary& summary);
 // garbage-collected first; kinds and other custom properties of the input are not carried meaningfully.
 // Throws std::invalid_argument for iterations < 0. Cost O(F * 4^iterations) time and memory.
 TriMesh subdivideLoop(const TriMesh& mesh, int iterations);
-// The same on a SurfaceMesh; every element of the result is Original. Texture coordinates, when the mesh
-// has them, are subdivided linearly within each face (a new edge vertex takes the mean of its edge's two
+// The same on a SurfaceMesh; every element of the result is Original. Materials are kept (each fine face
+// its coarse face's). Texture coordinates, when the mesh has them, are subdivided linearly within each face (a new edge vertex takes the mean of its edge's two
 // corners on each side, so a texture seam stays a seam; the positions are smoothed, the coordinates not, as
 // modelling tools do with UV smoothing off).
 SurfaceMesh subdivided(const SurfaceMesh& mesh, int iterations);
