@@ -67,7 +67,6 @@ void SurfaceMesh::attachKinds() {
     materials_.reset(), face_material_.reset();
 }
 
-
 namespace {
 template <typename Handle>
 void checkHandle(Handle h, size_t count, const char* what) {

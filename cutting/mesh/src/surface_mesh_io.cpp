@@ -123,8 +123,7 @@ constexpr std::uintmax_t kMaxMtlBytes = 16u << 20;
 
 void readMtl(const std::filesystem::path& path, std::vector<Material>& materials) {
   std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error) || std::filesystem::file_size(path, error) > kMaxMtlBytes ||
-      error)
+  if (!std::filesystem::is_regular_file(path, error) || std::filesystem::file_size(path, error) > kMaxMtlBytes || error)
     return;
   std::ifstream in(path, std::ios::binary);
   if (!in) return;

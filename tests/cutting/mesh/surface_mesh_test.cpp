@@ -725,9 +725,10 @@ TEST_CASE("surface_mesh: subdivision carries texture coordinates linearly and ke
   CHECK(inside == 6 * 9);     // each quad a 5 x 5 grid: 9 vertices inside it (its diagonal's 3 among them)
 }
 
-TEST_CASE("surface_mesh: an OBJ's materials come from its MTL file, stay per face and are written back with the "
-          "walls'",
-          "[cutting]") {
+TEST_CASE(
+    "surface_mesh: an OBJ's materials come from its MTL file, stay per face and are written back with the "
+    "walls'",
+    "[cutting]") {
   const TempDir dir;
   fs::create_directories(dir.path() / "in");
   std::ofstream(dir.path() / "in" / "cube.mtl")
@@ -774,7 +775,7 @@ TEST_CASE("surface_mesh: an OBJ's materials come from its MTL file, stay per fac
         readFile(dir.path() / "again.mtl").rfind("newmtl incise_wall"));
 }
 
-TEST_CASE("surface_mesh: usemtl without its MTL file loads, materials named only; no usemtl, no materials",
+TEST_CASE("surface_mesh: usemtl without its MTL file loads with the names only, and no usemtl means no materials",
           "[cutting]") {
   const TempDir dir;
   std::ofstream(dir.path() / "cube.obj") << texturedCubeObj(true);  // no cube.mtl beside it

@@ -137,7 +137,7 @@ class SurfaceMesh {
   TriMesh mesh_;
   OpenMesh::VPropHandleT<VertexKind> vertex_kind_;
   OpenMesh::FPropHandleT<FaceKind> face_kind_;
-  OpenMesh::HPropHandleT<OpenMesh::Vec2d> texcoord_;  // invalid: no texture coordinates
+  OpenMesh::HPropHandleT<OpenMesh::Vec2d> texcoord_;         // invalid: no texture coordinates
   OpenMesh::MPropHandleT<std::vector<Material>> materials_;  // invalid: no materials
   OpenMesh::FPropHandleT<int> face_material_;
 };
