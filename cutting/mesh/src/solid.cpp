@@ -19,6 +19,7 @@
 
 #include "incise/core/union_find.h"
 #include "incise/mesh/cgal_mesh.h"
+#include "incise/mesh/cgal_origin.h"
 
 namespace incise::mesh {
 namespace {
@@ -26,27 +27,9 @@ namespace {
 namespace PMP = CGAL::Polygon_mesh_processing;
 using detail::CgalMesh;
 using Face = CgalMesh::Face_index;
-using OriginMap = CgalMesh::Property_map<Face, int>;
-constexpr int kFromSolid = -2;  // a face of the solid's boundary
-constexpr int kUnknown = -1;
-
-// Follows every face of the result back to the tissue face it is a piece of (its OpenMesh index), or to the
-// solid (kFromSolid). Copied by CGAL's named parameters: the maps are handles onto the meshes' properties.
-struct OriginVisitor : PMP::Corefinement::Default_visitor<CgalMesh> {
-  const CgalMesh* tissue = nullptr;
-  const CgalMesh* out = nullptr;
-  OriginMap tissue_origin, out_origin;
-  int splitting = kUnknown;  // the origin of the face being split
-  void before_subface_creations(Face split, CgalMesh& tm) {
-    splitting = &tm == tissue ? tissue_origin[split] : kFromSolid;
-  }
-  void after_subface_created(Face made, CgalMesh& tm) {
-    if (&tm == tissue) tissue_origin[made] = splitting;
-  }
-  void after_face_copy(Face from, const CgalMesh& source, Face made, CgalMesh& target) {
-    if (&target == out) out_origin[made] = &source == tissue ? tissue_origin[from] : kFromSolid;
-  }
-};
+using detail::kFromOther;
+using detail::OriginMap;
+constexpr int kFromSolid = kFromOther;  // a face of the solid's boundary
 
 struct PointHash {
   std::size_t operator()(const std::array<double, 3>& p) const noexcept {
@@ -66,12 +49,11 @@ CgalMesh difference(const TriMesh& tissue, const TriMesh& solid, OriginMap& orig
   CgalMesh a = detail::toCgal(tissue, "subtractSolid (tissue)", &face_handles);
   CgalMesh b = detail::toCgal(solid, "subtractSolid (solid)");
   CgalMesh out;
-  OriginVisitor visitor;
-  visitor.tissue = &a;
+  detail::OriginVisitor visitor;
+  visitor.first = &a;
   visitor.out = &out;
-  visitor.tissue_origin = a.add_property_map<Face, int>("f:incise_origin", kUnknown).first;
-  visitor.out_origin = out.add_property_map<Face, int>("f:incise_origin", kUnknown).first;
-  for (const Face f : a.faces()) visitor.tissue_origin[f] = face_handles[static_cast<std::size_t>(f.idx())];
+  visitor.first_origin = detail::originsOf(a, face_handles);
+  visitor.out_origin = out.add_property_map<Face, int>("f:incise_origin", detail::kOriginUnknown).first;
   const bool valid = PMP::corefine_and_compute_difference(
       a, b, out, CGAL::parameters::visitor(visitor).throw_on_self_intersection(true),
       CGAL::parameters::throw_on_self_intersection(true));
@@ -139,28 +121,6 @@ bool crossesNearCut(const CgalMesh& out, const OriginMap& origin, const PointInd
   return PMP::does_self_intersect(region, out);
 }
 
-// The texture coordinate of p in the triangle x with corner coordinates uv (p projected on its plane,
-// barycentric there).
-Eigen::Vector2d interpolate(const std::array<Eigen::Vector3d, 3>& x, const std::array<Eigen::Vector2d, 3>& uv,
-                            const Eigen::Vector3d& p) {
-  const Eigen::Vector3d e1 = x[1] - x[0], e2 = x[2] - x[0], d = p - x[0];
-  const double a = e1.dot(e1), b = e1.dot(e2), c = e2.dot(e2), s = d.dot(e1), t = d.dot(e2);
-  const double det = a * c - b * b;
-  if (!(std::abs(det) > 0.0)) return uv[0];
-  const double l1 = (c * s - b * t) / det, l2 = (a * t - b * s) / det;
-  return (1.0 - l1 - l2) * uv[0] + l1 * uv[1] + l2 * uv[2];
-}
-
-// A solid face's corners projected on its plane, in metres over the wall's tile.
-std::array<Eigen::Vector2d, 3> planarTexCoords(const std::array<Eigen::Vector3d, 3>& x) {
-  const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]);
-  const Eigen::Vector3d axis = std::abs(n.z()) < 0.9 * n.norm() ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d t1 = n.cross(axis).normalized(), t2 = n.normalized().cross(t1);
-  std::array<Eigen::Vector2d, 3> uv;
-  for (std::size_t i = 0; i < 3; ++i) uv[i] = Eigen::Vector2d(x[i].dot(t1), x[i].dot(t2)) / kWallTextureTile_m;
-  return uv;
-}
-
 // The corners' texture coordinates of an added face (corners c, from `from`: a tissue face or the solid).
 std::array<Eigen::Vector2d, 3> addedTexCoords(const SurfaceMesh& tissue, const SolidDifference& d,
                                               const std::array<int, 3>& c, int from) {
@@ -175,7 +135,7 @@ std::array<Eigen::Vector2d, 3> addedTexCoords(const SurfaceMesh& tissue, const S
   std::array<Eigen::Vector2d, 3> uv;
   for (std::size_t i = 0; i < 3; ++i) {
     const std::optional<Eigen::Vector2d> at = corners.at(TriMesh::VertexHandle(c[i]));
-    uv[i] = at ? *at : interpolate(y, corners.uv, x[i]);
+    uv[i] = at ? *at : interpolateTexCoord(y, corners.uv, x[i]);
   }
   return uv;
 }

@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 
 #include "incise/core/format.h"
@@ -166,6 +168,25 @@ FaceCorners faceCorners(const SurfaceMesh& surface, TriMesh::FaceHandle f) {
     corners.uv[i] = {uv[0], uv[1]};
   }
   return corners;
+}
+
+Eigen::Vector2d interpolateTexCoord(const std::array<Eigen::Vector3d, 3>& x, const std::array<Eigen::Vector2d, 3>& uv,
+                                    const Eigen::Vector3d& p) {
+  const Eigen::Vector3d e1 = x[1] - x[0], e2 = x[2] - x[0], d = p - x[0];
+  const double a = e1.dot(e1), b = e1.dot(e2), c = e2.dot(e2), s = d.dot(e1), t = d.dot(e2);
+  const double det = a * c - b * b;
+  if (!(std::abs(det) > 0.0)) return uv[0];
+  const double l1 = (c * s - b * t) / det, l2 = (a * t - b * s) / det;
+  return (1.0 - l1 - l2) * uv[0] + l1 * uv[1] + l2 * uv[2];
+}
+
+std::array<Eigen::Vector2d, 3> planarTexCoords(const std::array<Eigen::Vector3d, 3>& x) {
+  const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]);
+  const Eigen::Vector3d axis = std::abs(n.z()) < 0.9 * n.norm() ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d t1 = n.cross(axis).normalized(), t2 = n.normalized().cross(t1);
+  std::array<Eigen::Vector2d, 3> uv;
+  for (std::size_t i = 0; i < 3; ++i) uv[i] = Eigen::Vector2d(x[i].dot(t1), x[i].dot(t2)) / kWallTextureTile_m;
+  return uv;
 }
 
 TriMesh::VertexHandle SurfaceMesh::addVertex(const Eigen::Vector3d& p, VertexKind kind) {

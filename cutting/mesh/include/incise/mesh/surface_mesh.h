@@ -155,6 +155,14 @@ struct FaceCorners {
 };
 FaceCorners faceCorners(const SurfaceMesh& mesh, TriMesh::FaceHandle f);
 
+// The texture coordinate of point p in the triangle with corners x and corner coordinates uv: p projected
+// on the triangle's plane, barycentric there (uv[0] for a degenerate triangle). O(1).
+Eigen::Vector2d interpolateTexCoord(const std::array<Eigen::Vector3d, 3>& x, const std::array<Eigen::Vector2d, 3>& uv,
+                                    const Eigen::Vector3d& p);
+// A wall or cap face's texture coordinates: its corners x projected on its own plane (axes from its normal
+// and z, or x when the face is nearly horizontal), in metres over kWallTextureTile_m. O(1).
+std::array<Eigen::Vector2d, 3> planarTexCoords(const std::array<Eigen::Vector3d, 3>& x);
+
 // Reads a closed, consistently oriented triangle mesh and multiplies positions by `scale` (finite, > 0,
 // else std::invalid_argument). All kinds Original; normals computed.
 // OBJ (by extension, case-insensitive) goes through incise's own parser: `v x y z` (a w or colour after
