@@ -6,6 +6,7 @@
 // Threads: a Soup belongs to one thread (the split keeps one per thread). Cost: see each function.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -44,9 +45,11 @@ struct Soup {
   std::vector<std::int8_t> side;
   std::vector<int> plane;
   std::vector<std::array<int, 3>> faces;
-  std::vector<int> remap;                   // compaction
-  std::vector<int> touching;                // splitAt: faces with a vertex on its plane
-  std::vector<SplitStep>* steps = nullptr;  // when set, every position constructed is recorded there
+  std::vector<std::array<Eigen::Vector2d, 3>> uv;  // per face, its corners' texture coordinates (or none)
+  std::vector<int> material;                       // per face, its material (or none)
+  std::vector<int> remap;                          // compaction
+  std::vector<int> touching;                       // splitAt: faces with a vertex on its plane
+  std::vector<SplitStep>* steps = nullptr;         // when set, every position constructed is recorded there
 
   int add(const Eigen::Vector3d& p, int src, std::array<int, 2> e, int on_plane) {
     x.push_back(p);
@@ -56,7 +59,23 @@ struct Soup {
     plane.push_back(on_plane);
     return static_cast<int>(x.size()) - 1;
   }
+  // Appends triangle t with its corners' texture coordinates and material (each ignored when the soup
+  // carries none).
+  void addFace(const std::array<int, 3>& t, const std::array<Eigen::Vector2d, 3>& corners_uv, int face_material) {
+    faces.push_back(t);
+    if (!uv.empty()) uv.push_back(corners_uv);
+    if (!material.empty()) material.push_back(face_material);
+  }
 };
+
+// The texture coordinate at point x on the segment from xa (coordinate ua) to xb (ub): x projected on it.
+inline Eigen::Vector2d uvAlong(const Eigen::Vector3d& xa, const Eigen::Vector3d& xb, const Eigen::Vector2d& ua,
+                               const Eigen::Vector2d& ub, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d d = xb - xa;
+  const double length2 = d.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((x - xa).dot(d) / length2, 0.0, 1.0) : 0.0;
+  return ua + t * (ub - ua);
+}
 
 // Closes each opening left by separate(): a loop of boundary edges whose vertices all lie on `plane` on
 // one side. Its two halves, from its lowest-v vertex to its highest, are given the same v-values (each

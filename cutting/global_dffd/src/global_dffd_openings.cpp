@@ -126,6 +126,28 @@ bool weldable(const Soup& s, const std::vector<int>& loop, const Halves& h, cons
   return true;
 }
 
+// The face beside strip triangle f across its edge along a half (f[0] -> f[1], the loop's edge reversed).
+int besideStrip(const FaceOf& face_of, const std::array<int, 3>& f) {
+  const auto it = face_of.find({f[1], f[0]});
+  return it == face_of.end() ? -1 : it->second;
+}
+
+// The corners' texture coordinates of strip triangle f: each vertex's in face `beside`, or, for the one
+// from the other half, in any face around it (the strip is thin once stitched). O(F) for that one (rare).
+std::array<Eigen::Vector2d, 3> uvBeside(const Soup& s, const std::array<int, 3>& f, int beside) {
+  std::array<Eigen::Vector2d, 3> uv{};
+  for (size_t i = 0; i < 3; ++i) {
+    int face = beside, corner = -1;
+    for (int k = 0; beside >= 0 && k < 3; ++k)
+      if (s.faces[static_cast<size_t>(beside)][static_cast<size_t>(k)] == f[i]) corner = k;
+    for (size_t g = 0; corner < 0 && g < s.faces.size(); ++g)
+      for (int k = 0; k < 3; ++k)
+        if (s.faces[g][static_cast<size_t>(k)] == f[i]) face = static_cast<int>(g), corner = k;
+    if (corner >= 0) uv[i] = s.uv[static_cast<size_t>(face)][static_cast<size_t>(corner)];
+  }
+  return uv;
+}
+
 // The fallback: a strip of triangles zipped between the two halves in order of v (each triangle takes two
 // consecutive vertices of one half and one of the other, the loop's edges reversed). Once stitched both
 // halves lie on the seam, so the strip is thin; it is added only if the result is a two-manifold (false
@@ -144,7 +166,10 @@ bool zipStrip(Soup& s, FaceOf& face_of, const Halves& h) {
   }
   if (!twoManifold(s.faces, strip, FlatFaces::Allowed)) return false;
   for (const auto& f : strip) {
-    s.faces.push_back(f);
+    const bool dressed = !s.uv.empty() || !s.material.empty();
+    const int beside = dressed ? besideStrip(face_of, f) : -1;
+    s.addFace(f, s.uv.empty() ? std::array<Eigen::Vector2d, 3>{} : uvBeside(s, f, beside),
+              s.material.empty() || beside < 0 ? 0 : s.material[static_cast<size_t>(beside)]);
     record(face_of, s.faces, static_cast<int>(s.faces.size()) - 1);
   }
   return true;
@@ -161,10 +186,23 @@ void splitChainEdge(Soup& s, FaceOf& face_of, int p, int q, const std::vector<in
   chain.insert(chain.end(), points.begin(), points.end());
   chain.push_back(q);
   face_of.erase({p, q});
+  // The points' texture coordinates along p-q in this face (before it changes).
+  std::vector<Eigen::Vector2d> uv(chain.size());
+  Eigen::Vector2d uv_r = Eigen::Vector2d::Zero();
+  if (!s.uv.empty()) {
+    const auto& corners = s.uv[static_cast<size_t>(f)];
+    const auto& was = s.faces[static_cast<size_t>(f)];
+    const auto at = [&](int v) { return corners[v == was[0] ? 0 : v == was[1] ? 1 : 2]; };
+    const auto x = [&](int v) -> const Eigen::Vector3d& { return s.x[static_cast<size_t>(v)]; };
+    for (size_t i = 0; i < chain.size(); ++i) uv[i] = uvAlong(x(p), x(q), at(p), at(q), x(chain[i]));
+    uv_r = at(r);
+  }
+  const int material = s.material.empty() ? -1 : s.material[static_cast<size_t>(f)];
   s.faces[static_cast<size_t>(f)] = {chain[0], chain[1], r};
+  if (!s.uv.empty()) s.uv[static_cast<size_t>(f)] = {uv[0], uv[1], uv_r};
   record(face_of, s.faces, f);
   for (size_t i = 1; i + 1 < chain.size(); ++i) {
-    s.faces.push_back({chain[i], chain[i + 1], r});
+    s.addFace({chain[i], chain[i + 1], r}, {uv[i], uv[i + 1], uv_r}, material);
     record(face_of, s.faces, static_cast<int>(s.faces.size()) - 1);
   }
 }
@@ -210,6 +248,8 @@ std::vector<int> matchedChain(Soup& s, FaceOf& face_of, const std::vector<int>& 
 // edge used twice); the points added to s.x then stay, unused.
 bool weld(Soup& s, FaceOf& face_of, const Halves& h, int plane) {
   const Faces before = s.faces;
+  const auto uv_before = s.uv;
+  const auto material_before = s.material;
   const FaceOf face_of_before = face_of;
   const std::vector<int> a2 = matchedChain(s, face_of, h.a, h.b, plane, Along::Loop);
   const std::vector<int> b2 = matchedChain(s, face_of, h.b, h.a, plane, Along::Reversed);
@@ -221,6 +261,8 @@ bool weld(Soup& s, FaceOf& face_of, const Halves& h, int plane) {
       if (const auto it = to.find(id); it != to.end()) id = it->second;
   if (a2.size() != b2.size() || !twoManifold(welded, {}, FlatFaces::Refused)) {
     s.faces = before;
+    s.uv = uv_before;
+    s.material = material_before;
     face_of = face_of_before;
     return false;
   }
@@ -252,6 +294,41 @@ double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index) {
   return count > 0 ? sum / count : dffd.box().center().z();
 }
 
+namespace {
+
+// Appends `piece` (the p-th between the planes) to `out`, each vertex mapped through F from its side, each
+// face with its kind, material and texture coordinates.
+void appendMapped(const mesh::SurfaceMesh& piece, size_t p, const GlobalDffd& dffd, mesh::SurfaceMesh& out) {
+  const mesh::TriMesh& m = piece.mesh();
+  std::vector<mesh::TriMesh::VertexHandle> handles(m.n_vertices());
+  for (const auto v : m.vertices()) {  // skips deleted vertices
+    const Eigen::Vector3d x = mesh::toEigen(m.point(v));
+    int side = 0;  // a cap vertex on the plane below this piece (+ side) or above it (- side)
+    if (p > 0 && x.x() == dffd.obstacles()[p - 1].u) side = 1;
+    if (p < dffd.obstacles().size() && x.x() == dffd.obstacles()[p].u) side = -1;
+    handles[static_cast<size_t>(v.idx())] = out.addVertex(dffd.map(x, side));
+  }
+  std::vector<int> material;  // the piece's material indices as out's
+  for (const mesh::Material& entry : piece.materials()) material.push_back(out.addMaterial(entry));
+  for (const auto f : m.faces()) {
+    std::array<mesh::TriMesh::VertexHandle, 3> t;
+    std::array<mesh::TriMesh::HalfedgeHandle, 3> h;
+    auto g = m.halfedge_handle(f);
+    for (size_t i = 0; i < 3; ++i, g = m.next_halfedge_handle(g))
+      t[i] = handles[static_cast<size_t>(m.to_vertex_handle(g).idx())], h[i] = g;
+    const auto made = out.mesh().add_face(t[0], t[1], t[2]);
+    if (!made.is_valid()) continue;
+    out.setKind(made, piece.kind(f));
+    if (piece.hasMaterials()) out.setMaterial(made, material[static_cast<size_t>(piece.material(f))]);
+    if (!piece.hasTexCoords()) continue;
+    auto k = out.mesh().halfedge_handle(made);
+    while (out.mesh().to_vertex_handle(k) != t[0]) k = out.mesh().next_halfedge_handle(k);
+    for (size_t i = 0; i < 3; ++i, k = out.mesh().next_halfedge_handle(k)) out.setTexCoord(k, piece.texCoord(h[i]));
+  }
+}
+
+}  // namespace
+
 mesh::SurfaceMesh cappedDeform(const mesh::SurfaceMesh& model, const GlobalDffd& dffd) {
   // Pieces between consecutive planes: below the first, between each pair, above the last.
   std::vector<mesh::SurfaceMesh> pieces;
@@ -262,27 +339,8 @@ mesh::SurfaceMesh cappedDeform(const mesh::SurfaceMesh& model, const GlobalDffd&
   }
   pieces.push_back(std::move(rest));
   mesh::SurfaceMesh out;
-  mesh::TriMesh& m = out.mesh();
-  for (size_t p = 0; p < pieces.size(); ++p) {
-    const mesh::TriMesh& piece = pieces[p].mesh();
-    std::vector<mesh::TriMesh::VertexHandle> handles(piece.n_vertices());
-    for (const auto v : piece.vertices()) {
-      if (piece.status(v).deleted()) continue;
-      const Eigen::Vector3d x = mesh::toEigen(piece.point(v));
-      int side = 0;  // a cap vertex on the plane below this piece (+ side) or above it (- side)
-      if (p > 0 && x.x() == dffd.obstacles()[p - 1].u) side = 1;
-      if (p < dffd.obstacles().size() && x.x() == dffd.obstacles()[p].u) side = -1;
-      handles[static_cast<size_t>(v.idx())] = m.add_vertex(mesh::toOpenMesh(dffd.map(x, side)));
-    }
-    for (const auto f : piece.faces()) {
-      if (piece.status(f).deleted()) continue;
-      std::array<mesh::TriMesh::VertexHandle, 3> t;
-      int i = 0;
-      for (auto v = piece.cfv_ccwiter(f); v.is_valid() && i < 3; ++v)
-        t[static_cast<size_t>(i++)] = handles[static_cast<size_t>(v->idx())];
-      m.add_face(t[0], t[1], t[2]);
-    }
-  }
+  if (model.hasTexCoords()) out.addTexCoords();
+  for (size_t p = 0; p < pieces.size(); ++p) appendMapped(pieces[p], p, dffd, out);
   return out;
 }
 

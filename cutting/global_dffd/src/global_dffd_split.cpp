@@ -17,7 +17,8 @@ namespace {
 
 using detail::Soup;
 
-Soup soupOf(const mesh::TriMesh& mesh) {
+Soup soupOf(const mesh::SurfaceMesh& model) {
+  const mesh::TriMesh& mesh = model.mesh();
   Soup s;
   std::vector<int> index(mesh.n_vertices(), -1);
   for (const auto v : mesh.vertices())
@@ -26,10 +27,15 @@ Soup soupOf(const mesh::TriMesh& mesh) {
   for (const auto f : mesh.faces()) {
     if (mesh.status(f).deleted()) continue;
     std::array<int, 3> t{};
-    int i = 0;
-    for (auto v = mesh.cfv_ccwiter(f); v.is_valid() && i < 3; ++v)
-      t[static_cast<size_t>(i++)] = index[static_cast<size_t>(v->idx())];
+    std::array<Eigen::Vector2d, 3> uv{};
+    auto h = mesh.halfedge_handle(f);
+    for (size_t i = 0; i < 3; ++i, h = mesh.next_halfedge_handle(h)) {
+      t[i] = index[static_cast<size_t>(mesh.to_vertex_handle(h).idx())];
+      if (model.hasTexCoords()) uv[i] = model.texCoord(h);
+    }
     s.faces.push_back(t);
+    if (model.hasTexCoords()) s.uv.push_back(uv);
+    if (model.hasMaterials()) s.material.push_back(model.material(f));
   }
   return s;
 }
@@ -44,6 +50,8 @@ void detail::soupOf(std::span<const Eigen::Vector3d> positions, std::span<const 
   s.side.assign(positions.size(), 0);
   s.plane.assign(positions.size(), -1);
   s.faces.assign(faces.begin(), faces.end());
+  s.uv.clear();
+  s.material.clear();
   for (const auto& f : s.faces)
     for (const int v : f)
       if (v < 0 || static_cast<size_t>(v) >= positions.size())
@@ -52,6 +60,40 @@ void detail::soupOf(std::span<const Eigen::Vector3d> positions, std::span<const 
 }
 
 namespace {
+
+// A face being split: its corners' and its new points' texture coordinates (interpolated along the edge
+// split, in the face: each side of a texture seam has its own), when the soup carries them. O(1).
+struct PieceCorners {
+  std::array<int, 5> vertex{};
+  std::array<Eigen::Vector2d, 5> uv{};
+  int count = 0;
+  bool carried = false;  // whether the soup carries texture coordinates (else nothing is recorded)
+  void reset(const Soup& s, size_t f) {
+    carried = !s.uv.empty();
+    if (!carried) return;
+    count = 3;
+    for (size_t i = 0; i < 3; ++i) {
+      vertex[i] = s.faces[f][i];
+      uv[i] = s.uv[f][i];
+    }
+  }
+  Eigen::Vector2d uvOf(int v) const {
+    for (int i = 0; i < count; ++i)
+      if (vertex[static_cast<size_t>(i)] == v) return uv[static_cast<size_t>(i)];
+    return Eigen::Vector2d::Zero();
+  }
+  std::array<Eigen::Vector2d, 3> uvOf(const std::array<int, 3>& t) const {
+    return {uvOf(t[0]), uvOf(t[1]), uvOf(t[2])};
+  }
+  // Records point p made on the face's edge a-b; returns p.
+  int point(const Soup& s, int a, int b, int p) {
+    if (!carried) return p;
+    const auto x = [&](int v) -> const Eigen::Vector3d& { return s.x[static_cast<size_t>(v)]; };
+    vertex[static_cast<size_t>(count)] = p;
+    uv[static_cast<size_t>(count++)] = detail::uvAlong(x(a), x(b), uvOf(a), uvOf(b), x(p));
+    return p;
+  }
+};
 
 // Splits every face crossing the plane x = u and marks the vertices on it. The whole section is split,
 // also where the model reaches beyond the box: F is the identity there, so both lips stay together, and
@@ -86,18 +128,22 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
   // plane (separate()'s candidates, with the faces of snapped vertices).
   s.touching.clear();
   const size_t count = s.faces.size();
+  PieceCorners corners;  // the crossing face's corners and points, with their texture coordinates
   const auto firstPiece = [&](size_t f, std::array<int, 3> t) {
     s.faces[f] = t;
+    if (!s.uv.empty()) s.uv[f] = corners.uvOf(t);
     s.touching.push_back(static_cast<int>(f));
   };
-  const auto otherPiece = [&](std::array<int, 3> t) {
+  const auto otherPiece = [&](size_t f, std::array<int, 3> t) {
     s.touching.push_back(static_cast<int>(s.faces.size()));
-    s.faces.push_back(t);
+    s.addFace(t, s.uv.empty() ? std::array<Eigen::Vector2d, 3>{} : corners.uvOf(t),
+              s.material.empty() ? -1 : s.material[f]);
   };
   for (size_t i = 0; i < count; ++i) {
     const std::array<int, 3> f = s.faces[i];
     const int sa = sgn(f[0]), sb = sgn(f[1]), sc = sgn(f[2]);
     if (!((sa * sb < 0) || (sb * sc < 0) || (sc * sa < 0))) continue;
+    corners.reset(s, i);
     // Rotate so that a is the vertex alone on its side (or on the plane).
     int r = 0;
     const int sg[3] = {sa, sb, sc};
@@ -107,18 +153,18 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
               c = f[static_cast<size_t>((r + 2) % 3)];
     const int s_b = sg[(r + 1) % 3], s_c = sg[(r + 2) % 3];
     if (s_b == 0) {  // b on the plane: the crossing is on c-a
-      const int p = point(c, a);
+      const int p = corners.point(s, c, a, point(c, a));
       firstPiece(i, {a, b, p});
-      otherPiece({b, c, p});
+      otherPiece(i, {b, c, p});
     } else if (s_c == 0) {  // c on the plane: the crossing is on a-b
-      const int p = point(a, b);
+      const int p = corners.point(s, a, b, point(a, b));
       firstPiece(i, {a, p, c});
-      otherPiece({p, b, c});
+      otherPiece(i, {p, b, c});
     } else {  // a alone: crossings on a-b and c-a
-      const int p = point(a, b), q = point(c, a);
+      const int p = corners.point(s, a, b, point(a, b)), q = corners.point(s, c, a, point(c, a));
       firstPiece(i, {a, p, q});
-      otherPiece({p, b, c});
-      otherPiece({p, c, q});
+      otherPiece(i, {p, b, c});
+      otherPiece(i, {p, c, q});
     }
   }
   if (snapped) {  // faces around vertices put on the plane: a full pass (rare)
@@ -174,6 +220,26 @@ void separate(Soup& s, int plane, double u) {
   }
 }
 
+// Gives the faces of `mesh` (made by meshOf from `faces`: the split's, their vertices maybe renumbered)
+// the split's texture coordinates and materials, when it has them.
+void dress(const DffdSplit& split, const std::vector<std::array<int, 3>>& faces, mesh::SurfaceMesh& mesh) {
+  mesh::TriMesh& m = mesh.mesh();
+  if (!split.face_uv.empty()) {
+    mesh.addTexCoords();
+    for (const auto f : m.faces()) {
+      const auto& t = faces[static_cast<size_t>(f.idx())];
+      for (const auto h : m.fh_range(f)) {
+        const int v = m.to_vertex_handle(h).idx();
+        const size_t i = v == t[0] ? 0 : v == t[1] ? 1 : 2;  // meshOf's vertex k is faces' index k
+        mesh.setTexCoord(h, split.face_uv[static_cast<size_t>(f.idx())][i]);
+      }
+    }
+  }
+  if (split.face_material.empty()) return;
+  for (const mesh::Material& material : split.materials) mesh.addMaterial(material);
+  for (const auto f : m.faces()) mesh.setMaterial(f, split.face_material[static_cast<size_t>(f.idx())]);
+}
+
 mesh::SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std::array<int, 3>>& faces) {
   mesh::SurfaceMesh mesh;
   mesh::TriMesh& m = mesh.mesh();
@@ -206,6 +272,8 @@ void detail::splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdS
     std::swap(split.side, s.side);
     std::swap(split.plane, s.plane);
     std::swap(split.faces, s.faces);
+    std::swap(split.face_uv, s.uv);
+    std::swap(split.face_material, s.material);
     return;
   }
   for (size_t i = 0; i < dffd.obstacles().size(); ++i)
@@ -228,6 +296,8 @@ void detail::splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdS
     split.side.push_back(s.side[v]);
     split.plane.push_back(s.plane[v]);
   }
+  split.face_uv = s.uv;  // faces keep their order
+  split.face_material = s.material;
   split.faces.resize(s.faces.size());
   for (size_t f = 0; f < s.faces.size(); ++f)
     for (int i = 0; i < 3; ++i)
@@ -246,14 +316,15 @@ Soup& scratchSoup() {
 }  // namespace
 
 ModelArrays modelArrays(const mesh::SurfaceMesh& model) {
-  Soup soup = soupOf(model.mesh());
+  Soup soup = soupOf(model);
   return {std::move(soup.x), std::move(soup.faces)};
 }
 
 DffdSplit splitAtDiscontinuities(const mesh::SurfaceMesh& model, const GlobalDffd& dffd, Openings openings) {
-  Soup soup = soupOf(model.mesh());
+  Soup soup = soupOf(model);
   DffdSplit split;
   detail::splitSoup(soup, dffd, openings, split);
+  split.materials = model.materials();
   return split;
 }
 
@@ -275,7 +346,10 @@ mesh::SurfaceMesh DffdSplit::surface(std::span<const Eigen::Vector3d> positions)
   if (!positions.empty() && positions.size() != rest_m.size())
     throw DffdError(DffdErrorKind::BadInput, "DffdSplit::surface: " + std::to_string(positions.size()) +
                                                  " positions for " + std::to_string(rest_m.size()) + " vertices");
-  return meshOf(positions.empty() ? rest_m : std::vector<Eigen::Vector3d>(positions.begin(), positions.end()), faces);
+  mesh::SurfaceMesh mesh =
+      meshOf(positions.empty() ? rest_m : std::vector<Eigen::Vector3d>(positions.begin(), positions.end()), faces);
+  dress(*this, faces, mesh);
+  return mesh;
 }
 
 void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen::Vector3d> out) {
@@ -341,7 +415,9 @@ mesh::SurfaceMesh weldClosedLips(const DffdSplit& split, std::span<const Eigen::
   std::vector<std::array<int, 3>> faces(split.faces.size());
   for (size_t f = 0; f < faces.size(); ++f)
     for (size_t i = 0; i < 3; ++i) faces[f][i] = index[static_cast<size_t>(split.faces[f][i])];
-  return meshOf(x, faces);
+  mesh::SurfaceMesh mesh = meshOf(x, faces);
+  dress(split, faces, mesh);
+  return mesh;
 }
 
 mesh::SurfaceMesh deformSplit(const DffdSplit& split, const GlobalDffd& dffd) {

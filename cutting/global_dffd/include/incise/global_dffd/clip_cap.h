@@ -4,8 +4,11 @@
 // clip; CGAL stays out of this header.
 //
 // Shapes: a SurfaceMesh in, a SurfaceMesh out (triangles only, deleted elements of the input skipped; a
-// clipped result has none, with normals computed). Kinds are not carried through CGAL: every element of a
-// clipped result is Original, the cap's faces included.
+// clipped result has none, with normals computed). Each face of a clipped result keeps what the face it is
+// a piece of had (CGAL's corefinement visitor follows it): its kind, its material and its texture
+// coordinates, interpolated at its corners (exact for a planar map); a cap face is a Wall face, mapped on
+// its plane (mesh::planarTexCoords) and, on a mesh with materials, written with the walls' material.
+// Vertices are all Original.
 // Units: as the mesh (metres in incise); `value` in the same units. Threads: any thread; calls on distinct
 // or const meshes may run concurrently. Allocates: not for the sim thread.
 // Failure: std::invalid_argument for axis outside 0..2 or a non-finite value (checked first); MeshError

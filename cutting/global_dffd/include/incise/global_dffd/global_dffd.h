@@ -171,11 +171,18 @@ struct DffdSplit {
   // The split model as a mesh: at rest, or with the given positions (one per vertex, e.g. deformSplit's).
   // Builds an OpenMesh mesh: O(V + F), for output and checks (about half a frame's time on the robot).
   mesh::SurfaceMesh surface(std::span<const Eigen::Vector3d> positions_m = {}) const;
-  std::vector<int> source_vertex;                     // per vertex: the model's vertex, or -1 for a split point
-  std::vector<std::array<int, 2>> source_edge;        // per split point: the model edge's ends; {-1, -1} otherwise
-  std::vector<std::int8_t> side;                      // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
-  std::vector<int> plane;                             // per vertex: index of the obstacle whose plane it lies on, or -1
-  int left_open = 0;                                  // openings Openings::Close could not close (see below)
+  std::vector<int> source_vertex;               // per vertex: the model's vertex, or -1 for a split point
+  std::vector<std::array<int, 2>> source_edge;  // per split point: the model edge's ends; {-1, -1} otherwise
+  std::vector<std::int8_t> side;                // per vertex: -1 / +1 on a discontinuity, 0 elsewhere
+  std::vector<int> plane;                       // per vertex: index of the obstacle whose plane it lies on, or -1
+  int left_open = 0;                            // openings Openings::Close could not close (see below)
+  // A model with texture coordinates or materials (the SurfaceMesh overload) gives them to the split: per
+  // face, its corners' coordinates (a split point's interpolated along its edge in each face, so texture
+  // seams are kept; a stitching strip's from the faces beside it) and its material, an index into
+  // `materials`; empty otherwise. surface() and weldClosedLips() put them on the meshes they make.
+  std::vector<std::array<Eigen::Vector2d, 3>> face_uv;
+  std::vector<int> face_material;
+  std::vector<mesh::Material> materials;
   bool operator==(const DffdSplit&) const = default;  // every field, bit for bit
 };
 // With Openings::Close, every opening the split leaves (a loop of duplicated vertices on one side of one
