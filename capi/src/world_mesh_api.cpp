@@ -1,5 +1,6 @@
 // The C API's reads of a world's tissue: whole (vertices at rest and as simulated, faces, hash), as updates
 // since the last read (sim::GeometryStream), its mechanics, and the incisions' figures (incise.h).
+#include <algorithm>
 #include <cstring>
 
 #include "capi_convert.h"
@@ -149,6 +150,60 @@ INCISE_API incise_status incise_world_get_faces(incise_world_id world, uint32_t*
             static_cast<uint8_t>(deleted ? static_cast<int>(INCISE_FACE_DELETED) : static_cast<int>(tissue.kind(h)));
     }
     return INCISE_SUCCESS;
+  });
+}
+
+INCISE_API incise_status incise_world_get_texcoords(incise_world_id world, double* uv, uint32_t capacity,
+                                                    uint32_t* count) {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
+    using namespace incise;
+    const mesh::SurfaceMesh& tissue = w.world->tissue();
+    const mesh::TriMesh& m = tissue.mesh();
+    incise_status status;
+    const std::size_t needed = tissue.hasTexCoords() ? m.n_faces() : 0;
+    if (!capi::bufferFits(__func__, uv, capacity, needed, count, &status)) return status;
+    for (std::size_t f = 0; f < needed; ++f) {
+      const mesh::TriMesh::FaceHandle face(static_cast<int>(f));
+      double* corners = uv + 6 * f;
+      std::fill(corners, corners + 6, 0.0);
+      if (m.status(face).deleted()) continue;
+      auto h = m.halfedge_handle(face);  // the corners as cfv_iter gives the vertices: get_faces' order
+      for (int i = 0; i < 3; ++i, h = m.next_halfedge_handle(h)) {
+        const Eigen::Vector2d c = tissue.texCoord(h);
+        corners[2 * i] = c.x();
+        corners[2 * i + 1] = c.y();
+      }
+    }
+    return INCISE_SUCCESS;
+  });
+}
+
+INCISE_API incise_status incise_world_get_face_materials(incise_world_id world, int32_t* materials, uint32_t capacity,
+                                                         uint32_t* count) {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
+    using namespace incise;
+    const mesh::SurfaceMesh& tissue = w.world->tissue();
+    const mesh::TriMesh& m = tissue.mesh();
+    incise_status status;
+    const std::size_t needed = tissue.hasMaterials() ? m.n_faces() : 0;
+    if (!capi::bufferFits(__func__, materials, capacity, needed, count, &status)) return status;
+    for (std::size_t f = 0; f < needed; ++f) {
+      const mesh::TriMesh::FaceHandle face(static_cast<int>(f));
+      const bool own = m.status(face).deleted() || tissue.kind(face) == mesh::FaceKind::Wall;
+      materials[f] = own ? -1 : tissue.material(face);
+    }
+    return INCISE_SUCCESS;
+  });
+}
+
+INCISE_API incise_status incise_world_get_material_name(incise_world_id world, uint32_t material, char* text,
+                                                        uint32_t capacity, uint32_t* length) {
+  return incise::capi::onWorld(__func__, world, [&](incise::capi::WorldState& w) -> incise_status {
+    const std::vector<incise::mesh::Material>& all = w.world->tissue().materials();
+    if (material >= all.size())
+      return fail(__func__, INCISE_INVALID_PARAMETER,
+                  "material " + std::to_string(material) + " of " + std::to_string(all.size()));
+    return incise::capi::copyText(__func__, all[material].name, text, capacity, length);
   });
 }
 

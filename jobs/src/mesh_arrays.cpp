@@ -136,4 +136,28 @@ void copyFaces(const mesh::SurfaceMesh& surface, std::span<std::int64_t> triangl
   }
 }
 
+void copyTexCoords(const mesh::SurfaceMesh& surface, std::span<double> uv) {
+  const TriMesh& m = surface.mesh();
+  if (!surface.hasTexCoords()) throw std::invalid_argument("copyTexCoords: the mesh has no texture coordinates");
+  if (uv.size() != 6 * liveFaces(m)) throw std::invalid_argument("copyTexCoords: wrong output size");
+  std::size_t i = 0;
+  for (const TriMesh::FaceHandle face : m.faces()) {  // skips deleted faces
+    TriMesh::HalfedgeHandle h = m.halfedge_handle(face);
+    for (int corner = 0; corner < 3; ++corner, h = m.next_halfedge_handle(h)) {
+      const Eigen::Vector2d c = surface.texCoord(h);
+      uv[i++] = c.x();
+      uv[i++] = c.y();
+    }
+  }
+}
+
+void copyFaceMaterials(const mesh::SurfaceMesh& surface, std::span<std::int32_t> materials) {
+  const TriMesh& m = surface.mesh();
+  if (!surface.hasMaterials()) throw std::invalid_argument("copyFaceMaterials: the mesh has no materials");
+  if (materials.size() != liveFaces(m)) throw std::invalid_argument("copyFaceMaterials: wrong output size");
+  std::size_t i = 0;
+  for (const TriMesh::FaceHandle face : m.faces())
+    materials[i++] = surface.kind(face) == mesh::FaceKind::Wall ? -1 : surface.material(face);
+}
+
 }  // namespace incise::jobs

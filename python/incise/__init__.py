@@ -15,7 +15,8 @@ the same code as the `incise` command-line tool, so the same options give the sa
     data_dir(), shipped(name)             the shipped scenarios, meshes and traces
 
 Arrays: vertices N x 3 float64 (metres), faces M x 3 int64 (counter-clockwise seen from outside),
-face_kinds M uint8 (0 skin, 1 split skin, 2 wound wall), wall M bool; poses N x 10 float64 in a trace's
+face_kinds M uint8 (0 skin, 1 split skin, 2 wound wall), wall M bool; texcoords M x 3 x 2 float64 and
+face_materials M int32 for a textured mesh (None otherwise); poses N x 10 float64 in a trace's
 columns: time_s, tip x y z (metres), orientation w x y z, buttons, pressure (NaN: no sensor). A Mesh's
 vertices and faces are read-only views (no copy); a World's arrays are copies (its mesh changes on).
 Errors: incise.InputError (a ValueError) for a file, mesh, scenario or trace incise refuses, its message

@@ -168,6 +168,42 @@ void addMeshKindsAndFiles(py::class_<MeshView>& cls) {
       });
 }
 
+// Texture coordinates and materials, when the mesh's file had them (None otherwise).
+void addMeshTextures(py::class_<MeshView>& cls) {
+  cls.def_property_readonly(
+         "texcoords",
+         [](const MeshView& v) -> py::object {
+           const mesh::SurfaceMesh& s = v.mesh();
+           if (!s.hasTexCoords()) return py::none();
+           const auto n = static_cast<py::ssize_t>(jobs::liveFaces(s.mesh()));
+           py::array_t<double> uv({n, py::ssize_t{3}, py::ssize_t{2}});
+           jobs::copyTexCoords(s, std::span(uv.mutable_data(), static_cast<std::size_t>(6 * n)));
+           return uv;
+         },
+         "M x 3 x 2 float64: each face's corners' texture coordinates (u, v), the corners in `faces`' order (a "
+         "vertex on a texture seam has one per face side), or None for a mesh without them. A new array, a copy.")
+      .def_property_readonly(
+          "face_materials",
+          [](const MeshView& v) -> py::object {
+            const mesh::SurfaceMesh& s = v.mesh();
+            if (!s.hasMaterials()) return py::none();
+            const auto n = static_cast<py::ssize_t>(jobs::liveFaces(s.mesh()));
+            py::array_t<std::int32_t> materials(n);
+            jobs::copyFaceMaterials(s, std::span(materials.mutable_data(), static_cast<std::size_t>(n)));
+            return materials;
+          },
+          "M int32: each face's index into `materials` (OBJ usemtl), -1 for a wall (written with incise's own "
+          "material, `incise_wall`), or None for a mesh without materials. A copy.")
+      .def_property_readonly(
+          "materials",
+          [](const MeshView& v) {
+            py::list names;
+            for (const mesh::Material& material : v.mesh().materials()) names.append(material.name);
+            return names;
+          },
+          "The materials' names (OBJ newmtl / usemtl), in index order; empty for a mesh without materials.");
+}
+
 void bindMeshClass(py::module_& m) {
   py::class_<MeshView> cls(m, "Mesh", R"doc(
 A closed triangle surface mesh in metres (incise's tissue), read-only, as numpy arrays.
@@ -215,6 +251,7 @@ or face at fault when the mesh is not a closed, consistently oriented two-manifo
           },
           "M uint8: 0 original skin, 1 a piece of a face the cut split, 2 a wall of the wound. A read-only view.");
   addMeshKindsAndFiles(cls);
+  addMeshTextures(cls);
 }
 
 }  // namespace

@@ -138,6 +138,82 @@ static void check_inputs(void) {
   CHECK(s & INCISE_BAD_INPUT, "a missing scenario is bad input");
 }
 
+/* The planar map the textured cube's file gives its corners: linear in the position. */
+static void cube_map(const double* x, double* uv) {
+  uv[0] = x[0] + 0.5 * x[2] + 0.125;
+  uv[1] = x[1] - 0.25 * x[2] + 0.5;
+}
+
+/* The unit cube as an OBJ with a `vt` per vertex (the map) and two materials (6 faces each) in OUT_DIR. */
+static const char* write_textured_cube(void) {
+  const char* obj = path_in(out_dir, "textured_cube.obj");
+  FILE* f = fopen(path_in(out_dir, "textured_cube.mtl"), "w");
+  int i;
+  if (f == NULL) return obj;
+  fprintf(f, "newmtl skin_a\nKd 0.9 0.7 0.6\n\nnewmtl skin_b\nKd 0.7 0.5 0.4\n");
+  fclose(f);
+  f = fopen(obj, "w");
+  if (f == NULL) return obj;
+  fprintf(f, "mtllib textured_cube.mtl\n");
+  for (i = 0; i < 8; ++i)
+    fprintf(f, "v %.17g %.17g %.17g\n", cube_xyz[3 * i], cube_xyz[3 * i + 1], cube_xyz[3 * i + 2]);
+  for (i = 0; i < 8; ++i) {
+    double uv[2];
+    cube_map(cube_xyz + 3 * i, uv);
+    fprintf(f, "vt %.17g %.17g\n", uv[0], uv[1]);
+  }
+  for (i = 0; i < 12; ++i) {
+    const uint32_t* t = cube_faces + 3 * i;
+    if (i % 6 == 0) fprintf(f, "usemtl %s\n", i == 0 ? "skin_a" : "skin_b");
+    fprintf(f, "f %u/%u %u/%u %u/%u\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1, t[2] + 1);
+  }
+  fclose(f);
+  return obj;
+}
+
+/* Texture coordinates and materials as the file gave them, corner by corner in get_faces' order; a world
+ * without them answers with a count of 0. */
+static void check_textures(void) {
+  incise_world_def def = incise_default_world_def();
+  incise_world_id world = {0, 0};
+  double xyz[24], uv[72], expected[2];
+  uint32_t tri[36], count = 99, i, worst_corner = 0, bad = 0;
+  int32_t material[12];
+  char name[16];
+  uint32_t length = 0;
+  CHECK(incise_succeeded(incise_world_create_from_arrays(cube_xyz, 8, cube_faces, 12, &def, &world)),
+        "a cube from arrays");
+  CHECK(incise_succeeded(incise_world_get_texcoords(world, uv, 12, &count)) && count == 0,
+        "a mesh without texture coordinates has none (count 0)");
+  CHECK(incise_succeeded(incise_world_get_face_materials(world, material, 12, &count)) && count == 0,
+        "... nor materials");
+  incise_world_destroy(world);
+  CHECK(incise_succeeded(incise_world_create_from_mesh_file(write_textured_cube(), &def, &world)),
+        "a textured cube from an OBJ with vt and usemtl");
+  CHECK(incise_world_get_texcoords(world, uv, 11, &count) == (INCISE_FAILURE | INCISE_BUFFER_TOO_SMALL) && count == 12,
+        "texture coordinates: a buffer too small fails with the count");
+  CHECK(incise_succeeded(incise_world_get_texcoords(world, uv, 12, &count)) && count == 12,
+        "texture coordinates: 6 per face slot");
+  incise_world_get_vertices(world, xyz, 8, &count);
+  incise_world_get_faces(world, tri, NULL, 12, &count);
+  for (i = 0; i < 36; ++i) {
+    cube_map(xyz + 3 * tri[i], expected);
+    if (fabs(uv[2 * i] - expected[0]) > 1e-12 || fabs(uv[2 * i + 1] - expected[1]) > 1e-12) ++bad, worst_corner = i;
+  }
+  CHECK(bad == 0, "... each corner's is the file's for that corner's vertex");
+  if (bad) printf("       %u corners differ, e.g. corner %u\n", bad, worst_corner);
+  CHECK(incise_succeeded(incise_world_get_face_materials(world, material, 12, &count)) && count == 12,
+        "materials: one per face slot");
+  CHECK(material[0] == 0 && material[5] == 0 && material[6] == 1 && material[11] == 1, "... as the file's usemtl");
+  CHECK(incise_succeeded(incise_world_get_material_name(world, 1, name, sizeof name, &length)) &&
+            strcmp(name, "skin_b") == 0 && length == 7,
+        "material 1 is named skin_b");
+  CHECK(incise_world_get_material_name(world, 2, name, sizeof name, &length) ==
+            (INCISE_FAILURE | INCISE_INVALID_PARAMETER),
+        "material 2 of 2: refused");
+  incise_world_destroy(world);
+}
+
 static void check_buffers(incise_world_id world) {
   uint32_t count = 0, small = 0;
   double sentinel[6] = {-1, -1, -1, -1, -1, -1};
@@ -448,6 +524,7 @@ int main(int argc, char** argv) {
   check_defs();
   check_handles();
   check_inputs();
+  check_textures();
   check_scenario_world();
   check_simulated_world();
   check_score();

@@ -88,3 +88,62 @@ def test_save_obj_writes_what_the_mesh_holds(tmp_path, bunny):
     bunny.save_obj(tmp_path / "bunny.obj")
     again = incise.load_mesh(tmp_path / "bunny.obj")
     assert again.geometry_hash == bunny.geometry_hash
+
+
+def planar_map(x_m):
+    """A planar texture map of positions in metres (..., 3) -> (..., 2): linear, so exact wherever a cut
+    interpolates it."""
+    x, y, z = x_m[..., 0], x_m[..., 1], x_m[..., 2]
+    return np.stack([20.0 * x + 3.0 * z + 0.5, 20.0 * y - 5.0 * z + 0.25], axis=-1)
+
+
+@pytest.fixture
+def textured_bunny(tmp_path, scenarios):
+    """The bunny (in metres) with the planar map as its `vt`s and two materials, half its faces each."""
+    bunny = incise.load_mesh(scenarios / "meshes" / "bunny.obj", scale=0.01)
+    uv = planar_map(bunny.vertices)
+    lines = ["mtllib textured.mtl"]
+    lines += ["v %r %r %r" % tuple(p) for p in bunny.vertices]
+    lines += ["vt %r %r" % tuple(c) for c in uv]
+    half = len(bunny.faces) // 2
+    for i, face in enumerate(bunny.faces):
+        if i in (0, half):
+            lines.append("usemtl " + ("skin" if i == 0 else "skin_dark"))
+        lines.append("f " + " ".join(f"{v + 1}/{v + 1}" for v in face))
+    (tmp_path / "textured.obj").write_text("\n".join(lines) + "\n")
+    (tmp_path / "textured.mtl").write_text("newmtl skin\nKd 0.9 0.7 0.6\n\nnewmtl skin_dark\nKd 0.7 0.5 0.4\n")
+    return tmp_path / "textured.obj"
+
+
+def test_a_mesh_without_texture_coordinates_or_materials_has_none(bunny):
+    assert bunny.texcoords is None and bunny.face_materials is None and bunny.materials == []
+
+
+def test_texture_coordinates_and_materials_are_read_per_face_corner(textured_bunny):
+    mesh = incise.load_mesh(textured_bunny)
+    uv = mesh.texcoords
+    assert uv.shape == (len(mesh.faces), 3, 2) and uv.dtype == np.float64
+    np.testing.assert_allclose(uv, planar_map(mesh.vertices[mesh.faces]), rtol=0, atol=1e-12)
+    assert mesh.materials == ["skin", "skin_dark"]
+    half = len(mesh.faces) // 2
+    assert mesh.face_materials.dtype == np.int32
+    assert (mesh.face_materials[:half] == 0).all() and (mesh.face_materials[half:] == 1).all()
+
+
+def test_a_cut_keeps_them_exact_on_the_skin_and_maps_the_walls(textured_bunny):
+    loaded = incise.load_mesh(textured_bunny)
+    cut = incise.cut(mesh=textured_bunny, scale=1.0, subdivide=0)
+    assert cut.ok, cut.failure
+    mesh, n = cut.mesh, len(loaded.vertices)
+    uv, kinds = mesh.texcoords, mesh.face_kinds
+    assert uv.shape == (len(mesh.faces), 3, 2) and np.isfinite(uv).all()
+    # Skin faces whose corners the cut did not move: their coordinates are the map's at those corners.
+    unmoved = np.zeros(len(mesh.vertices), dtype=bool)
+    unmoved[:n] = (mesh.vertices[:n] == loaded.vertices).all(axis=1)
+    still = (kinds != 2) & unmoved[mesh.faces].all(axis=1)
+    assert still.sum() > 0.9 * len(loaded.faces)
+    np.testing.assert_allclose(uv[still], planar_map(mesh.vertices[mesh.faces[still]]), rtol=0, atol=1e-9)
+    # Split faces interpolate the map; walls have their own coordinates (metres along the stroke and down).
+    assert (kinds == 1).any() and (kinds == 2).any()
+    assert mesh.materials == ["skin", "skin_dark"] and set(mesh.face_materials[kinds != 2]) == {0, 1}
+    assert (mesh.face_materials[kinds == 2] == -1).all()

@@ -285,6 +285,27 @@ INCISE_API incise_status incise_world_get_physics(incise_world_id world, incise_
 INCISE_API incise_status incise_world_get_faces(incise_world_id world, uint32_t* triangles, uint8_t* kinds,
                                                 uint32_t capacity, uint32_t* count);
 
+/** Every face slot's corners' texture coordinates, 6 doubles each (u, v per corner, the corners in
+ *  incise_world_get_faces()'s order; zeros for a deleted slot), `capacity` in faces. A tissue read from a
+ *  file with texture coordinates (OBJ `vt`, PLY `texcoord` or `s t`) keeps them through every cut: split
+ *  faces interpolate them, the walls have their own (metres along the stroke and down the wall over a 1 cm
+ *  tile). A tissue without them: `count` 0, nothing written, ::INCISE_SUCCESS. Buffer rules as above.
+ *  Cost O(F). Threads: the world's. */
+INCISE_API incise_status incise_world_get_texcoords(incise_world_id world, double* uv, uint32_t capacity,
+                                                    uint32_t* count);
+
+/** Every face slot's material (OBJ `usemtl`), an index for incise_world_get_material_name(); -1 for a
+ *  deleted slot and for a wall (the walls' material is incise's own: `incise_wall` in the files it writes).
+ *  A tissue without materials: `count` 0, nothing written, ::INCISE_SUCCESS. Buffer rules as above. Cost
+ *  O(F). Threads: the world's. */
+INCISE_API incise_status incise_world_get_face_materials(incise_world_id world, int32_t* materials, uint32_t capacity,
+                                                         uint32_t* count);
+
+/** Material `material`'s name, NUL-terminated into `text` (`capacity` bytes); `length` gets the bytes
+ *  needed, the NUL included. ::INCISE_INVALID_PARAMETER for an index out of range. Threads: the world's. */
+INCISE_API incise_status incise_world_get_material_name(incise_world_id world, uint32_t material, char* text,
+                                                        uint32_t capacity, uint32_t* length);
+
 /** The FNV-1a hash of the live mesh (mesh_hash.h; `incise replay` prints it as 16 hex digits): equal
  *  meshes, equal hashes. Cost O(V + F). Threads: the world's. */
 INCISE_API incise_status incise_world_geometry_hash(incise_world_id world, uint64_t* hash);

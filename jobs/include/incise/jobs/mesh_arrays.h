@@ -35,5 +35,10 @@ void copyVertices(const mesh::SurfaceMesh& mesh, std::span<double> xyz_m);
 // liveFaces x 3 vertex indices into triangles and liveFaces kinds (mesh::FaceKind's values) into kinds
 // (empty: not wanted).
 void copyFaces(const mesh::SurfaceMesh& mesh, std::span<std::int64_t> triangles, std::span<std::uint8_t> kinds);
+// liveFaces x 3 corners x (u, v) texture coordinates into uv, the corners in copyFaces' order; the mesh must
+// have them (mesh.hasTexCoords()). liveFaces material indices (into mesh.materials(); -1 for a wall, whose
+// material is incise's own) into materials; the mesh must have materials. std::invalid_argument for a wrong size or a mesh without them.
+void copyTexCoords(const mesh::SurfaceMesh& mesh, std::span<double> uv);
+void copyFaceMaterials(const mesh::SurfaceMesh& mesh, std::span<std::int32_t> materials);
 
 }  // namespace incise::jobs
