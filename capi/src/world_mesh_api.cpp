@@ -75,6 +75,18 @@ incise_incision_figures figuresOf(const incision::IncisionFigures& f) noexcept {
 
 }  // namespace
 
+// A per-face-slot array (`width` values a slot) that only some tissues have (`present`; else the count is
+// 0): the buffer rule, then fill(face, its values) for every slot.
+template <class T, class Fill>
+incise_status perFaceSlot(const char* function, const mesh::TriMesh& m, bool present, T* out, std::size_t width,
+                          std::uint32_t capacity, std::uint32_t* count, Fill fill) {
+  incise_status status;
+  const std::size_t needed = present ? m.n_faces() : 0;
+  if (!bufferFits(function, out, capacity, needed, count, &status)) return status;
+  for (std::size_t f = 0; f < needed; ++f) fill(mesh::TriMesh::FaceHandle(static_cast<int>(f)), out + width * f);
+  return INCISE_SUCCESS;
+}
+
 }  // namespace incise::capi
 
 extern "C" {
@@ -159,22 +171,17 @@ INCISE_API incise_status incise_world_get_texcoords(incise_world_id world, doubl
     using namespace incise;
     const mesh::SurfaceMesh& tissue = w.world->tissue();
     const mesh::TriMesh& m = tissue.mesh();
-    incise_status status;
-    const std::size_t needed = tissue.hasTexCoords() ? m.n_faces() : 0;
-    if (!capi::bufferFits(__func__, uv, capacity, needed, count, &status)) return status;
-    for (std::size_t f = 0; f < needed; ++f) {
-      const mesh::TriMesh::FaceHandle face(static_cast<int>(f));
-      double* corners = uv + 6 * f;
-      std::fill(corners, corners + 6, 0.0);
-      if (m.status(face).deleted()) continue;
-      auto h = m.halfedge_handle(face);  // the corners as cfv_iter gives the vertices: get_faces' order
-      for (int i = 0; i < 3; ++i, h = m.next_halfedge_handle(h)) {
-        const Eigen::Vector2d c = tissue.texCoord(h);
-        corners[2 * i] = c.x();
-        corners[2 * i + 1] = c.y();
-      }
-    }
-    return INCISE_SUCCESS;
+    return capi::perFaceSlot(__func__, m, tissue.hasTexCoords(), uv, 6, capacity, count,
+                             [&](mesh::TriMesh::FaceHandle face, double* corners) {
+                               std::fill(corners, corners + 6, 0.0);
+                               if (m.status(face).deleted()) return;
+                               auto h = m.halfedge_handle(face);  // as cfv_iter gives the vertices: get_faces'
+                               for (int i = 0; i < 3; ++i, h = m.next_halfedge_handle(h)) {
+                                 const Eigen::Vector2d c = tissue.texCoord(h);
+                                 corners[2 * i] = c.x();
+                                 corners[2 * i + 1] = c.y();
+                               }
+                             });
   });
 }
 
@@ -184,15 +191,11 @@ INCISE_API incise_status incise_world_get_face_materials(incise_world_id world, 
     using namespace incise;
     const mesh::SurfaceMesh& tissue = w.world->tissue();
     const mesh::TriMesh& m = tissue.mesh();
-    incise_status status;
-    const std::size_t needed = tissue.hasMaterials() ? m.n_faces() : 0;
-    if (!capi::bufferFits(__func__, materials, capacity, needed, count, &status)) return status;
-    for (std::size_t f = 0; f < needed; ++f) {
-      const mesh::TriMesh::FaceHandle face(static_cast<int>(f));
-      const bool own = m.status(face).deleted() || tissue.kind(face) == mesh::FaceKind::Wall;
-      materials[f] = own ? -1 : tissue.material(face);
-    }
-    return INCISE_SUCCESS;
+    return capi::perFaceSlot(__func__, m, tissue.hasMaterials(), materials, 1, capacity, count,
+                             [&](mesh::TriMesh::FaceHandle face, int32_t* material) {
+                               const bool own = m.status(face).deleted() || tissue.kind(face) == mesh::FaceKind::Wall;
+                               *material = own ? -1 : tissue.material(face);
+                             });
   });
 }
 

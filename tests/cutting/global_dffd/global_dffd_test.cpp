@@ -10,6 +10,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "global_dffd/global_dffd_fixture.h"
+
 #include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
 
@@ -18,19 +20,8 @@ namespace {
 
 using Catch::Matchers::Contains;
 
-// A vertical bar: a cylinder of radius 5 mm along z through the scene, centred at x = 0, y = 0.
-Obstacle bar(double x_m = 0.0, const std::string& name = "bar") {
-  return {name, mesh::makeCylinder(Eigen::Vector3d(x_m, 0.0, -0.03), Eigen::Vector3d(0.0, 0.0, 0.06), 0.005, 48, 4, 2)};
-}
-
-GlobalDffdOptions options() {
-  GlobalDffdOptions o;
-  o.controls = {24, 16, 8};
-  o.margin_m = 0.02;
-  o.kernel_width = 6.0;
-  o.clearance_m = 0.0005;
-  return o;
-}
+using fixture::bar;
+using fixture::options;
 
 // Distance from the bar's axis minus its radius (the signed distance to the bar where z is inside it).
 double barDistance(const Eigen::Vector3d& p, double x_m = 0.0) { return std::hypot(p.x() - x_m, p.y()) - 0.005; }

@@ -14,6 +14,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "global_dffd/global_dffd_fixture.h"
+
 #include "incise/global_dffd/clip_cap.h"
 #include "incise/global_dffd/global_dffd.h"
 #include "incise/mesh/shapes.h"
@@ -66,19 +68,8 @@ std::optional<int> sourceChart(const mesh::SurfaceMesh& model, const Eigen::Vect
   return std::nullopt;
 }
 
-Obstacle bar() {
-  return {"bar",
-          mesh::makeCylinder(Eigen::Vector3d(0.0, 0.0, -0.03), Eigen::Vector3d(0.0, 0.0, 0.06), 0.005, 48, 4, 2)};
-}
-
-GlobalDffdOptions options() {
-  GlobalDffdOptions o;
-  o.controls = {24, 16, 8};
-  o.margin_m = 0.02;
-  o.kernel_width = 6.0;
-  o.clearance_m = 0.0005;
-  return o;
-}
+using fixture::bar;
+using fixture::options;
 
 // Over the faces of a split: the largest error of a corner's coordinate against its face's chart at its
 // rest position, faces whose material is not their source's, faces with no source (a stitching strip's),
