@@ -426,7 +426,13 @@ void saveMtl(const SurfaceMesh& surface, const std::filesystem::path& path) {
     }
     if (!wall)
       out << "\nnewmtl " << kWallMaterialName
-          << "\n# the wound's walls: flesh\nKa 0.2 0.05 0.05\nKd 0.62 0.16 0.14\nKs 0.25 0.25 0.25\nNs 30\n";
+          << "\n# the wound's walls: flesh\nKa 0.2 0.05 0.05\nKd 0.62 0.16 0.14\nKs 0.25 0.25 0.25\nNs 30\n"
+          << (surface.hasTexCoords() ? std::string("map_Kd ") + kWallTextureFile + "\n" : std::string());
+    if (!wall && surface.hasTexCoords()) {
+      const std::span<const unsigned char> png = detail::wallTexturePng();
+      core::writeFileAtomically(path.parent_path() / kWallTextureFile,
+                                std::string(reinterpret_cast<const char*>(png.data()), png.size()));
+    }
     out.commit();
   });
 }

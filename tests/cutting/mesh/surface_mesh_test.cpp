@@ -764,6 +764,13 @@ TEST_CASE(
         std::string::npos);
   CHECK(mtl.find("newmtl nail\n") != std::string::npos);
   CHECK(mtl.find("newmtl incise_wall\n") != std::string::npos);
+  // With texture coordinates, the walls' flesh image beside it (scenarios/textures/flesh.png).
+  CHECK(mtl.find("\nmap_Kd incise_flesh.png\n") != std::string::npos);
+  const std::string png = readFile(dir.path() / "incise_flesh.png");
+  const auto flesh = detail::wallTexturePng();
+  CHECK(png.size() > 1000);
+  CHECK(png.rfind("\x89PNG\r\n\x1a\n", 0) == 0);
+  CHECK(png == std::string(reinterpret_cast<const char*>(flesh.data()), flesh.size()));
   // Read back: the same materials per face, the walls' one added to the list once.
   const SurfaceMesh again = loadSurfaceMesh(dir.path() / "cut.obj");
   REQUIRE(again.materials().size() == 3);
@@ -790,4 +797,9 @@ TEST_CASE("surface_mesh: usemtl without its MTL file loads with the names only, 
   REQUIRE(late.materials().size() == 2);
   CHECK(late.materials()[static_cast<size_t>(late.material(TriMesh::FaceHandle(0)))].name == "default");
   CHECK(late.materials()[static_cast<size_t>(late.material(TriMesh::FaceHandle(1)))].name == "skin");
+  // Without texture coordinates the walls' material has no image, and none is written.
+  fs::create_directories(dir.path() / "out");
+  saveObj(late, dir.path() / "out" / "late.obj");
+  CHECK(readFile(dir.path() / "out" / "late.mtl").find("map_Kd") == std::string::npos);
+  CHECK_FALSE(fs::exists(dir.path() / "out" / "incise_flesh.png"));
 }

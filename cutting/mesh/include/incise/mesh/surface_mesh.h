@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -72,8 +73,14 @@ struct Material {
   std::vector<std::string> statements;
   bool operator==(const Material&) const = default;
 };
-// The material saveObj gives the walls of a mesh with materials (a flesh colour).
+// The material saveObj gives the walls of a mesh with materials (a flesh colour), and, when the mesh has
+// texture coordinates, its image: written beside the MTL under this name (scenarios/textures/flesh.png,
+// compiled in: wallTexturePng).
 inline constexpr const char* kWallMaterialName = "incise_wall";
+inline constexpr const char* kWallTextureFile = "incise_flesh.png";
+namespace detail {
+std::span<const unsigned char> wallTexturePng();  // the PNG file's bytes
+}
 
 inline Eigen::Vector3d toEigen(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 inline OpenMesh::Vec3d toOpenMesh(const Eigen::Vector3d& p) { return {p[0], p[1], p[2]}; }
@@ -224,8 +231,8 @@ ManifoldReport checkManifold(const TriMesh& mesh);
 // `vt u v` lines (each distinct corner coordinate once, in the order faces first use it) and faces
 // `f a/t b/t c/t`. A mesh with materials gets `mtllib` naming an MTL file written beside it (path with the
 // extension .mtl, written first, atomically too): its materials as read, then kWallMaterialName (a flesh
-// colour) unless it has one; `usemtl` before each run of tissue faces of one material, and the wall group
-// with kWallMaterialName. Kinds are not stored otherwise (use
+// colour; with texture coordinates also `map_Kd` kWallTextureFile, written beside it first) unless it has
+// one; `usemtl` before each run of tissue faces of one material, and the wall group with kWallMaterialName. Kinds are not stored otherwise (use
 // savePly). Writes path + ".tmp", then renames it to path: nothing half-written on failure. Same mesh ->
 // same bytes. Throws MeshError naming the path on I/O failure (the .tmp is removed) or for a non-finite
 // vertex position (nothing written). Cost O(V + F).
