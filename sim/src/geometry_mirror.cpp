@@ -38,6 +38,7 @@ void GeometryMirror::apply(const GeometryRecord& r) {
     vertex_kind_.assign(r.info.vertices, 0);
     faces_.assign(r.info.faces, {-1, -1, -1});
     face_kind_.assign(r.info.faces, kDeletedFace);
+    face_texcoords_.clear();
     flags_ = 0;
     frame_ = r.info.frame;
     clearChanges();
@@ -63,6 +64,10 @@ void GeometryMirror::apply(const GeometryRecord& r) {
       faces_[r.index] = {r.vertices[0], r.vertices[1], r.vertices[2]};
       face_kind_[r.index] = r.kind;
       touch(face_changed_, changed_faces_, r.index);
+      break;
+    case GeometryRecordType::FaceTexCoords:  // right after its Face record: the face is in faces_
+      if (face_texcoords_.size() < faces_.size()) face_texcoords_.resize(faces_.size(), std::array<float, 6>{});
+      if (r.index < face_texcoords_.size()) std::copy(r.texcoords, r.texcoords + 6, face_texcoords_[r.index].begin());
       break;
     case GeometryRecordType::Frame:
       frame_ = r.info.frame;

@@ -118,7 +118,7 @@ void GeometryStream::emitVertex(const World& world, std::uint32_t v) noexcept {
   r.position_m[0] = p[0], r.position_m[1] = p[1], r.position_m[2] = p[2];
 }
 
-void GeometryStream::emitFace(const World& world, std::uint32_t f) noexcept {
+std::size_t GeometryStream::emitFace(const World& world, std::uint32_t f) noexcept {
   const mesh::SurfaceMesh& tissue = world.tissue();
   const mesh::TriMesh& m = tissue.mesh();
   const mesh::TriMesh::FaceHandle h(static_cast<int>(f));
@@ -128,11 +128,23 @@ void GeometryStream::emitFace(const World& world, std::uint32_t f) noexcept {
   if (m.status(h).deleted()) {
     r.kind = kDeletedFace;
     r.vertices[0] = r.vertices[1] = r.vertices[2] = -1;
-    return;
+    return 1;
   }
   r.kind = static_cast<std::uint8_t>(tissue.kind(h));
   int i = 0;
   for (auto v = m.cfv_iter(h); v.is_valid() && i < 3; ++v) r.vertices[i++] = v->idx();
+  if (!tissue.hasTexCoords()) return 1;
+  GeometryRecord& t = next();
+  t.type = GeometryRecordType::FaceTexCoords;
+  t.kind = 0;
+  t.index = f;
+  auto corner = m.halfedge_handle(h);  // the corners as cfv_iter gave the vertices
+  for (int k = 0; k < 3; ++k, corner = m.next_halfedge_handle(corner)) {
+    const OpenMesh::Vec2d& uv = m.property(tissue.texCoordProperty(), corner);
+    t.texcoords[2 * k] = static_cast<float>(uv[0]);
+    t.texcoords[2 * k + 1] = static_cast<float>(uv[1]);
+  }
+  return 2;
 }
 
 void GeometryStream::startReset(std::int64_t frame, std::uint32_t n_vertices, std::uint32_t n_faces) noexcept {
@@ -171,8 +183,10 @@ std::size_t GeometryStream::writeVertices(const World& world, std::size_t budget
 // the queue: the reader never gets a face naming a vertex it lacks. Every face looked at counts against
 // the budget, sent or not. The sweep's faces come once its vertices have all gone.
 std::size_t GeometryStream::writeFaces(const World& world, std::size_t budget) noexcept {
+  // A face of a textured tissue takes two records (Face, FaceTexCoords): each face looked at counts as many.
+  const std::size_t per_face = world.tissue().hasTexCoords() ? 2 : 1;
   std::size_t work = 0;
-  for (std::size_t tries = std::min(faces_.count, budget); tries > 0; --tries, ++work) {
+  for (std::size_t tries = std::min(faces_.count, budget / per_face); tries > 0; --tries, work += per_face) {
     const std::uint32_t f = faces_.pop();
     if (sendable(world, f))
       emitFace(world, f);
@@ -180,7 +194,7 @@ std::size_t GeometryStream::writeFaces(const World& world, std::size_t budget) n
       faces_.mark(f, counters_.regrowths);  // room for it: it was just popped
   }
   if (!sweeping_ || sweep_vertex_ < sweep_vertices_) return work;
-  for (; work < budget && sweep_face_ < sweep_faces_; ++sweep_face_, ++work) {
+  for (; work + per_face <= budget && sweep_face_ < sweep_faces_; ++sweep_face_, work += per_face) {
     if (sendable(world, sweep_face_))
       emitFace(world, sweep_face_);
     else

@@ -118,6 +118,45 @@ TEST_CASE("geometry_stream: a mirror pulled after every fast frame ends as the r
   requireSameMesh(mirror, l.world->tissue());
 }
 
+TEST_CASE("geometry_stream: a textured tissue's faces carry their corners' texture coordinates to the mirror",
+          "[sim]") {
+  Loaded l = shipped("bunny-straight");
+  mesh::SurfaceMesh tissue = l.world->tissue();
+  tissue.addTexCoords();  // a planar map: every corner its vertex's (x, z) over 5 cm
+  for (const auto h : tissue.mesh().halfedges()) {
+    if (tissue.mesh().is_boundary(h)) continue;
+    const auto& p = tissue.mesh().point(tissue.mesh().to_vertex_handle(h));
+    tissue.setTexCoord(h, Eigen::Vector2d(p[0] / 0.05, p[2] / 0.05));
+  }
+  sim::World world(std::move(tissue), l.scenario.world);
+  sim::GeometryStream stream;
+  sim::GeometryMirror mirror;
+  sim::ReplayOptions o = options(l, sim::ReplayPace::Fast, stream);
+  o.geometry_reader = [&] {
+    mirror.pull(stream);
+    mirror.clearChanges();
+  };
+  const sim::ReplayReport report = sim::replay(world, l.poses, o);
+  REQUIRE(report.geometry_flushed);
+  REQUIRE(world.cutter().stats().vertices_duplicated > 50);
+  requireSameMesh(mirror, world.tissue());
+  const mesh::SurfaceMesh& cut = world.tissue();
+  const mesh::TriMesh& m = cut.mesh();
+  REQUIRE(mirror.faceTexCoords().size() == m.n_faces());
+  std::size_t differing = 0, walls = 0;
+  for (const auto f : m.faces()) {  // live faces: each corner's coordinate as a float, in the Face record's order
+    const auto& uv = mirror.faceTexCoords()[static_cast<std::size_t>(f.idx())];
+    auto h = m.halfedge_handle(f);
+    for (std::size_t k = 0; k < 3; ++k, h = m.next_halfedge_handle(h)) {
+      const Eigen::Vector2d c = cut.texCoord(h);
+      differing += uv[2 * k] != static_cast<float>(c.x()) || uv[2 * k + 1] != static_cast<float>(c.y());
+    }
+    walls += cut.kind(f) == mesh::FaceKind::Wall;
+  }
+  CHECK(walls > 100);  // the walls' own coordinates among them
+  CHECK(differing == 0);
+}
+
 TEST_CASE("geometry_stream: a reader that falls behind stalls the stream, loses nothing and ends exact", "[sim]") {
   Loaded l = shipped("bunny-straight");
   sim::GeometryStreamOptions small;

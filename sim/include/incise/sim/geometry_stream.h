@@ -31,7 +31,8 @@ enum class GeometryRecordType : std::uint8_t {
   Frame = 4,
   TetReset = 5,
   TetNode = 6,
-  Tet = 7
+  Tet = 7,
+  FaceTexCoords = 8
 };
 inline constexpr std::uint8_t kDeletedFace = 0xff;
 
@@ -58,7 +59,8 @@ struct GeometryTet {
 // 32 bytes. Vertex: index, kind (mesh::VertexKind), position_m. Face: index, kind (mesh::FaceKind or
 // kDeletedFace), vertices (counter-clockwise from outside, in OpenMesh's order from the face's halfedge).
 // TetReset: info (vertices = tet nodes, faces = base tets). TetNode: index, position_m. Tet: index (the base
-// tet), kind (the slot), tet.
+// tet), kind (the slot), tet. FaceTexCoords (only for a tissue with texture coordinates, right after the
+// live face's Face record): index, texcoords (u, v per corner, the Face record's order, as floats).
 struct GeometryRecord {
   GeometryRecordType type;
   std::uint8_t kind;
@@ -69,6 +71,7 @@ struct GeometryRecord {
     std::int32_t vertices[3];
     GeometryFrameInfo info;
     GeometryTet tet;
+    float texcoords[6];
   };
 };
 static_assert(sizeof(GeometryRecord) == 32);
@@ -175,7 +178,7 @@ class GeometryStream {
   bool sendable(const World& world, std::uint32_t f) const noexcept;
   std::size_t backlog() const noexcept;
   void emitVertex(const World& world, std::uint32_t v) noexcept;
-  void emitFace(const World& world, std::uint32_t f) noexcept;
+  std::size_t emitFace(const World& world, std::uint32_t f) noexcept;  // the records written: 1 or 2
   GeometryRecord& next() noexcept { return ring_[(head_local_++) & mask_]; }
   // The tet part (geometry_stream_tets.cpp).
   void takeTets(const World& world) noexcept;
