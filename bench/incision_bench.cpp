@@ -70,16 +70,6 @@ nlohmann::json runMesh(const mesh::SurfaceMesh& base, int subdivisions, int budg
   };
 }
 
-// A planar texture map (x and z over 10 cm) on every corner.
-void mapPlanar(mesh::SurfaceMesh& s) {
-  s.addTexCoords();
-  for (const auto h : s.mesh().halfedges()) {
-    if (s.mesh().is_boundary(h)) continue;
-    const auto p = s.mesh().point(s.mesh().to_vertex_handle(h));
-    s.setTexCoord(h, Eigen::Vector2d(p[0] / 0.1 + 0.5, p[2] / 0.1 + 0.5));
-  }
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -89,7 +79,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   mesh::SurfaceMesh bunny = mesh::loadSurfaceMesh(INCISE_SCENARIOS_DIR "/meshes/bunny.obj", 0.01);
-  if (textured) mapPlanar(bunny);
+  if (textured) bench::mapPlanar(bunny);
   nlohmann::json report = {
       {"benchmark", "incision_per_sample"},
       {"textured", textured},

@@ -14,7 +14,9 @@
 //    and late wake-ups (the VM not running the loop on time: the period error);
 //  - "skin_embedding": a simulated tissue's surface embedded on the viewer's thread (pad-tension,
 //    bunny-tets-soft): its update after every pull, a whole embedding, and a physics step's redraw (skinCost);
-//   incise_bench_viewer [--seconds S] [--geometry-only] [--skin-only]
+//   incise_bench_viewer [--seconds S] [--geometry-only] [--skin-only] [--textured]
+// `--textured`: the geometry part's bunnies get a planar texture map after subdivision (bench::mapPlanar),
+// so every face the stream sends carries its corners' texture coordinates (two records a face).
 
 #include <atomic>
 #include <chrono>
@@ -25,6 +27,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bunny_stroke.h"
 #include "incise/devices/trace_csv.h"
 #include "incise/measure/machine_info.h"
 #include "incise/measure/percentile.h"
@@ -54,11 +57,14 @@ struct Loaded {
 
 // A shipped scenario (default: bunny-straight.json) with its tissue subdivided `subdivide` times (< 0: as
 // the scenario says). bunny-straight and bunny-tets replay the same 5 cm stroke.
+bool g_textured = false;  // --textured: the geometry part's tissues carry texture coordinates
+
 Loaded load(int subdivide, const char* scenario = "bunny-straight") {
   Loaded l;
   l.scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + scenario + ".json");
   if (subdivide >= 0) l.scenario.subdivide = subdivide;
   mesh::SurfaceMesh tissue = sim::loadTissue(l.scenario);
+  if (g_textured) bench::mapPlanar(tissue);
   l.triangles = tissue.mesh().n_faces();
   l.poses = l.scenario.source == sim::Scenario::Source::Strokes
                 ? sim::posesForStrokes(tissue, l.scenario.strokes, l.scenario.world, l.scenario.rate_hz)
@@ -309,6 +315,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--geometry-only") == 0) geometry_only = true;
     if (std::strcmp(argv[i], "--skin-only") == 0) skin_only = true;
+    if (std::strcmp(argv[i], "--textured") == 0) g_textured = true;
     if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) seconds = std::stod(argv[++i]);
   }
   nlohmann::json report = {{"benchmark", "viewer"},
@@ -317,7 +324,8 @@ int main(int argc, char** argv) {
                              {"sim_frame_p99_change_with_viewer", 0.10},
                              {"screen_latency_display_frames", 2},
                              {"viewer_fps_aim_235k_llvmpipe", 30}}},
-                           {"machine", measure::machineInfo()}};
+                           {"machine", measure::machineInfo()},
+                           {"textured", g_textured}};
   report["skin_embedding"] = {skinCost("pad-tension"), skinCost("bunny-tets-soft")};
   if (skin_only) {
     std::printf("%s\n", report.dump(2).c_str());
