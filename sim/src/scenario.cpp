@@ -173,6 +173,18 @@ void readTissueSource(const Reader& tissue, Scenario& s) {
   s.subdivide = tissue.integer("subdivide", 0, 0, 5);
 }
 
+// "tissue.texture": how the coordinates are had and which images are drawn.
+TextureSpec readTexture(const Reader& texture) {
+  TextureSpec spec;
+  spec.given = true;
+  spec.box_map = texture.has("map") && texture.choice("map", nullptr, {"box"}) == "box";
+  spec.tile_m = texture.number("tile_m", spec.tile_m, 1e-5, 10.0);
+  if (!spec.box_map && texture.has("tile_m")) texture.fail("needs \"map\": \"box\" (it sizes the made map)", "tile_m");
+  if (texture.has("skin")) spec.skin_image = texture.file("skin");
+  if (texture.has("wall")) spec.wall_image = texture.file("wall");
+  return spec;
+}
+
 Scenario readScenario(const Reader& root, const std::filesystem::path& file) {
   Scenario s;
   s.file = file;
@@ -181,6 +193,7 @@ Scenario readScenario(const Reader& root, const std::filesystem::path& file) {
   const Reader tissue = root.child("tissue");
   if (!root.has("tissue")) root.fail("is missing", "tissue");
   readTissueSource(tissue, s);
+  if (tissue.has("texture")) s.texture = readTexture(tissue.child("texture"));
   s.force_threshold_N = tissue.number("force_threshold_N", s.force_threshold_N, 0.0, 1e3);
   TissueOptions& tp = s.world.tissue;
   tp.stiffness_N_per_m = tissue.number("stiffness_N_per_m", tp.stiffness_N_per_m, 0.0, 1e7);
@@ -249,9 +262,18 @@ Scenario loadScenario(const std::filesystem::path& file) {
 }
 
 mesh::SurfaceMesh loadTissue(const Scenario& scenario) {
-  if (scenario.shape.given)
-    return mesh::subdivided(mesh::makeSkinPad(scenario.shape.size_m, scenario.shape.grid_m), scenario.subdivide);
-  return mesh::subdivided(mesh::loadSurfaceMesh(scenario.mesh, scenario.scale), scenario.subdivide);
+  mesh::SurfaceMesh tissue =
+      scenario.shape.given
+          ? mesh::subdivided(mesh::makeSkinPad(scenario.shape.size_m, scenario.shape.grid_m), scenario.subdivide)
+          : mesh::subdivided(mesh::loadSurfaceMesh(scenario.mesh, scenario.scale), scenario.subdivide);
+  if (scenario.texture.box_map) {
+    mesh::boxTexCoords(tissue, scenario.texture.tile_m);
+  } else if (scenario.texture.given && !tissue.hasTexCoords()) {
+    throw mesh::MeshError(scenario.file.string() + ": tissue.texture: " +
+                          (scenario.shape.given ? std::string("a made pad") : scenario.mesh.string()) +
+                          " has no texture coordinates (vt); give \"map\": \"box\" to make them");
+  }
+  return tissue;
 }
 
 }  // namespace incise::sim

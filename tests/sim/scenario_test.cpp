@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "incise/mesh/surface_mesh.h"
 #include "scenario_fixture.h"
 
 #include <filesystem>
@@ -161,6 +162,54 @@ TEST_CASE("scenario: local refinement's keys", "[sim]") {
     "tissue": {"mesh": "meshes/bunny.obj"}, "incision": {"refine": "cubic"},
     "pose_source": {"kind": "strokes", "strokes": [{}]}})")),
                       Contains("incision.refine: must be \"linear\", \"pn\" or \"off\", got \"cubic\""));
+}
+
+TEST_CASE("scenario: a tissue's texture: a box map made at load, images named, bad ones refused", "[sim]") {
+  const auto& dir = incise::test::scenarioDir();
+  std::filesystem::create_directories(dir.path() / "textures");
+  dir.write("textures/skin.png", "any bytes: the loader checks that it exists; the viewer reads it");
+  const sim::Scenario s = sim::loadScenario(scenarioFile("textured", R"({
+    "tissue": {"shape": "pad", "size_m": [0.02, 0.01, 0.02], "grid_m": 0.002,
+               "texture": {"map": "box", "tile_m": 0.004, "skin": "textures/skin.png"}},
+    "pose_source": {"kind": "strokes", "strokes": [{}]}})"));
+  REQUIRE(s.texture.given);
+  REQUIRE(s.texture.box_map);
+  REQUIRE(s.texture.tile_m == 0.004);
+  REQUIRE(s.texture.skin_image == dir.path() / "textures/skin.png");
+  REQUIRE(s.texture.wall_image.empty());
+  const mesh::SurfaceMesh pad = sim::loadTissue(s);
+  REQUIRE(pad.hasTexCoords());
+  // The pad's top (y = 0, normal +y) is mapped on x and z over the tile.
+  std::size_t top = 0;
+  for (const auto f : pad.mesh().faces()) {
+    const mesh::FaceCorners c = mesh::faceCorners(pad, f);
+    const auto p = [&](std::size_t i) { return mesh::toEigen(pad.mesh().point(c.vertex[i])); };
+    if (std::abs(p(0).y()) > 1e-12 || std::abs(p(1).y()) > 1e-12 || std::abs(p(2).y()) > 1e-12) continue;
+    ++top;
+    for (std::size_t i = 0; i < 3; ++i) {
+      CHECK(c.uv[i].x() == Approx(p(i).x() / 0.004).margin(1e-12));
+      CHECK(c.uv[i].y() == Approx(p(i).z() / 0.004).margin(1e-12));
+    }
+  }
+  CHECK(top > 100);
+  REQUIRE_FALSE(sim::loadTissue(sim::loadScenario(scenarioFile("good", kGood))).hasTexCoords());
+
+  const auto bad = [&](const char* name, const std::string& texture) {
+    return sim::loadScenario(scenarioFile(name, R"({"tissue": {"mesh": "meshes/bunny.obj", "texture": )" + texture +
+                                                    R"(}, "pose_source": {"kind": "strokes", "strokes": [{}]}})"));
+  };
+  REQUIRE_THROWS_WITH(bad("texmap", R"({"map": "sphere"})"),
+                      Contains("tissue.texture.map: must be") && Contains("box"));
+  REQUIRE_THROWS_WITH(bad("textile", R"({"map": "box", "tile_m": 0})"),
+                      Contains("tissue.texture.tile_m: 0 is outside"));
+  REQUIRE_THROWS_WITH(bad("textilealone", R"({"tile_m": 0.01})"),
+                      Contains(R"(tissue.texture.tile_m: needs "map": "box")"));
+  REQUIRE_THROWS_WITH(bad("texskin", R"({"map": "box", "skin": "textures/none.png"})"),
+                      Contains("tissue.texture.skin: file") && Contains("none.png does not exist"));
+  // No map on a mesh without coordinates: refused when the tissue is loaded, naming the scenario.
+  const sim::Scenario own = bad("texown", R"({"wall": "textures/skin.png"})");
+  REQUIRE_THROWS_WITH(sim::loadTissue(own),
+                      Contains("texown.json: tissue.texture: ") && Contains("bunny.obj has no texture coordinates"));
 }
 
 TEST_CASE("scenario: a key nothing reads is refused, naming the nearest known key", "[sim]") {

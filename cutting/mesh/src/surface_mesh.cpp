@@ -189,6 +189,24 @@ std::array<Eigen::Vector2d, 3> planarTexCoords(const std::array<Eigen::Vector3d,
   return uv;
 }
 
+void boxTexCoords(SurfaceMesh& mesh, double tile_m) {
+  if (!(tile_m > 0.0) || !std::isfinite(tile_m))
+    throw std::invalid_argument("boxTexCoords: the tile must be finite and > 0 metres, got " +
+                                core::formatNumber(tile_m));
+  mesh.addTexCoords();
+  TriMesh& m = mesh.mesh();
+  for (const TriMesh::FaceHandle f : m.faces()) {
+    std::array<TriMesh::HalfedgeHandle, 3> h;
+    std::array<Eigen::Vector3d, 3> x;
+    int i = 0;
+    for (const TriMesh::HalfedgeHandle he : m.fh_range(f)) h[i] = he, x[i++] = toEigen(m.point(m.to_vertex_handle(he)));
+    Eigen::Vector3d::Index axis = 0;
+    (x[1] - x[0]).cross(x[2] - x[0]).cwiseAbs().maxCoeff(&axis);
+    const int a = axis == 0 ? 2 : 0, b = axis == 1 ? 2 : 1;  // x: (z, y), y: (x, z), z: (x, y)
+    for (std::size_t c = 0; c < 3; ++c) mesh.setTexCoord(h[c], Eigen::Vector2d(x[c][a], x[c][b]) / tile_m);
+  }
+}
+
 TriMesh::VertexHandle SurfaceMesh::addVertex(const Eigen::Vector3d& p, VertexKind kind) {
   if (!p.allFinite())
     throw std::invalid_argument("SurfaceMesh::addVertex: non-finite point (" + core::formatNumber(p.x()) + ", " +

@@ -803,3 +803,27 @@ TEST_CASE("surface_mesh: usemtl without its MTL file loads with the names only, 
   CHECK(readFile(dir.path() / "out" / "late.mtl").find("map_Kd") == std::string::npos);
   CHECK_FALSE(fs::exists(dir.path() / "out" / "incise_flesh.png"));
 }
+
+TEST_CASE("surface_mesh: boxTexCoords maps each face on the two axes across its normal, over the tile", "[cutting]") {
+  SurfaceMesh box =
+      makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.01, -0.02, -0.03), Eigen::Vector3d(0.02, 0.01, 0.0)), 3);
+  REQUIRE_THROWS_AS(boxTexCoords(box, 0.0), std::invalid_argument);
+  REQUIRE_FALSE(box.hasTexCoords());
+  boxTexCoords(box, 0.005);
+  REQUIRE(box.hasTexCoords());
+  std::array<int, 3> per_axis{0, 0, 0};
+  for (const auto f : box.mesh().faces()) {
+    const FaceCorners c = faceCorners(box, f);
+    std::array<Eigen::Vector3d, 3> x;
+    for (std::size_t i = 0; i < 3; ++i) x[i] = toEigen(box.mesh().point(c.vertex[i]));
+    Eigen::Index axis = 0;
+    (x[1] - x[0]).cross(x[2] - x[0]).cwiseAbs().maxCoeff(&axis);
+    ++per_axis[static_cast<std::size_t>(axis)];
+    const int a = axis == 0 ? 2 : 0, b = axis == 1 ? 2 : 1;
+    for (std::size_t i = 0; i < 3; ++i) {
+      CHECK(c.uv[i].x() == Approx(x[i][a] / 0.005).margin(1e-12));
+      CHECK(c.uv[i].y() == Approx(x[i][b] / 0.005).margin(1e-12));
+    }
+  }
+  CHECK(per_axis == std::array<int, 3>{36, 36, 36});  // 2 sides x 3 x 3 squares x 2 triangles
+}

@@ -69,6 +69,18 @@ struct TissueShape {
   double grid_m = 0.001;
 };
 
+// A textured tissue's look ("tissue": {"texture": {"map": "box", "tile_m": 0.02, "skin": "textures/skin.png",
+// "wall": "textures/flesh.png"}}): texture coordinates made for it (map "box": mesh::boxTexCoords over
+// tile_m) or, without "map", the mesh file's own (a mesh without them is refused at load); the images the
+// viewer, render and train draw on the skin and the walls (PNG paths; none: the first material's map_Kd,
+// else the plain skin colour; incise's flesh for the walls).
+struct TextureSpec {
+  bool given = false;
+  bool box_map = false;
+  double tile_m = 0.02;
+  std::filesystem::path skin_image, wall_image;
+};
+
 // A planned incision ("plan"): a polyline in metres, projected onto the tissue's surface at load
 // (sim/include/incise/sim/plan.h), the target depth below the surface, and the tolerances (lateral: the FLS
 // pattern-cut tolerance, 2 mm; depth 1 mm). Checked at load: at least 2 points, tolerances > 0.
@@ -85,6 +97,7 @@ struct Scenario {
   std::filesystem::path file;
   std::filesystem::path mesh;
   TissueShape shape;               // given: the tissue is made, not read from `mesh`
+  TextureSpec texture;             // given: the tissue is textured
   PlanSpec plan;                   // given: the session is scored against it (score.h)
   double force_threshold_N = 3.0;  // tissue.force_threshold_N: the scoring's "too much force" line
   double scale = 1.0;
@@ -111,7 +124,8 @@ struct Scenario {
 //     "rate_hz": 1000, "cut_budget_us": 300, "settle_s": 0.2 }
 Scenario loadScenario(const std::filesystem::path& file);
 
-// The scenario's tissue mesh: loaded, scaled and subdivided, or made (shape); throws mesh::MeshError.
+// The scenario's tissue mesh: loaded, scaled and subdivided, or made (shape), then box-mapped when its
+// texture says so; throws mesh::MeshError (also for a texture without a map on a mesh without coordinates).
 mesh::SurfaceMesh loadTissue(const Scenario& scenario);
 
 }  // namespace incise::sim

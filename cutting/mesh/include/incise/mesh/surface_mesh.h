@@ -169,6 +169,12 @@ Eigen::Vector2d interpolateTexCoord(const std::array<Eigen::Vector3d, 3>& x, con
 // A wall or cap face's texture coordinates: its corners x projected on its own plane (axes from its normal
 // and z, or x when the face is nearly horizontal), in metres over kWallTextureTile_m. O(1).
 std::array<Eigen::Vector2d, 3> planarTexCoords(const std::array<Eigen::Vector3d, 3>& x);
+// Texture coordinates made for a whole mesh (a scenario's "map": "box", for a tissue without its own):
+// each face projected along the axis (x, y or z) its normal is nearest onto the other two, in metres over
+// `tile_m`, so a tileable image repeats every tile_m on any side; a seam where neighbours choose different
+// axes. Adds the property when missing, replaces every corner's. std::invalid_argument unless tile_m is
+// finite and > 0. O(F).
+void boxTexCoords(SurfaceMesh& mesh, double tile_m);
 
 // Reads a closed, consistently oriented triangle mesh and multiplies positions by `scale` (finite, > 0,
 // else std::invalid_argument). All kinds Original; normals computed.
