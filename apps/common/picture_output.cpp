@@ -10,6 +10,7 @@
 #include "incise/viewer/gl_context.h"
 #include "incise/viewer/picture.h"
 #include "incise/viewer/png_file.h"
+#include "tissue_images.h"
 
 namespace incise::apps {
 
@@ -70,6 +71,7 @@ void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, 
   options.camera = args.camera;
   options.draw.wireframe = args.wireframe;
   options.tets = args.tets;
+  options.textures = tissueImages(command, run);
   options.tool.show = args.tool && args.last.has_value();
   if (args.last) {
     const sim::HapticState& h = args.last->haptic;

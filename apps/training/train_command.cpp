@@ -36,6 +36,7 @@
 #include "replay_outputs.h"
 #include "scenario_run.h"
 #include "score_plots.h"
+#include "tissue_images.h"
 #include "training_commands.h"
 
 namespace incise::apps::training {
@@ -158,6 +159,7 @@ viewer::ViewerFeed feedFor(Session& s, const viewer::PoseSourceMonitor& status, 
   feed.blade_length_m = s.run.scenario.world.tool.blade_length_m;
   feed.scenario = s.run.scenario.name + " (training)";
   feed.plan = s.run.plan ? &*s.run.plan : nullptr;
+  feed.textures = tissueImages("train", s.run);
   if (sim::TissuePhysics* physics = s.run.world->physics())
     feed.physics_state = [physics] { return physics->latestState(); };
   feed.scalpel = scalpel;

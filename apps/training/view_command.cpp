@@ -21,6 +21,7 @@
 #include "picture_output.h"
 #include "replay_outputs.h"
 #include "scenario_run.h"
+#include "tissue_images.h"
 #include "training_commands.h"
 
 namespace incise::apps::training {
@@ -102,6 +103,7 @@ bool show(viewer::ViewerWindow& window, Run& run, const std::string& name, bool 
   feed.blade_length_m = run.loaded.scenario.world.tool.blade_length_m;
   feed.stroke_points_m = stroke;
   feed.scenario = name;
+  feed.textures = tissueImages("view", run.loaded);
   if (sim::TissuePhysics* physics = run.loaded.world->physics())
     feed.physics_state = [physics] { return physics->latestState(); };
   sim::GeometryMirror seeded;  // the tissue as it starts, copied before the run: no sweep on the sim thread

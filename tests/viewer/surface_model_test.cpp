@@ -26,6 +26,7 @@ TEST_CASE("surface_model: updated after every pull, it ends as a model built fro
   sim::copyGeometry(*run->world, 0, copy);
   REQUIRE(fresh.update(copy));
   CHECK(fresh.dirty().all);
+  CHECK_FALSE(fresh.textured());               // a tissue without texture coordinates
   CHECK(updates_with_changes > 50);            // many frames, each with a few changes
   CHECK(max_dirty < fresh.vertexCount() / 4);  // only what changed, never the whole mesh
   REQUIRE(followed.vertexCount() == fresh.vertexCount());
@@ -103,4 +104,55 @@ TEST_CASE("surface_model: a simulated tissue's tets are drawn where the physics'
   INFO(state->nodes << " nodes, " << moved << " drawn more than 0.5 mm from rest");
   CHECK(at_state == state->nodes);
   CHECK(moved > 100);
+}
+
+TEST_CASE("surface_model: a textured tissue's texture coordinates follow every pull, the dirty faces name them",
+          "[viewer]") {
+  viewer::SurfaceModel followed;
+  std::vector<float> uploaded;  // what a renderer holds, updated as SceneRenderer::upload does
+  std::size_t partial_updates = 0;
+  const auto boxMapped = [](sim::Scenario& s) { s.texture.given = s.texture.box_map = true; };
+  const auto run = test::followRun(
+      "bunny-straight", std::numeric_limits<double>::infinity(),
+      [&](test::FollowedRun& r) {
+        if (!followed.update(r.mirror)) return;
+        REQUIRE(followed.faceTexCoords().size() == 6 * followed.faceCount());
+        if (followed.dirty().all) {
+          uploaded = followed.faceTexCoords();
+        } else {  // new faces are among the dirty ones
+          ++partial_updates;
+          uploaded.resize(followed.faceTexCoords().size(), -1.0f);
+          for (const std::uint32_t f : followed.dirty().faces)
+            std::copy_n(&followed.faceTexCoords()[6 * f], 6, &uploaded[6 * f]);
+        }
+        followed.clearDirty();
+      },
+      boxMapped, true);  // seeded: the textured bunny's sweep would take most of the run
+  REQUIRE(run->world->incisions() == 1);
+  CHECK(partial_updates > 50);
+  sim::GeometryMirror copy;
+  sim::copyGeometry(*run->world, 0, copy);
+  viewer::SurfaceModel fresh;
+  REQUIRE(fresh.update(copy));
+  REQUIRE(fresh.textured());
+  CHECK(followed.faceTexCoords() == fresh.faceTexCoords());
+  CHECK(uploaded == fresh.faceTexCoords());
+  // Each live face's corners as the tissue has them (floats).
+  const mesh::SurfaceMesh& tissue = run->world->tissue();
+  std::size_t faces = 0, exact = 0;
+  for (const auto f : tissue.mesh().faces()) {
+    if (tissue.mesh().status(f).deleted()) continue;
+    const mesh::FaceCorners corners = mesh::faceCorners(tissue, f);
+    const std::size_t i = 6 * static_cast<std::size_t>(f.idx());
+    bool same = true;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t v = fresh.indices()[3 * static_cast<std::size_t>(f.idx()) + c];
+      const auto uv = corners.at(mesh::TriMesh::VertexHandle(static_cast<int>(v)));
+      same = same && uv && fresh.faceTexCoords()[i + 2 * c] == static_cast<float>(uv->x()) &&
+             fresh.faceTexCoords()[i + 2 * c + 1] == static_cast<float>(uv->y());
+    }
+    ++faces, exact += same;
+  }
+  CHECK(faces > 1000);
+  CHECK(exact == faces);
 }

@@ -35,17 +35,23 @@ struct FollowedRun {
   }
 };
 
-// `each_pull` runs after every pull (the mirror's changes still there), before they are cleared.
+// `each_pull` runs after every pull (the mirror's changes still there), before they are cleared; `edit`
+// changes the scenario before its tissue is loaded; `seed`: the mirror starts as a copy of the tissue
+// (GeometryStream::seed, as the viewer does), else it asks for a re-sync and gets the tissue by a sweep
+// within the stream's per-frame budget.
 inline std::unique_ptr<FollowedRun> followRun(const std::string& name,
                                               double stop_after_s = std::numeric_limits<double>::infinity(),
-                                              const std::function<void(FollowedRun&)>& each_pull = {}) {
+                                              const std::function<void(FollowedRun&)>& each_pull = {},
+                                              const std::function<void(sim::Scenario&)>& edit = {}, bool seed = false) {
   auto run = std::make_unique<FollowedRun>();
   run->scenario = sim::loadScenario(std::string(INCISE_SCENARIOS_DIR) + "/" + name + ".json");
+  if (edit) edit(run->scenario);
   mesh::SurfaceMesh tissue = sim::loadTissue(run->scenario);
   run->poses = run->scenario.source == sim::Scenario::Source::Strokes
                    ? sim::posesForStrokes(tissue, run->scenario.strokes, run->scenario.world, run->scenario.rate_hz)
                    : devices::TraceReader::readAll(run->scenario.trace);
   run->world = std::make_unique<sim::World>(std::move(tissue), run->scenario.world);
+  if (seed) run->stream.seed(*run->world, run->mirror);
   sim::ReplayOptions o;
   o.period_us = run->scenario.periodUs();
   o.settle_s = run->scenario.settle_s;

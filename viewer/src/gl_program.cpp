@@ -26,23 +26,29 @@ GLuint compile(const char* name, GLenum stage, const char* source) {
   if (!ok) {
     const std::string text = log(shader, false);
     glDeleteShader(shader);
-    throw ViewerError(std::string("the ") + name + (stage == GL_VERTEX_SHADER ? " vertex" : " fragment") +
-                      " shader does not compile: " + text);
+    const char* kind = stage == GL_VERTEX_SHADER ? " vertex" : stage == GL_GEOMETRY_SHADER ? " geometry" : " fragment";
+    throw ViewerError(std::string("the ") + name + kind + " shader does not compile: " + text);
   }
   return shader;
 }
 
 }  // namespace
 
-GLuint buildProgram(const char* name, const char* vertex_source, const char* fragment_source) {
-  const GLuint vs = compile(name, GL_VERTEX_SHADER, vertex_source);
-  const GLuint fs = compile(name, GL_FRAGMENT_SHADER, fragment_source);
+GLuint buildProgram(const char* name, const char* vertex_source, const char* fragment_source,
+                    const char* geometry_source) {
+  std::vector<GLuint> shaders;
+  try {
+    shaders.push_back(compile(name, GL_VERTEX_SHADER, vertex_source));
+    shaders.push_back(compile(name, GL_FRAGMENT_SHADER, fragment_source));
+    if (geometry_source) shaders.push_back(compile(name, GL_GEOMETRY_SHADER, geometry_source));
+  } catch (const ViewerError&) {
+    for (const GLuint shader : shaders) glDeleteShader(shader);
+    throw;
+  }
   const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
+  for (const GLuint shader : shaders) glAttachShader(program, shader);
   glLinkProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
+  for (const GLuint shader : shaders) glDeleteShader(shader);
   GLint ok = GL_FALSE;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {

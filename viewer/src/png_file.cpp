@@ -1,8 +1,9 @@
 #include "incise/viewer/png_file.h"
 
 #include <csetjmp>
-#include <cstdio>
-#include <memory>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -70,36 +71,64 @@ void writePng(const std::filesystem::path& path, const RgbImage& image) {
   file.commit();
 }
 
-RgbImage readPng(const std::filesystem::path& path) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(path.c_str(), "rb"), std::fclose);
-  if (!in) throw std::runtime_error("readPng: cannot open " + path.string());
+namespace {
+
+struct MemoryReader {
+  std::span<const std::uint8_t> bytes;
+  std::size_t offset = 0;
+};
+
+void readFromMemory(png_structp png, png_bytep data, png_size_t size) {
+  auto* reader = static_cast<MemoryReader*>(png_get_io_ptr(png));
+  if (size > reader->bytes.size() - reader->offset) png_error(png, "the file ends early");
+  std::memcpy(data, reader->bytes.data() + reader->offset, size);
+  reader->offset += size;
+}
+
+// The decoded rows as 8-bit RGB (grey copied into all three channels).
+void copyRows(png_structp png, png_infop info, RgbImage& image) {
+  image.width = static_cast<int>(png_get_image_width(png, info));
+  image.height = static_cast<int>(png_get_image_height(png, info));
+  const std::size_t channels = png_get_channels(png, info), width = static_cast<std::size_t>(image.width);
+  png_bytepp rows = png_get_rows(png, info);
+  image.rgb.resize(width * static_cast<std::size_t>(image.height) * 3);
+  std::uint8_t* out = image.rgb.data();
+  for (int y = 0; y < image.height; ++y)
+    for (std::size_t x = 0; x < width; ++x)
+      for (std::size_t c = 0; c < 3; ++c) *out++ = rows[y][x * channels + (channels >= 3 ? c : 0)];
+}
+
+}  // namespace
+
+RgbImage decodePng(std::span<const std::uint8_t> png_bytes, const std::string& what) {
+  if (png_bytes.size() < 8 || png_sig_cmp(png_bytes.data(), 0, 8) != 0)
+    throw std::runtime_error("readPng: " + what + ": not a PNG file");
   std::string error;
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &error, pngError, pngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!info) {
     png_destroy_read_struct(&png, nullptr, nullptr);
-    throw std::runtime_error("readPng: " + path.string() + ": libpng could not start");
+    throw std::runtime_error("readPng: " + what + ": libpng could not start");
   }
+  MemoryReader reader{png_bytes, 0};
   RgbImage image;
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_read_struct(&png, &info, nullptr);
-    throw std::runtime_error("readPng: " + path.string() + ": " + error);
+    throw std::runtime_error("readPng: " + what + ": " + error);
   }
-  png_init_io(png, in.get());
+  png_set_read_fn(png, &reader, readFromMemory);
   png_read_png(png, info, PNG_TRANSFORM_STRIP_16 | PNG_TRANSFORM_STRIP_ALPHA | PNG_TRANSFORM_EXPAND, nullptr);
-  image.width = static_cast<int>(png_get_image_width(png, info));
-  image.height = static_cast<int>(png_get_image_height(png, info));
-  const int channels = png_get_channels(png, info);
-  png_bytepp rows = png_get_rows(png, info);
-  image.rgb.resize(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        image.rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)) *
-                      3 +
-                  static_cast<std::size_t>(c)] = rows[y][x * channels + (channels >= 3 ? c : 0)];
+  copyRows(png, info, image);
   png_destroy_read_struct(&png, &info, nullptr);
   return image;
+}
+
+RgbImage readPng(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("readPng: cannot open " + path.string());
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw std::runtime_error("readPng: cannot read " + path.string());
+  return decodePng(bytes, path.string());
 }
 
 }  // namespace incise::viewer

@@ -27,28 +27,64 @@ void main() {
   gl_Position = projection * p;
 })";
 
-// Walls (kind 2) flat from the triangle itself, skin smooth; a headlight with a little specular.
-const char* const kSurfaceFragment = R"(#version 330 core
+// A textured tissue: each face's corners' texture coordinates fetched by its index (3 RG texels a face).
+const char* const kSurfaceGeometry = R"(#version 330 core
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+uniform samplerBuffer texcoords;
+in vec3 v_normal[];
+in vec3 v_position[];
+out vec3 f_normal;
+out vec3 f_position;
+out vec2 f_uv;
+void main() {
+  for (int i = 0; i < 3; ++i) {
+    f_normal = v_normal[i];
+    f_position = v_position[i];
+    f_uv = texelFetch(texcoords, 3 * gl_PrimitiveIDIn + i).rg;
+    gl_PrimitiveID = gl_PrimitiveIDIn;
+    gl_Position = gl_in[i].gl_Position;
+    EmitVertex();
+  }
+  EndPrimitive();
+})";
+
+// Walls (kind 2) flat from the triangle itself, skin smooth; a headlight with a little specular. The base
+// colour is the skin's or the walls' colour, or (TEXTURED, after the geometry stage) their image's texel.
+// Compiled after kPlainPrefix or kTexturedPrefix.
+const char* const kSurfaceFragment = R"(
 uniform usamplerBuffer kinds;
 uniform vec3 skin;
 uniform vec3 wall;
 uniform int wireframe;
-in vec3 v_normal;
-in vec3 v_position;
+#ifdef TEXTURED
+uniform sampler2D skin_texture;
+uniform sampler2D wall_texture;
+in vec2 f_uv;
+#endif
+in vec3 f_normal;
+in vec3 f_position;
 out vec4 colour;
 void main() {
   uint kind = texelFetch(kinds, gl_PrimitiveID).r;
-  vec3 flat_normal = normalize(cross(dFdx(v_position), dFdy(v_position)));
-  vec3 n = kind == 2u ? flat_normal : (length(v_normal) > 0.0 ? normalize(v_normal) : flat_normal);
-  if (dot(n, -v_position) < 0.0) n = -n;
+  vec3 flat_normal = normalize(cross(dFdx(f_position), dFdy(f_position)));
+  vec3 n = kind == 2u ? flat_normal : (length(f_normal) > 0.0 ? normalize(f_normal) : flat_normal);
+  if (dot(n, -f_position) < 0.0) n = -n;
   vec3 base = kind == 2u ? wall : skin;
-  vec3 to_eye = normalize(-v_position);
+#ifdef TEXTURED
+  vec3 skin_texel = texture(skin_texture, f_uv).rgb;  // both sampled: derivatives in uniform control flow
+  vec3 wall_texel = texture(wall_texture, f_uv).rgb;
+  base = kind == 2u ? wall_texel : skin_texel;
+#endif
+  vec3 to_eye = normalize(-f_position);
   vec3 light = normalize(to_eye + vec3(0.25, 0.35, 0.0));
   float diffuse = max(dot(n, light), 0.0);
   float specular = pow(max(dot(n, normalize(light + to_eye)), 0.0), 48.0) * 0.12;
   vec3 c = base * (0.22 + 0.78 * diffuse) + vec3(specular);
   colour = vec4(wireframe == 1 ? c * 0.55 : c, 1.0);
 })";
+const char* const kPlainPrefix = "#version 330 core\n#define f_normal v_normal\n#define f_position v_position\n";
+const char* const kTexturedPrefix = "#version 330 core\n#define TEXTURED\n";
 
 const char* const kToolVertex = R"(#version 330 core
 layout(location = 0) in vec3 position;
@@ -78,14 +114,27 @@ struct Buffer {
   std::size_t capacity = 0;  // elements
 };
 
+// An image as a mipmapped, repeating 2D texture (8-bit RGB, as the file has it).
+void uploadImage(GLuint texture, const RgbImage& image) {
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, image.width, image.height, 0, GL_RGB, GL_UNSIGNED_BYTE, image.rgb.data());
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
 }  // namespace
 
 struct SceneRenderer::Impl {
-  GLuint surface_program = 0, tool_program = 0;
+  GLuint surface_program = 0, textured_program = 0, tool_program = 0;
   GLuint surface_vao = 0, tool_vao = 0, tool_vbo = 0;
-  Buffer positions, normals, indices, kinds;
-  GLuint kinds_texture = 0;
+  Buffer positions, normals, indices, kinds, texcoords;
+  GLuint kinds_texture = 0, texcoords_texture = 0, skin_texture = 0, wall_texture = 0;
   GLsizei index_count = 0;
+  bool model_textured = false, images = false;
   GLuint fbo = 0, colour_rb = 0, depth_rb = 0;
   int fbo_width = 0, fbo_height = 0;
 
@@ -94,6 +143,7 @@ struct SceneRenderer::Impl {
   void uploadAll(const SurfaceModel& model);
   void uploadRuns(const SurfaceModel& model);
   void drawSurface(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection, const DrawOptions& options);
+  void bindTextures(GLuint program);
   void drawTool(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection, const ToolView& tool);
   void drawTriangles(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection,
                      const std::vector<float>& triangles);
@@ -101,13 +151,16 @@ struct SceneRenderer::Impl {
 };
 
 SceneRenderer::Impl::Impl() {
-  surface_program = detail::buildProgram("surface", kSurfaceVertex, kSurfaceFragment);
+  surface_program =
+      detail::buildProgram("surface", kSurfaceVertex, (kPlainPrefix + std::string(kSurfaceFragment)).c_str());
+  textured_program = detail::buildProgram("textured surface", kSurfaceVertex,
+                                          (kTexturedPrefix + std::string(kSurfaceFragment)).c_str(), kSurfaceGeometry);
   tool_program = detail::buildProgram("tool", kToolVertex, kToolFragment);
   glGenVertexArrays(1, &surface_vao);
   glGenVertexArrays(1, &tool_vao);
-  for (Buffer* b : {&positions, &normals, &indices, &kinds}) glGenBuffers(1, &b->id);
+  for (Buffer* b : {&positions, &normals, &indices, &kinds, &texcoords}) glGenBuffers(1, &b->id);
   glGenBuffers(1, &tool_vbo);
-  glGenTextures(1, &kinds_texture);
+  for (GLuint* t : {&kinds_texture, &texcoords_texture, &skin_texture, &wall_texture}) glGenTextures(1, t);
   glBindVertexArray(surface_vao);
   glBindBuffer(GL_ARRAY_BUFFER, positions.id);
   glEnableVertexAttribArray(0);
@@ -126,13 +179,12 @@ SceneRenderer::Impl::Impl() {
 }
 
 SceneRenderer::Impl::~Impl() {
-  for (Buffer* b : {&positions, &normals, &indices, &kinds}) glDeleteBuffers(1, &b->id);
+  for (Buffer* b : {&positions, &normals, &indices, &kinds, &texcoords}) glDeleteBuffers(1, &b->id);
   glDeleteBuffers(1, &tool_vbo);
-  glDeleteTextures(1, &kinds_texture);
+  for (GLuint* t : {&kinds_texture, &texcoords_texture, &skin_texture, &wall_texture}) glDeleteTextures(1, t);
   glDeleteVertexArrays(1, &surface_vao);
   glDeleteVertexArrays(1, &tool_vao);
-  glDeleteProgram(surface_program);
-  glDeleteProgram(tool_program);
+  for (const GLuint program : {surface_program, textured_program, tool_program}) glDeleteProgram(program);
   if (fbo) glDeleteFramebuffers(1, &fbo), glDeleteRenderbuffers(1, &colour_rb), glDeleteRenderbuffers(1, &depth_rb);
 }
 
@@ -175,6 +227,10 @@ void SceneRenderer::Impl::uploadAll(const SurfaceModel& model) {
   fill(GL_TEXTURE_BUFFER, kinds, model.faceKinds(), 1);
   glBindTexture(GL_TEXTURE_BUFFER, kinds_texture);
   glTexBuffer(GL_TEXTURE_BUFFER, GL_R8UI, kinds.id);
+  if (!model.textured()) return;
+  fill(GL_TEXTURE_BUFFER, texcoords, model.faceTexCoords(), 6);
+  glBindTexture(GL_TEXTURE_BUFFER, texcoords_texture);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_RG32F, texcoords.id);
 }
 
 void SceneRenderer::Impl::uploadRuns(const SurfaceModel& model) {
@@ -183,6 +239,7 @@ void SceneRenderer::Impl::uploadRuns(const SurfaceModel& model) {
   runs(GL_ARRAY_BUFFER, normals, model.normals(), 3, d.vertices);
   runs(GL_ELEMENT_ARRAY_BUFFER, indices, model.indices(), 3, d.faces);
   runs(GL_TEXTURE_BUFFER, kinds, model.faceKinds(), 1, d.faces);
+  if (model.textured()) runs(GL_TEXTURE_BUFFER, texcoords, model.faceTexCoords(), 6, d.faces);
 }
 
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
@@ -191,34 +248,66 @@ SceneRenderer::~SceneRenderer() = default;
 void SceneRenderer::upload(SurfaceModel& model) {
   if (!model.ready()) return;
   glBindVertexArray(impl_->surface_vao);  // the element buffer binding belongs to the VAO
-  const bool fits = model.vertexCount() <= impl_->positions.capacity && model.faceCount() <= impl_->kinds.capacity;
-  if (model.dirty().all || !fits) {
+  const bool fits = model.vertexCount() <= impl_->positions.capacity && model.faceCount() <= impl_->kinds.capacity &&
+                    (!model.textured() || model.faceCount() <= impl_->texcoords.capacity);
+  if (model.dirty().all || !fits || model.textured() != impl_->model_textured) {
     impl_->uploadAll(model);
   } else {
     impl_->uploadRuns(model);
   }
   glBindVertexArray(0);
   impl_->index_count = static_cast<GLsizei>(model.indices().size());
+  impl_->model_textured = model.textured();
   model.clearDirty();
 }
+
+void SceneRenderer::setTextures(const RgbImage& skin, const RgbImage& wall) {
+  for (const RgbImage* image : {&skin, &wall})
+    if (image->width <= 0 || image->height <= 0 ||
+        image->rgb.size() != static_cast<std::size_t>(image->width) * static_cast<std::size_t>(image->height) * 3)
+      throw ViewerError("setTextures: an image's pixels do not match its " + std::to_string(image->width) + "x" +
+                        std::to_string(image->height) + " RGB size");
+  uploadImage(impl_->skin_texture, skin);
+  uploadImage(impl_->wall_texture, wall);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  impl_->images = true;
+}
+
+bool SceneRenderer::drawsTextures() const noexcept { return impl_->images && impl_->model_textured; }
 
 void SceneRenderer::Impl::drawSurface(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection,
                                       const DrawOptions& options) {
   if (index_count == 0) return;
-  glUseProgram(surface_program);
-  glUniformMatrix4fv(glGetUniformLocation(surface_program, "view"), 1, GL_FALSE, view.data());
-  glUniformMatrix4fv(glGetUniformLocation(surface_program, "projection"), 1, GL_FALSE, projection.data());
-  glUniform3fv(glGetUniformLocation(surface_program, "skin"), 1, kSkinColour.data());
-  glUniform3fv(glGetUniformLocation(surface_program, "wall"), 1, kWallColour.data());
-  glUniform1i(glGetUniformLocation(surface_program, "wireframe"), options.wireframe ? 1 : 0);
+  const GLuint program = images && model_textured ? textured_program : surface_program;
+  glUseProgram(program);
+  glUniformMatrix4fv(glGetUniformLocation(program, "view"), 1, GL_FALSE, view.data());
+  glUniformMatrix4fv(glGetUniformLocation(program, "projection"), 1, GL_FALSE, projection.data());
+  glUniform3fv(glGetUniformLocation(program, "skin"), 1, kSkinColour.data());
+  glUniform3fv(glGetUniformLocation(program, "wall"), 1, kWallColour.data());
+  glUniform1i(glGetUniformLocation(program, "wireframe"), options.wireframe ? 1 : 0);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_BUFFER, kinds_texture);
-  glUniform1i(glGetUniformLocation(surface_program, "kinds"), 0);
+  glUniform1i(glGetUniformLocation(program, "kinds"), 0);
+  if (program == textured_program) bindTextures(program);
   glBindVertexArray(surface_vao);
   glPolygonMode(GL_FRONT_AND_BACK, options.wireframe ? GL_LINE : GL_FILL);
   glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   glBindVertexArray(0);
+}
+
+// Units 1-3: the texture coordinates' buffer, the skin's and the walls' images.
+void SceneRenderer::Impl::bindTextures(GLuint program) {
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_BUFFER, texcoords_texture);
+  glUniform1i(glGetUniformLocation(program, "texcoords"), 1);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, skin_texture);
+  glUniform1i(glGetUniformLocation(program, "skin_texture"), 2);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, wall_texture);
+  glUniform1i(glGetUniformLocation(program, "wall_texture"), 3);
+  glActiveTexture(GL_TEXTURE0);
 }
 
 void SceneRenderer::Impl::drawTool(const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection,

@@ -27,6 +27,7 @@ bool SurfaceModel::update(const sim::GeometryMirror& mirror) {
   if (!mirror.complete()) return false;
   if (mirror.rebuilt() || !ready_) {
     rebuild(mirror.positions_m(), mirror.faces(), mirror.faceKind());
+    copyTexCoords(mirror);
     return true;
   }
   const auto& p = mirror.positions_m();
@@ -40,7 +41,11 @@ bool SurfaceModel::update(const sim::GeometryMirror& mirror) {
     indices_.resize(3 * mirror.faces().size(), 0);
     kinds_.resize(mirror.faces().size(), sim::kDeletedFace);
   }
-  for (const std::uint32_t f : mirror.changedFaces()) setFace(f, mirror.faces()[f], mirror.faceKind()[f]);
+  if (!mirror.faceTexCoords().empty()) texcoords_.resize(6 * faceCount(), 0.0f);
+  for (const std::uint32_t f : mirror.changedFaces()) {
+    setFace(f, mirror.faces()[f], mirror.faceKind()[f]);
+    copyTexCoords(mirror, f);
+  }
   for (const std::uint32_t v : mirror.changedVertices()) {
     for (int a = 0; a < 3; ++a) {
       positions_m_[3 * v + a] = p[v][static_cast<std::size_t>(a)];
@@ -96,7 +101,26 @@ bool SurfaceModel::update(const sim::GeometryMirror& mirror, const SkinEmbedding
   skin_drawn_ = true, tets_version_ = 0;  // what update(tets, ...) drew is gone
   skin.positions(mirror, state, skin_m_);
   rebuild(skin_m_, mirror.faces(), mirror.faceKind());
+  copyTexCoords(mirror);
   return true;
+}
+
+void SurfaceModel::copyTexCoords(const sim::GeometryMirror& mirror, std::uint32_t f) {
+  if (texcoords_.empty()) return;
+  const auto& uv = mirror.faceTexCoords();
+  float* to = &texcoords_[6 * static_cast<std::size_t>(f)];
+  if (f < uv.size() && live(kinds_[f])) {  // a deleted face's are what it had: not drawn, kept as zeros
+    std::copy(uv[f].begin(), uv[f].end(), to);
+  } else {
+    std::fill(to, to + 6, 0.0f);
+  }
+}
+
+void SurfaceModel::copyTexCoords(const sim::GeometryMirror& mirror) {
+  texcoords_.clear();
+  if (mirror.faceTexCoords().empty()) return;
+  texcoords_.resize(6 * faceCount(), 0.0f);
+  for (std::uint32_t f = 0; f < faceCount(); ++f) copyTexCoords(mirror, f);
 }
 
 void SurfaceModel::rebuild(const std::vector<std::array<double, 3>>& p,
@@ -111,6 +135,7 @@ void SurfaceModel::rebuild(const std::vector<std::array<double, 3>>& p,
     for (std::size_t a = 0; a < 3; ++a) positions_m_[3 * v + a] = p[v][a], positions_[3 * v + a] = float(p[v][a]);
   indices_.assign(3 * m, 0);
   kinds_.assign(m, sim::kDeletedFace);
+  texcoords_.clear();  // a mirror's rebuild copies them again
   vertex_faces_.assign(n, {});
   live_faces_ = wall_faces_ = 0;
   for (std::size_t f = 0; f < m; ++f) setFace(static_cast<std::uint32_t>(f), faces[f], kind[f]);

@@ -31,6 +31,7 @@ struct PictureOptions {
   ToolView tool;                       // tool.show = false leaves the scalpel out
   DrawOptions draw;
   bool tets = false;  // the tet mesh's boundary instead of the surface (ViewerError without a tet tissue)
+  std::optional<TissueImages> textures;  // drawn on a textured tissue's surface; none: the plain colours
 };
 
 // Needs mirror.complete(). The camera used is returned through `used` when given.

@@ -4,7 +4,11 @@
 //
 // The tissue's buffers are updated from SurfaceModel::dirty(): runs of changed vertices and faces are
 // uploaded (glBufferSubData), a whole buffer only after a reset or when it must grow. The face kinds are a
-// buffer texture read by gl_PrimitiveID, so one draw call colours walls and skin apart.
+// buffer texture read by gl_PrimitiveID, so one draw call colours walls and skin apart. A textured model
+// (SurfaceModel::textured()) with images set (setTextures) is drawn through a second program: a geometry
+// stage fetches each face's corners' texture coordinates from another buffer texture (3 RG texels a face)
+// and the skin and walls take their images' texels (mipmapped, repeating) instead of the plain colours;
+// it costs about 40% of the frame rate on Mesa's llvmpipe (docs/benchmarks.md).
 // Colours (linear RGB, also what the pixel tests look for): kSkinColour, kWallColour, kBackground.
 // Threads: the thread whose context is current (GlContext). Cost: upload O(changed elements), draw O(F) on
 // the GPU. Failure: ViewerError for a shader that does not compile or link (with the driver's log) and an
@@ -20,6 +24,7 @@
 #include <Eigen/Geometry>
 
 #include "incise/viewer/camera.h"
+#include "incise/viewer/png_file.h"
 #include "incise/viewer/surface_model.h"
 
 namespace incise::viewer {
@@ -41,6 +46,12 @@ struct ToolView {
   double metres_per_newton = 0.004;  // the force vector's drawn length
 };
 
+// The images a textured tissue is drawn with: its skin's (the first material's map_Kd, or one chosen by the
+// scenario) and its walls'.
+struct TissueImages {
+  RgbImage skin, wall;
+};
+
 struct DrawOptions {
   bool wireframe = false;
   // Triangles drawn over the tissue, 9 floats per vertex (position m, normal, linear RGB): a training plan
@@ -57,6 +68,12 @@ class SceneRenderer {
 
   // Uploads what changed in `model` since its last clearDirty(), then clears it.
   void upload(SurfaceModel& model);
+  // The skin's and the walls' images (8-bit RGB, any size; mipmaps made here), drawn on a model with
+  // texture coordinates; until then, and on a model without them, the plain colours are. O(pixels).
+  // ViewerError for an image whose pixels do not match its size.
+  void setTextures(const RgbImage& skin, const RgbImage& wall);
+  // Whether the model last uploaded is drawn with the images.
+  bool drawsTextures() const noexcept;
   // Clears and draws into the bound framebuffer's `width` x `height` viewport.
   void draw(const Camera& camera, int width, int height, const ToolView& tool, const DrawOptions& options);
   // Draws into an off-screen framebuffer of that size and returns its pixels: RGB, 8 bits each, rows top

@@ -8,7 +8,8 @@
 // flat (their normal from the triangle itself), so a lip vertex shared by skin and wall keeps the skin's
 // smooth shading. A vertex with no skin face has a zero normal.
 // Shapes: positions() and normals() 3 floats per vertex (metres; unit vectors), indices() 3 per face,
-// faceKinds() 1 per face (mesh::FaceKind, or sim::kDeletedFace). Threads: one (the viewer's). Cost:
+// faceKinds() 1 per face (mesh::FaceKind, or sim::kDeletedFace), faceTexCoords() 6 per face (u, v per corner,
+// in indices()' order) for a textured tissue's surface, else empty. Threads: one (the viewer's). Cost:
 // update() O(V + F) after a reset, else O(changed elements x their neighbourhoods); allocates as the mesh
 // grows. Failure: nothing throws but std::bad_alloc.
 #pragma once
@@ -53,6 +54,8 @@ class SurfaceModel {
   const std::vector<float>& normals() const noexcept { return normals_; }
   const std::vector<std::uint32_t>& indices() const noexcept { return indices_; }
   const std::vector<std::uint8_t>& faceKinds() const noexcept { return kinds_; }
+  const std::vector<float>& faceTexCoords() const noexcept { return texcoords_; }
+  bool textured() const noexcept { return !texcoords_.empty(); }
   std::size_t vertexCount() const noexcept { return positions_.size() / 3; }
   std::size_t faceCount() const noexcept { return kinds_.size(); }
   std::size_t liveFaces() const noexcept { return live_faces_; }
@@ -60,7 +63,8 @@ class SurfaceModel {
   bool ready() const noexcept { return ready_; }
 
   // What changed since the last takeDirty(): everything (all), or sorted vertex indices whose position or
-  // normal changed and sorted face indices whose triangle or kind changed. For the GPU upload.
+  // normal changed and sorted face indices whose triangle, kind or texture coordinates changed. For the GPU
+  // upload.
   struct Dirty {
     bool all = false;
     std::vector<std::uint32_t> vertices, faces;
@@ -79,6 +83,9 @@ class SurfaceModel {
   void rebuild(const std::vector<std::array<double, 3>>& positions_m,
                const std::vector<std::array<std::int32_t, 3>>& faces, const std::vector<std::uint8_t>& kinds);
   void setFace(std::uint32_t f, const std::array<std::int32_t, 3>& t, std::uint8_t kind);
+  // The mirror's texture coordinates of face `f` (zeros where it has none yet); all faces: copyTexCoords(m).
+  void copyTexCoords(const sim::GeometryMirror& mirror, std::uint32_t f);
+  void copyTexCoords(const sim::GeometryMirror& mirror);
   void recomputeNormal(std::uint32_t v);
   void markNormal(std::uint32_t v);
 
@@ -86,6 +93,7 @@ class SurfaceModel {
   std::vector<float> positions_, normals_;
   std::vector<std::uint32_t> indices_;
   std::vector<std::uint8_t> kinds_;
+  std::vector<float> texcoords_;
   std::vector<std::vector<std::uint32_t>> vertex_faces_;
   std::vector<std::uint8_t> normal_dirty_, vertex_dirty_, face_dirty_;
   std::vector<std::uint32_t> normal_list_;

@@ -28,6 +28,7 @@
 #include "incise/viewer/camera.h"
 #include "incise/viewer/hud_model.h"
 #include "incise/viewer/mouse_scalpel.h"
+#include "incise/viewer/scene_renderer.h"
 
 namespace incise::viewer {
 
@@ -59,6 +60,8 @@ struct ViewerFeed {
   // its one reader), nullptr before the first. Set: the window draws the tets' boundary as simulated and
   // the tool where the device holds it (T: the skin at rest and the tool in the rest frame instead).
   std::function<const sim::PhysicsState*()> physics_state;
+  // A textured tissue's images (SceneRenderer::setTextures, uploaded at follow()); none: plain colours.
+  std::optional<TissueImages> textures;
 };
 
 // What the user asked for during a frame.
