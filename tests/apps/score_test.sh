@@ -69,11 +69,13 @@ check "an empty trace is refused" expect_exit 2 "empty.csv: the trace is empty" 
 check "... and nothing is written" test ! -e "$work/bad1.jsonl"
 check "a trace recorded on another tissue is refused" expect_exit 2 "bunny-back.csv: recorded on another tissue" -- "$incise" score "$scenarios/pad-straight.json" "$scenarios/traces/pad-s-curve.csv" "$scenarios/traces/bunny-back.csv" --out "$work/bad2.jsonl"
 check "... and nothing is written (not even the good trace's line)" test ! -e "$work/bad2.jsonl"
-sed 's/"lateral_tolerance_m": 0.002/"lateral_tolerance_m": 0/' "$scenarios/pad-straight.json" | sed "s|traces/|$scenarios/traces/|" > "$work/tol.json"
+sed 's/"lateral_tolerance_m": 0.002/"lateral_tolerance_m": 0/' "$scenarios/pad-straight.json" | sed "s|traces/|$scenarios/traces/|; s|textures/|$scenarios/textures/|" > "$work/tol.json"
 check "a tolerance <= 0 is refused naming the file and key" expect_exit 2 "tol.json: plan.lateral_tolerance_m: must be > 0" -- "$incise" score "$work/tol.json" "$scenarios/traces/pad-straight.csv" --out "$work/bad3.jsonl"
 python3 -c "
 import json; s = json.load(open('$scenarios/pad-straight.json')); s['plan']['points_m'][1] = [0.3, 0.0, 0.0]
-s['pose_source']['path'] = '$scenarios/traces/pad-straight.csv'; json.dump(s, open('$work/off.json', 'w'))"
+s['pose_source']['path'] = '$scenarios/traces/pad-straight.csv'
+for k in ('skin', 'wall'): s['tissue']['texture'][k] = '$scenarios/' + s['tissue']['texture'][k]
+json.dump(s, open('$work/off.json', 'w'))"
 check "a plan point off the tissue is refused naming it" expect_exit 2 "off.json: plan.points_m\[1\]: .* does not project onto the tissue" -- "$incise" score "$work/off.json" "$scenarios/traces/pad-straight.csv" --out "$work/bad4.jsonl"
 check "... and so is it by incise replay (plans are projected at load)" expect_exit 2 "off.json: plan.points_m\[1\]" -- "$incise" replay "$work/off.json" --out "$work/bad5"
 check "... and nothing is written (plan)" bash -c "! ls '$work' | grep -q bad"
