@@ -1,9 +1,12 @@
 // Textured tissue in pictures (scene_renderer.cpp's textured program, picture.cpp): the bunny box-mapped
-// (mesh::boxTexCoords) and cut, drawn with a checkerboard skin image and a solid blue wall image. The
-// skin shows the checkerboard's frequency where the plain colours show none; the wound's walls take the
-// wall image (blue, never the plain wall red), near the stroke only. Tagged [pixels] (OpenGL 3.3).
+// (mesh::boxTexCoords) and cut, drawn with a black-and-white checkerboard on the skin and a green-and-blue
+// one on the walls. The skin shows its checkerboard's frequency where the plain colours show none; the
+// wound's walls take their image (its squares alternating along the stroke, never the plain wall red)
+// exactly where the plain picture has its walls. Tagged [pixels] (OpenGL 3.3).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 
@@ -17,22 +20,17 @@ namespace texture_picture_test {
 constexpr int kWidth = 640, kHeight = 400;
 constexpr double kTile_m = 0.01;  // one image across a centimetre: 8 x 8 squares of 1.25 mm
 
-// A black-and-white checkerboard of 8 x 8 squares, 8 texels each.
-viewer::RgbImage checkerboard() {
+using Rgb = std::array<std::uint8_t, 3>;
+
+// A checkerboard of 8 x 8 squares, 8 texels each, in two colours.
+viewer::RgbImage checkerboard(const Rgb& a, const Rgb& b) {
   viewer::RgbImage image;
   image.width = image.height = 64;
   for (int y = 0; y < 64; ++y)
     for (int x = 0; x < 64; ++x) {
-      const std::uint8_t v = ((x / 8 + y / 8) % 2) ? 255 : 20;
-      image.rgb.insert(image.rgb.end(), {v, v, v});
+      const Rgb& c = ((x / 8 + y / 8) % 2) ? a : b;
+      image.rgb.insert(image.rgb.end(), c.begin(), c.end());
     }
-  return image;
-}
-
-viewer::RgbImage solid(std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-  viewer::RgbImage image;
-  image.width = image.height = 4;
-  for (int i = 0; i < 16; ++i) image.rgb.insert(image.rgb.end(), {r, g, b});
   return image;
 }
 
@@ -61,8 +59,31 @@ int brightnessJumps(const viewer::RgbImage& image) {
 bool dominant(const std::uint8_t* p, int c) {
   return p[c] > 40 && p[(c + 1) % 3] < 0.5 * p[c] && p[(c + 2) % 3] < 0.5 * p[c];
 }
-bool bluePixel(const std::uint8_t* p) { return dominant(p, 2); }
 bool plainWallPixel(const std::uint8_t* p) { return dominant(p, 0); }
+// The wall image's squares: 1 green, 2 blue, 0 neither.
+int wallSquare(const std::uint8_t* p) { return dominant(p, 1) ? 1 : dominant(p, 2) ? 2 : 0; }
+// The wall image at all: little red against its green and blue (where the wall is seen edge-on, its
+// mipmaps mix the squares into cyan).
+bool wallImagePixel(const std::uint8_t* p) {
+  const int cool = std::max(p[1], p[2]);
+  return cool > 20 && p[0] < 0.5 * cool;  // the walls in shadow too (the ambient 22%)
+}
+
+// Along each row, changes between the wall image's two colours from one wall pixel to the next (at most
+// two pixels apart).
+int wallSquareChanges(const viewer::RgbImage& image) {
+  int changes = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    int last = 0, last_x = -10;
+    for (int x = 0; x < kWidth; ++x) {
+      const int square = wallSquare(pixel(image, x, y));
+      if (square == 0) continue;
+      changes += last != 0 && square != last && x - last_x <= 2;
+      last = square, last_x = x;
+    }
+  }
+  return changes;
+}
 
 TEST_CASE("picture: a textured tissue is drawn with its skin image, the walls with their own", "[viewer][pixels]") {
   const auto boxMapped = [](sim::Scenario& s) {
@@ -80,7 +101,8 @@ TEST_CASE("picture: a textured tissue is drawn with its skin image, the walls wi
   viewer::Camera camera;
   const viewer::RgbImage plain = viewer::renderPicture(after->mirror, after->stroke(), options, &camera);
   options.exact_camera = camera;
-  options.textures = viewer::TissueImages{checkerboard(), solid(30, 60, 230)};
+  options.textures =
+      viewer::TissueImages{checkerboard({255, 255, 255}, {20, 20, 20}), checkerboard({30, 220, 60}, {30, 60, 230})};
   const viewer::RgbImage textured_before = viewer::renderPicture(before->mirror, after->stroke(), options);
   const viewer::RgbImage textured = viewer::renderPicture(after->mirror, after->stroke(), options);
   if (const char* keep = std::getenv("INCISE_KEEP_PICTURES")) {
@@ -94,24 +116,28 @@ TEST_CASE("picture: a textured tissue is drawn with its skin image, the walls wi
   CHECK(plain_jumps <= 20);  // the wound's edges
   CHECK(textured_jumps > 100);
 
-  // The walls: the wall image's blue, where the plain picture has its wall red; none before the cut.
-  std::size_t blue = 0, blue_before = 0, plain_red = 0, textured_red = 0, blue_where_red = 0;
+  // The walls: the wall image's squares where the plain picture has its wall red; none before the cut.
+  std::size_t wall = 0, wall_before = 0, plain_red = 0, textured_red = 0, wall_where_red = 0;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
       const bool red = plainWallPixel(pixel(plain, x, y));
+      const bool square = wallImagePixel(pixel(textured, x, y));
       plain_red += red;
       textured_red += plainWallPixel(pixel(textured, x, y));
-      blue += bluePixel(pixel(textured, x, y));
-      blue_before += bluePixel(pixel(textured_before, x, y));
-      blue_where_red += red && bluePixel(pixel(textured, x, y));
+      wall += square;
+      wall_before += wallImagePixel(pixel(textured_before, x, y));
+      wall_where_red += red && square;
     }
-  INFO("plain wall pixels " << plain_red << ", blue " << blue << ", of them where the plain walls are "
-                            << blue_where_red);
+  const int changes = wallSquareChanges(textured);
+  INFO("plain wall pixels " << plain_red << ", wall image's " << wall << ", of them where the plain walls are "
+                            << wall_where_red << "; square changes along rows " << changes);
   CHECK(plain_red > 300);
   CHECK(textured_red == 0);
-  CHECK(blue_before == 0);
-  CHECK(blue_where_red > plain_red * 9 / 10);
-  CHECK(blue < plain_red * 11 / 10);
+  CHECK(wall_before == 0);
+  CHECK(wall_where_red > plain_red * 9 / 10);
+  CHECK(wall < plain_red * 11 / 10);
+  // Along the 5 cm stroke the wall image repeats every centimetre: 8 squares a repeat.
+  CHECK(changes > 20);
 }
 
 }  // namespace texture_picture_test
