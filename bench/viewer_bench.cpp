@@ -14,9 +14,10 @@
 //    and late wake-ups (the VM not running the loop on time: the period error);
 //  - "skin_embedding": a simulated tissue's surface embedded on the viewer's thread (pad-tension,
 //    bunny-tets-soft): its update after every pull, a whole embedding, and a physics step's redraw (skinCost);
-//   incise_bench_viewer [--seconds S] [--geometry-only] [--skin-only] [--textured]
-// `--textured`: the geometry part's bunnies get a planar texture map after subdivision (bench::mapPlanar),
-// so every face the stream sends carries its corners' texture coordinates (two records a face).
+//   incise_bench_viewer [--seconds S] [--geometry-only] [--skin-only] [--realtime-only] [--textured]
+// `--textured`: every bunny gets a planar texture map after subdivision (bench::mapPlanar), so every face
+// the stream sends carries its corners' texture coordinates (two records a face), and the real-time part's
+// window draws them with the shipped skin (scenarios/textures/skin.png) and the compiled-in flesh.
 
 #include <atomic>
 #include <chrono>
@@ -40,6 +41,7 @@
 #include "incise/sim/triple_buffer.h"
 #include "incise/tets/tet_cutter.h"
 #include "incise/viewer/gl_context.h"
+#include "incise/viewer/png_file.h"
 #include "incise/viewer/skin_embedding.h"
 #include "incise/viewer/surface_model.h"
 #include "incise/viewer/viewer_window.h"
@@ -188,6 +190,13 @@ nlohmann::json skinCost(const char* scenario) {
           {"meets_aim_redraw_within_16_7_ms", redraw_p50_ms <= 1000.0 / 60.0}};
 }
 
+// The images a textured run is drawn with (--textured).
+viewer::TissueImages shippedImages() {
+  const auto flesh = mesh::detail::wallTexturePng();
+  return {viewer::readPng(std::string(INCISE_SCENARIOS_DIR) + "/textures/skin.png"),
+          viewer::decodePng({flesh.data(), flesh.size()}, "the compiled-in flesh image")};
+}
+
 struct RealTimeResult {
   sim::LatencySummary latency;
   std::int64_t replays = 0, overruns = 0, display_frames = 0;
@@ -232,6 +241,7 @@ void replayOnce(Loaded& l, viewer::ViewerWindow* window, sim::LatencyStats& stat
     feed.times = times.get();
     feed.source = &source;
     feed.scenario = "bench";
+    if (g_textured) feed.textures = shippedImages();
     window->follow(feed, std::move(seeded));
     const std::int64_t before = window->displayFrames();
     while (!ended.load()) window->frame();
@@ -311,10 +321,11 @@ nlohmann::json realTimePairs(double seconds) {
 
 int main(int argc, char** argv) {
   double seconds = 10.0;
-  bool geometry_only = false, skin_only = false;
+  bool geometry_only = false, skin_only = false, realtime_only = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--geometry-only") == 0) geometry_only = true;
     if (std::strcmp(argv[i], "--skin-only") == 0) skin_only = true;
+    if (std::strcmp(argv[i], "--realtime-only") == 0) realtime_only = true;
     if (std::strcmp(argv[i], "--textured") == 0) g_textured = true;
     if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) seconds = std::stod(argv[++i]);
   }
@@ -326,16 +337,18 @@ int main(int argc, char** argv) {
                              {"viewer_fps_aim_235k_llvmpipe", 30}}},
                            {"machine", measure::machineInfo()},
                            {"textured", g_textured}};
-  report["skin_embedding"] = {skinCost("pad-tension"), skinCost("bunny-tets-soft")};
+  if (!realtime_only) report["skin_embedding"] = {skinCost("pad-tension"), skinCost("bunny-tets-soft")};
   if (skin_only) {
     std::printf("%s\n", report.dump(2).c_str());
     return 0;
   }
-  report["geometry"] = nlohmann::json::array();
-  for (const int subdivide : {3, 4})
-    for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(subdivide, seeded));
-  // The tet bunny: the surface and the tet cutter's working mesh through the same budget.
-  for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(-1, seeded, "bunny-tets"));
+  if (!realtime_only) {
+    report["geometry"] = nlohmann::json::array();
+    for (const int subdivide : {3, 4})
+      for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(subdivide, seeded));
+    // The tet bunny: the surface and the tet cutter's working mesh through the same budget.
+    for (const bool seeded : {true, false}) report["geometry"].push_back(geometryCost(-1, seeded, "bunny-tets"));
+  }
   if (!geometry_only) {
     try {
       report["realtime"] = realTimePairs(seconds);

@@ -8,7 +8,7 @@
 // (SurfaceModel::textured()) with images set (setTextures) is drawn through a second program: a geometry
 // stage fetches each face's corners' texture coordinates from another buffer texture (3 RG texels a face)
 // and the skin and walls take their images' texels (mipmapped, repeating) instead of the plain colours;
-// it costs about 40% of the frame rate on Mesa's llvmpipe (docs/benchmarks.md).
+// it costs 11-26% of the frame rate on Mesa's llvmpipe (docs/benchmarks.md).
 // Colours (linear RGB, also what the pixel tests look for): kSkinColour, kWallColour, kBackground.
 // Threads: the thread whose context is current (GlContext). Cost: upload O(changed elements), draw O(F) on
 // the GPU. Failure: ViewerError for a shader that does not compile or link (with the driver's log) and an
