@@ -71,7 +71,7 @@ void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, 
   options.camera = args.camera;
   options.draw.wireframe = args.wireframe;
   options.tets = args.tets;
-  options.textures = tissueImages(command, run);
+  options.textures = args.textures ? args.textures : tissueImages(command, run);
   options.tool.show = args.tool && args.last.has_value();
   if (args.last) {
     const sim::HapticState& h = args.last->haptic;
@@ -103,9 +103,11 @@ void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, 
               args.size.width, args.size.height, c.target_m.x(), c.target_m.y(), c.target_m.z(), c.distance_m);
 }
 
-void writeEndPicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png) {
+void writeEndPicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png,
+                     std::optional<viewer::TissueImages> textures) {
   PictureArgs args;
   args.tool = false;
+  args.textures = std::move(textures);
   writePicture(command, run, frame, png, args);
 }
 

@@ -15,6 +15,7 @@
 
 #include "incise/sim/simulation.h"
 #include "incise/viewer/camera.h"
+#include "incise/viewer/scene_renderer.h"
 #include "scenario_run.h"
 
 namespace incise::apps {
@@ -45,12 +46,16 @@ struct PictureArgs {
   bool tets = false;                  // the tet mesh's boundary instead of the surface
   std::optional<sim::Snapshot> last;  // the tool, contact and force drawn (none: no tool)
   std::vector<OverlayLine> overlay;
+  // A textured tissue's images (tissueImages), read before the run so that a bad image stops it before
+  // the work; none: writePicture reads them itself.
+  std::optional<viewer::TissueImages> textures;
 };
 
 // Renders the world as it is and writes `png`; prints "wrote ..." with the camera used.
 void writePicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png,
                   const PictureArgs& args);
-// The end state with the default picture options (replay --png).
-void writeEndPicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png);
+// The end state with the default picture options (replay --png), the images read before the run.
+void writeEndPicture(const char* command, LoadedScenario& run, std::int64_t frame, const std::string& png,
+                     std::optional<viewer::TissueImages> textures);
 
 }  // namespace incise::apps

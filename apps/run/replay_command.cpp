@@ -20,6 +20,7 @@
 #include "replay_outputs.h"
 #include "run_commands.h"
 #include "scenario_run.h"
+#include "tissue_images.h"
 
 namespace incise::apps::run {
 
@@ -81,6 +82,8 @@ int runReplay(const ReplayArgs& a) {
   } catch (const std::exception& e) {
     failWith("replay", e.what());
   }
+  // A bad image stops here, before the run.
+  std::optional<viewer::TissueImages> textures = a.png.empty() ? std::nullopt : tissueImages("replay", run);
   std::error_code error;
   std::filesystem::create_directories(a.out, error);
   if (error) failWith("replay", "cannot create output directory " + a.out + ": " + error.message());
@@ -95,7 +98,7 @@ int runReplay(const ReplayArgs& a) {
   const sim::ReplayReport report = sim::replay(*run.world, run.poses, options);
   progress.finish();
   const int code = writeReplayOutputs("replay", run, options, report, a.out);
-  if (!a.png.empty()) writeEndPicture("replay", run, report.frames - 1, a.png);
+  if (!a.png.empty()) writeEndPicture("replay", run, report.frames - 1, a.png, std::move(textures));
   return code;
 }
 

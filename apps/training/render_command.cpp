@@ -12,6 +12,7 @@
 #include "incise/viewer/camera.h"
 #include "picture_output.h"
 #include "scenario_run.h"
+#include "tissue_images.h"
 #include "training_commands.h"
 
 namespace incise::apps::training {
@@ -47,6 +48,7 @@ int runRender(const RenderArgs& a) {
   }
   if (a.tets && !run.scenario.world.tets.enabled)
     failWith("render", "--tets: " + a.scenario + " has no tet tissue (\"tets\" in its \"tissue\")");
+  picture.textures = tissueImages("render", run);  // a bad image stops here, before the run
   sim::ReplayOptions options;
   options.pace = sim::ReplayPace::Fast;
   options.period_us = run.scenario.periodUs();

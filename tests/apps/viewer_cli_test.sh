@@ -80,6 +80,20 @@ check "a bad --size is refused with its value" expect_exit 2 "\-\-size '300'" --
 check "a bad --camera is refused with its value" expect_exit 2 "\-\-camera '10,95'" -- "$incise" render "$straight" --out "$work/bad2.png" --camera 10,95
 check "a picture not named .png is refused" expect_exit 2 "must end in .png" -- "$incise" render "$straight" --out "$work/bad3.jpg"
 check "... and none of them wrote anything" bash -c "! ls '$work' | grep -q '^bad'"
+# A textured tissue: drawn with its images; a skin image that is not a PNG stops the command before its run.
+check "render draws a textured training scenario" "$incise" render "$scenarios/pad-straight.json" --out "$work/textured.png" --size 320x200
+check "... a PNG" is_png "$work/textured.png"
+mkdir -p "$work/badtex"
+printf 'not a png' > "$work/badtex/skin.png"
+python3 -c "
+import json; s = json.load(open('$scenarios/pad-straight.json'))
+s['tissue']['texture']['skin'] = 'skin.png'; s['tissue']['texture']['wall'] = '$scenarios/textures/flesh.png'
+s['pose_source']['path'] = '$scenarios/traces/pad-straight.csv'; json.dump(s, open('$work/badtex/pad.json', 'w'))"
+check "a skin image that is not a PNG is refused by render, naming it" \
+  expect_exit 2 "the skin image: .*badtex/skin.png: not a PNG file" -- "$incise" render "$work/badtex/pad.json" --out "$work/badtex/bad.png"
+check "... and by replay --png, before the run: nothing written" \
+  expect_exit 2 "badtex/skin.png: not a PNG file" -- "$incise" replay "$work/badtex/pad.json" --out "$work/badtex/out" --png "$work/badtex/out/end.png"
+check "... no picture, no output folder" bash -c "test ! -e '$work/badtex/bad.png' && test ! -e '$work/badtex/out'"
 check "view --size is checked too" expect_exit 2 "\-\-size 'big'" -- "$incise" view "$straight" --size big --out "$work/bad-view"
 check "view without a display names incise render and xvfb-run" \
   expect_exit 2 "incise render.*xvfb-run" -- env -u DISPLAY -u WAYLAND_DISPLAY "$incise" view "$straight" --out "$work/nodisplay"
