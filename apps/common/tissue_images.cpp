@@ -1,9 +1,12 @@
 #include "tissue_images.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "incise/mesh/surface_mesh.h"
 #include "incise/viewer/png_file.h"
@@ -12,25 +15,25 @@ namespace incise::apps {
 
 namespace {
 
-// The path of the first material's `map_Kd`, or empty.
-std::filesystem::path diffuseMap(const mesh::SurfaceMesh& tissue) {
-  if (!tissue.hasMaterials()) return {};
-  for (const mesh::Material& material : tissue.materials()) {
-    for (const std::string& statement : material.statements) {
-      std::istringstream tokens(statement);
-      std::string keyword, token, last;
-      tokens >> keyword;
-      while (tokens >> token) last = token;
-      if (keyword == "map_Kd" && !last.empty()) return last;
-    }
+// The statement of `material` that starts with `keyword`, split into its tokens after the keyword.
+std::vector<std::string> statement(const mesh::Material& material, const std::string& keyword) {
+  for (const std::string& line : material.statements) {
+    std::istringstream tokens(line);
+    std::string first, token;
+    tokens >> first;
+    if (first != keyword) continue;
+    std::vector<std::string> rest;
+    while (tokens >> token) rest.push_back(token);
+    return rest;
   }
   return {};
 }
 
-viewer::RgbImage plainSkin() {
+viewer::RgbImage plainColour(const std::array<float, 3>& rgb) {
   viewer::RgbImage image;
   image.width = image.height = 1;
-  for (const float c : viewer::kSkinColour) image.rgb.push_back(static_cast<std::uint8_t>(std::lround(c * 255.0f)));
+  for (const float c : rgb)
+    image.rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)));
   return image;
 }
 
@@ -42,24 +45,41 @@ viewer::RgbImage readImage(const char* command, const std::filesystem::path& pat
   }
 }
 
+// A material's image: its map_Kd (the path is its last token), else its Kd colour, else the plain skin.
+// A map that cannot be read is the mesh file's problem, not the run's: warned about, the colour drawn.
+viewer::RgbImage materialImage(const char* command, const mesh::Material& material) {
+  const std::vector<std::string> map = statement(material, "map_Kd");
+  if (!map.empty()) {
+    try {
+      return viewer::readPng(map.back());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "incise %s: warning: material %s is drawn in its colour: %s\n", command,
+                   material.name.c_str(), e.what());
+    }
+  }
+  const std::vector<std::string> kd = statement(material, "Kd");
+  if (kd.size() >= 3) {
+    try {
+      return plainColour({std::stof(kd[0]), std::stof(kd[1]), std::stof(kd[2])});
+    } catch (const std::exception&) {  // not numbers: the plain skin
+    }
+  }
+  return plainColour(viewer::kSkinColour);
+}
+
 }  // namespace
 
 std::optional<viewer::TissueImages> tissueImages(const char* command, const LoadedScenario& run) {
-  if (!run.world->tissue().hasTexCoords()) return std::nullopt;
+  const mesh::SurfaceMesh& tissue = run.world->tissue();
+  if (!tissue.hasTexCoords()) return std::nullopt;
   const sim::TextureSpec& spec = run.scenario.texture;
   viewer::TissueImages images;
-  const std::filesystem::path map = diffuseMap(run.world->tissue());
   if (!spec.skin_image.empty()) {
-    images.skin = readImage(command, spec.skin_image, "skin");
-  } else if (!map.empty()) {
-    try {  // the mesh's own material: a missing or broken image is the file's problem, not the run's
-      images.skin = viewer::readPng(map);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "incise %s: warning: the skin is drawn in its plain colour: %s\n", command, e.what());
-      images.skin = plainSkin();
-    }
+    images.skins.push_back(readImage(command, spec.skin_image, "skin"));
+  } else if (tissue.hasMaterials() && !tissue.materials().empty()) {
+    for (const mesh::Material& material : tissue.materials()) images.skins.push_back(materialImage(command, material));
   } else {
-    images.skin = plainSkin();
+    images.skins.push_back(plainColour(viewer::kSkinColour));
   }
   if (!spec.wall_image.empty()) {
     images.wall = readImage(command, spec.wall_image, "wall");

@@ -39,6 +39,7 @@ void GeometryMirror::apply(const GeometryRecord& r) {
     faces_.assign(r.info.faces, {-1, -1, -1});
     face_kind_.assign(r.info.faces, kDeletedFace);
     face_texcoords_.clear();
+    face_material_.clear();
     flags_ = 0;
     frame_ = r.info.frame;
     clearChanges();
@@ -66,8 +67,14 @@ void GeometryMirror::apply(const GeometryRecord& r) {
       touch(face_changed_, changed_faces_, r.index);
       break;
     case GeometryRecordType::FaceTexCoords:  // right after its Face record: the face is in faces_
-      if (face_texcoords_.size() < faces_.size()) face_texcoords_.resize(faces_.size(), std::array<float, 6>{});
-      if (r.index < face_texcoords_.size()) std::copy(r.texcoords, r.texcoords + 6, face_texcoords_[r.index].begin());
+      if (face_texcoords_.size() < faces_.size()) {
+        face_texcoords_.resize(faces_.size(), std::array<float, 6>{});
+        face_material_.resize(faces_.size(), kNoMaterial);
+      }
+      if (r.index < face_texcoords_.size()) {
+        std::copy(r.texcoords, r.texcoords + 6, face_texcoords_[r.index].begin());
+        face_material_[r.index] = r.kind;
+      }
       break;
     case GeometryRecordType::Frame:
       frame_ = r.info.frame;

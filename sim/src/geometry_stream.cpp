@@ -136,7 +136,8 @@ std::size_t GeometryStream::emitFace(const World& world, std::uint32_t f) noexce
   if (!tissue.hasTexCoords()) return 1;
   GeometryRecord& t = next();
   t.type = GeometryRecordType::FaceTexCoords;
-  t.kind = 0;
+  const int material = tissue.material(h);
+  t.kind = material >= 0 && material < kNoMaterial ? static_cast<std::uint8_t>(material) : kNoMaterial;
   t.index = f;
   auto corner = m.halfedge_handle(h);  // the corners as cfv_iter gave the vertices
   for (int k = 0; k < 3; ++k, corner = m.next_halfedge_handle(corner)) {

@@ -106,28 +106,37 @@ TEST_CASE("surface_model: a simulated tissue's tets are drawn where the physics'
   CHECK(moved > 100);
 }
 
-TEST_CASE("surface_model: a textured tissue's texture coordinates follow every pull, the dirty faces name them",
-          "[viewer]") {
+TEST_CASE(
+    "surface_model: a textured tissue's texture coordinates and materials follow every pull, the dirty "
+    "faces name them",
+    "[viewer]") {
   viewer::SurfaceModel followed;
   std::vector<float> uploaded;  // what a renderer holds, updated as SceneRenderer::upload does
+  std::vector<std::uint8_t> uploaded_materials;
   std::size_t partial_updates = 0;
-  const auto boxMapped = [](sim::Scenario& s) { s.texture.given = s.texture.box_map = true; };
-  const auto run = test::followRun(
-      "bunny-straight", std::numeric_limits<double>::infinity(),
-      [&](test::FollowedRun& r) {
-        if (!followed.update(r.mirror)) return;
-        REQUIRE(followed.faceTexCoords().size() == 6 * followed.faceCount());
-        if (followed.dirty().all) {
-          uploaded = followed.faceTexCoords();
-        } else {  // new faces are among the dirty ones
-          ++partial_updates;
-          uploaded.resize(followed.faceTexCoords().size(), -1.0f);
-          for (const std::uint32_t f : followed.dirty().faces)
-            std::copy_n(&followed.faceTexCoords()[6 * f], 6, &uploaded[6 * f]);
-        }
-        followed.clearDirty();
-      },
-      boxMapped, true);  // seeded: the textured bunny's sweep would take most of the run
+  test::FollowOptions f;
+  f.edit_scenario = [](sim::Scenario& s) { s.texture.given = s.texture.box_map = true; };
+  f.edit_tissue = test::twoMaterials;
+  f.seed = true;  // as the viewer: the textured bunny's sweep would take most of the run
+  f.each_pull = [&](test::FollowedRun& r) {
+    if (!followed.update(r.mirror)) return;
+    REQUIRE(followed.faceTexCoords().size() == 6 * followed.faceCount());
+    REQUIRE(followed.faceMaterials().size() == followed.faceCount());
+    if (followed.dirty().all) {
+      uploaded = followed.faceTexCoords();
+      uploaded_materials = followed.faceMaterials();
+    } else {  // new faces are among the dirty ones
+      ++partial_updates;
+      uploaded.resize(followed.faceTexCoords().size(), -1.0f);
+      uploaded_materials.resize(followed.faceCount(), 254);
+      for (const std::uint32_t face : followed.dirty().faces) {
+        std::copy_n(&followed.faceTexCoords()[6 * face], 6, &uploaded[6 * face]);
+        uploaded_materials[face] = followed.faceMaterials()[face];
+      }
+    }
+    followed.clearDirty();
+  };
+  const auto run = test::followRun("bunny-straight", f);
   REQUIRE(run->world->incisions() == 1);
   CHECK(partial_updates > 50);
   sim::GeometryMirror copy;
@@ -136,23 +145,28 @@ TEST_CASE("surface_model: a textured tissue's texture coordinates follow every p
   REQUIRE(fresh.update(copy));
   REQUIRE(fresh.textured());
   CHECK(followed.faceTexCoords() == fresh.faceTexCoords());
+  CHECK(followed.faceMaterials() == fresh.faceMaterials());
   CHECK(uploaded == fresh.faceTexCoords());
-  // Each live face's corners as the tissue has them (floats).
+  CHECK(uploaded_materials == fresh.faceMaterials());
+  // Each live face's corners and material as the tissue has them (floats).
   const mesh::SurfaceMesh& tissue = run->world->tissue();
-  std::size_t faces = 0, exact = 0;
-  for (const auto f : tissue.mesh().faces()) {
-    if (tissue.mesh().status(f).deleted()) continue;
-    const mesh::FaceCorners corners = mesh::faceCorners(tissue, f);
-    const std::size_t i = 6 * static_cast<std::size_t>(f.idx());
-    bool same = true;
+  std::size_t faces = 0, exact = 0, per_material[2] = {0, 0};
+  for (const auto face : tissue.mesh().faces()) {
+    if (tissue.mesh().status(face).deleted()) continue;
+    const mesh::FaceCorners corners = mesh::faceCorners(tissue, face);
+    const auto i = static_cast<std::size_t>(face.idx());
+    bool same = fresh.faceMaterials()[i] == tissue.material(face);
     for (std::size_t c = 0; c < 3; ++c) {
-      const std::uint32_t v = fresh.indices()[3 * static_cast<std::size_t>(f.idx()) + c];
+      const std::uint32_t v = fresh.indices()[3 * i + c];
       const auto uv = corners.at(mesh::TriMesh::VertexHandle(static_cast<int>(v)));
-      same = same && uv && fresh.faceTexCoords()[i + 2 * c] == static_cast<float>(uv->x()) &&
-             fresh.faceTexCoords()[i + 2 * c + 1] == static_cast<float>(uv->y());
+      same = same && uv && fresh.faceTexCoords()[6 * i + 2 * c] == static_cast<float>(uv->x()) &&
+             fresh.faceTexCoords()[6 * i + 2 * c + 1] == static_cast<float>(uv->y());
     }
     ++faces, exact += same;
+    if (tissue.material(face) == 0 || tissue.material(face) == 1) ++per_material[tissue.material(face)];
   }
   CHECK(faces > 1000);
   CHECK(exact == faces);
+  CHECK(per_material[0] > 1000);
+  CHECK(per_material[1] > 1000);
 }

@@ -85,13 +85,18 @@ int wallSquareChanges(const viewer::RgbImage& image) {
   return changes;
 }
 
+void boxMapped(sim::Scenario& s) {
+  s.texture.given = s.texture.box_map = true;
+  s.texture.tile_m = kTile_m;
+}
+
 TEST_CASE("picture: a textured tissue is drawn with its skin image, the walls with their own", "[viewer][pixels]") {
-  const auto boxMapped = [](sim::Scenario& s) {
-    s.texture.given = s.texture.box_map = true;
-    s.texture.tile_m = kTile_m;
-  };
-  const auto before = test::followRun("bunny-straight", 0.05, {}, boxMapped);
-  const auto after = test::followRun("bunny-straight", std::numeric_limits<double>::infinity(), {}, boxMapped);
+  test::FollowOptions f;
+  f.edit_scenario = boxMapped;
+  f.stop_after_s = 0.05;
+  const auto before = test::followRun("bunny-straight", f);
+  f.stop_after_s = std::numeric_limits<double>::infinity();
+  const auto after = test::followRun("bunny-straight", f);
   REQUIRE(after->world->incisions() == 1);
   REQUIRE(after->mirror.faceTexCoords().size() == after->mirror.faces().size());
 
@@ -102,7 +107,7 @@ TEST_CASE("picture: a textured tissue is drawn with its skin image, the walls wi
   const viewer::RgbImage plain = viewer::renderPicture(after->mirror, after->stroke(), options, &camera);
   options.exact_camera = camera;
   options.textures =
-      viewer::TissueImages{checkerboard({255, 255, 255}, {20, 20, 20}), checkerboard({30, 220, 60}, {30, 60, 230})};
+      viewer::TissueImages{{checkerboard({255, 255, 255}, {20, 20, 20})}, checkerboard({30, 220, 60}, {30, 60, 230})};
   const viewer::RgbImage textured_before = viewer::renderPicture(before->mirror, after->stroke(), options);
   const viewer::RgbImage textured = viewer::renderPicture(after->mirror, after->stroke(), options);
   if (const char* keep = std::getenv("INCISE_KEEP_PICTURES")) {
@@ -138,6 +143,47 @@ TEST_CASE("picture: a textured tissue is drawn with its skin image, the walls wi
   CHECK(wall < plain_red * 11 / 10);
   // Along the 5 cm stroke the wall image repeats every centimetre: 8 squares a repeat.
   CHECK(changes > 20);
+}
+
+TEST_CASE("picture: each material's faces are drawn with its own image", "[viewer][pixels]") {
+  test::FollowOptions f;
+  f.edit_scenario = boxMapped;
+  f.edit_tissue = test::twoMaterials;
+  const auto run = test::followRun("bunny-straight", f);
+  REQUIRE(run->world->tissue().materials().size() == 2);
+  viewer::PictureOptions options;
+  options.size = {kWidth, kHeight};
+  options.tool.show = false;
+  options.camera = viewer::parseCameraOption("0,10,0.25");  // the whole bunny from the front
+  const auto solid = [](const Rgb& c) {  // 2 x 3 texels: the skins' layers are resampled to a common size
+    viewer::RgbImage image;
+    image.width = 2, image.height = 3;
+    for (int i = 0; i < 6; ++i) image.rgb.insert(image.rgb.end(), c.begin(), c.end());
+    return image;
+  };
+  options.textures =
+      viewer::TissueImages{{solid({230, 220, 30}), checkerboard({200, 30, 200}, {120, 20, 120})}, solid({30, 60, 230})};
+  const viewer::RgbImage two = viewer::renderPicture(run->mirror, run->stroke(), options);
+  options.textures->skins.resize(1);  // one image: every face takes it
+  const viewer::RgbImage one = viewer::renderPicture(run->mirror, run->stroke(), options);
+  const auto count = [](const viewer::RgbImage& image) {
+    std::size_t yellow = 0, magenta = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const std::uint8_t* p = pixel(image, x, y);
+        yellow += p[0] > 40 && p[1] > 0.7 * p[0] && p[2] < 0.4 * p[0];
+        magenta += p[0] > 40 && p[2] > 0.7 * p[0] && p[1] < 0.4 * p[0];
+      }
+    return std::pair{yellow, magenta};
+  };
+  const auto [yellow2, magenta2] = count(two);
+  const auto [yellow1, magenta1] = count(one);
+  INFO("two images: yellow " << yellow2 << ", magenta " << magenta2 << "; one: yellow " << yellow1 << ", magenta "
+                             << magenta1);
+  CHECK(yellow2 > 5000);
+  CHECK(magenta2 > 5000);
+  CHECK(magenta1 == 0);
+  CHECK(yellow1 > yellow2 + magenta2 * 9 / 10);  // the right half yellow too
 }
 
 }  // namespace texture_picture_test

@@ -26,7 +26,7 @@ RgbImage renderPicture(const sim::GeometryMirror& mirror, std::span<const Eigen:
   if (!mirror.complete()) throw ViewerError("renderPicture: the geometry has not arrived in full");
   GlContext context(ContextKind::Offscreen, options.size.width, options.size.height, "incise render");
   SceneRenderer renderer;
-  if (options.textures) renderer.setTextures(options.textures->skin, options.textures->wall);
+  if (options.textures) renderer.setTextures(*options.textures);
   SurfaceModel model;
   if (options.tets && !mirror.tets().complete())
     throw ViewerError("renderPicture: the scenario has no tet tissue (\"tets\" in its tissue) to draw");

@@ -1,6 +1,7 @@
 #include "incise/viewer/scene_renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <epoxy/gl.h>
@@ -27,21 +28,28 @@ void main() {
   gl_Position = projection * p;
 })";
 
-// A textured tissue: each face's corners' texture coordinates fetched by its index (3 RG texels a face).
+// A textured tissue: each face's corners' texture coordinates fetched by its index (3 RG texels a face),
+// and its material's layer of the skins' array (layer 0 for a face without one, or past the layers).
 const char* const kSurfaceGeometry = R"(#version 330 core
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
 uniform samplerBuffer texcoords;
+uniform usamplerBuffer materials;
+uniform int skin_layers;
 in vec3 v_normal[];
 in vec3 v_position[];
 out vec3 f_normal;
 out vec3 f_position;
 out vec2 f_uv;
+flat out float f_layer;
 void main() {
+  int material = int(texelFetch(materials, gl_PrimitiveIDIn).r);
+  float layer = material < skin_layers ? float(material) : 0.0;
   for (int i = 0; i < 3; ++i) {
     f_normal = v_normal[i];
     f_position = v_position[i];
     f_uv = texelFetch(texcoords, 3 * gl_PrimitiveIDIn + i).rg;
+    f_layer = layer;
     gl_PrimitiveID = gl_PrimitiveIDIn;
     gl_Position = gl_in[i].gl_Position;
     EmitVertex();
@@ -58,9 +66,10 @@ uniform vec3 skin;
 uniform vec3 wall;
 uniform int wireframe;
 #ifdef TEXTURED
-uniform sampler2D skin_texture;
+uniform sampler2DArray skin_texture;
 uniform sampler2D wall_texture;
 in vec2 f_uv;
+flat in float f_layer;
 #endif
 in vec3 f_normal;
 in vec3 f_position;
@@ -72,7 +81,7 @@ void main() {
   if (dot(n, -f_position) < 0.0) n = -n;
   vec3 base = kind == 2u ? wall : skin;
 #ifdef TEXTURED
-  vec3 skin_texel = texture(skin_texture, f_uv).rgb;  // both sampled: derivatives in uniform control flow
+  vec3 skin_texel = texture(skin_texture, vec3(f_uv, f_layer)).rgb;  // both sampled: uniform control flow
   vec3 wall_texel = texture(wall_texture, f_uv).rgb;
   base = kind == 2u ? wall_texel : skin_texel;
 #endif
@@ -114,16 +123,61 @@ struct Buffer {
   std::size_t capacity = 0;  // elements
 };
 
+// `image` resampled to width x height (bilinear, wrapping like the texture), appended to `out`.
+void appendResampled(const RgbImage& image, int width, int height, std::vector<std::uint8_t>& out) {
+  if (image.width == width && image.height == height) {
+    out.insert(out.end(), image.rgb.begin(), image.rgb.end());
+    return;
+  }
+  const auto texel = [&](int x, int y, int c) {
+    x = (x % image.width + image.width) % image.width, y = (y % image.height + image.height) % image.height;
+    return static_cast<double>(
+        image.rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)) *
+                      3 +
+                  static_cast<std::size_t>(c)]);
+  };
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double sx = (x + 0.5) * image.width / width - 0.5, sy = (y + 0.5) * image.height / height - 0.5;
+      const int x0 = static_cast<int>(std::floor(sx)), y0 = static_cast<int>(std::floor(sy));
+      const double fx = sx - x0, fy = sy - y0;
+      for (int c = 0; c < 3; ++c) {
+        const double top = texel(x0, y0, c) * (1 - fx) + texel(x0 + 1, y0, c) * fx;
+        const double bottom = texel(x0, y0 + 1, c) * (1 - fx) + texel(x0 + 1, y0 + 1, c) * fx;
+        out.push_back(static_cast<std::uint8_t>(std::lround(top * (1 - fy) + bottom * fy)));
+      }
+    }
+}
+
+void mipmappedRepeating(GLenum target) {
+  glGenerateMipmap(target);
+  glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
 // An image as a mipmapped, repeating 2D texture (8-bit RGB, as the file has it).
 void uploadImage(GLuint texture, const RgbImage& image) {
   glBindTexture(GL_TEXTURE_2D, texture);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, image.width, image.height, 0, GL_RGB, GL_UNSIGNED_BYTE, image.rgb.data());
-  glGenerateMipmap(GL_TEXTURE_2D);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  mipmappedRepeating(GL_TEXTURE_2D);
+}
+
+// The images as the layers of a mipmapped, repeating 2D array texture, each resampled (bilinear, texel
+// centres kept) to the largest width and height among them: texture coordinates stay where they were.
+void uploadLayers(GLuint texture, const std::vector<RgbImage>& images) {
+  int width = 1, height = 1;
+  for (const RgbImage& image : images) width = std::max(width, image.width), height = std::max(height, image.height);
+  std::vector<std::uint8_t> texels;
+  texels.reserve(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3 * images.size());
+  for (const RgbImage& image : images) appendResampled(image, width, height, texels);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGB8, width, height, static_cast<GLsizei>(images.size()), 0, GL_RGB,
+               GL_UNSIGNED_BYTE, texels.data());
+  mipmappedRepeating(GL_TEXTURE_2D_ARRAY);
 }
 
 }  // namespace
@@ -131,8 +185,9 @@ void uploadImage(GLuint texture, const RgbImage& image) {
 struct SceneRenderer::Impl {
   GLuint surface_program = 0, textured_program = 0, tool_program = 0;
   GLuint surface_vao = 0, tool_vao = 0, tool_vbo = 0;
-  Buffer positions, normals, indices, kinds, texcoords;
-  GLuint kinds_texture = 0, texcoords_texture = 0, skin_texture = 0, wall_texture = 0;
+  Buffer positions, normals, indices, kinds, texcoords, materials;
+  GLuint kinds_texture = 0, texcoords_texture = 0, materials_texture = 0, skin_texture = 0, wall_texture = 0;
+  GLint skin_layers = 0;
   GLsizei index_count = 0;
   bool model_textured = false, images = false;
   GLuint fbo = 0, colour_rb = 0, depth_rb = 0;
@@ -158,9 +213,10 @@ SceneRenderer::Impl::Impl() {
   tool_program = detail::buildProgram("tool", kToolVertex, kToolFragment);
   glGenVertexArrays(1, &surface_vao);
   glGenVertexArrays(1, &tool_vao);
-  for (Buffer* b : {&positions, &normals, &indices, &kinds, &texcoords}) glGenBuffers(1, &b->id);
+  for (Buffer* b : {&positions, &normals, &indices, &kinds, &texcoords, &materials}) glGenBuffers(1, &b->id);
   glGenBuffers(1, &tool_vbo);
-  for (GLuint* t : {&kinds_texture, &texcoords_texture, &skin_texture, &wall_texture}) glGenTextures(1, t);
+  for (GLuint* t : {&kinds_texture, &texcoords_texture, &materials_texture, &skin_texture, &wall_texture})
+    glGenTextures(1, t);
   glBindVertexArray(surface_vao);
   glBindBuffer(GL_ARRAY_BUFFER, positions.id);
   glEnableVertexAttribArray(0);
@@ -179,9 +235,10 @@ SceneRenderer::Impl::Impl() {
 }
 
 SceneRenderer::Impl::~Impl() {
-  for (Buffer* b : {&positions, &normals, &indices, &kinds, &texcoords}) glDeleteBuffers(1, &b->id);
+  for (Buffer* b : {&positions, &normals, &indices, &kinds, &texcoords, &materials}) glDeleteBuffers(1, &b->id);
   glDeleteBuffers(1, &tool_vbo);
-  for (GLuint* t : {&kinds_texture, &texcoords_texture, &skin_texture, &wall_texture}) glDeleteTextures(1, t);
+  for (GLuint* t : {&kinds_texture, &texcoords_texture, &materials_texture, &skin_texture, &wall_texture})
+    glDeleteTextures(1, t);
   glDeleteVertexArrays(1, &surface_vao);
   glDeleteVertexArrays(1, &tool_vao);
   for (const GLuint program : {surface_program, textured_program, tool_program}) glDeleteProgram(program);
@@ -231,6 +288,9 @@ void SceneRenderer::Impl::uploadAll(const SurfaceModel& model) {
   fill(GL_TEXTURE_BUFFER, texcoords, model.faceTexCoords(), 6);
   glBindTexture(GL_TEXTURE_BUFFER, texcoords_texture);
   glTexBuffer(GL_TEXTURE_BUFFER, GL_RG32F, texcoords.id);
+  fill(GL_TEXTURE_BUFFER, materials, model.faceMaterials(), 1);
+  glBindTexture(GL_TEXTURE_BUFFER, materials_texture);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_R8UI, materials.id);
 }
 
 void SceneRenderer::Impl::uploadRuns(const SurfaceModel& model) {
@@ -239,8 +299,21 @@ void SceneRenderer::Impl::uploadRuns(const SurfaceModel& model) {
   runs(GL_ARRAY_BUFFER, normals, model.normals(), 3, d.vertices);
   runs(GL_ELEMENT_ARRAY_BUFFER, indices, model.indices(), 3, d.faces);
   runs(GL_TEXTURE_BUFFER, kinds, model.faceKinds(), 1, d.faces);
-  if (model.textured()) runs(GL_TEXTURE_BUFFER, texcoords, model.faceTexCoords(), 6, d.faces);
+  if (!model.textured()) return;
+  runs(GL_TEXTURE_BUFFER, texcoords, model.faceTexCoords(), 6, d.faces);
+  runs(GL_TEXTURE_BUFFER, materials, model.faceMaterials(), 1, d.faces);
 }
+
+namespace {
+
+void checkImage(const RgbImage& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgb.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
+    throw ViewerError("setTextures: an image's pixels do not match its " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + " RGB size");
+}
+
+}  // namespace
 
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
@@ -249,7 +322,8 @@ void SceneRenderer::upload(SurfaceModel& model) {
   if (!model.ready()) return;
   glBindVertexArray(impl_->surface_vao);  // the element buffer binding belongs to the VAO
   const bool fits = model.vertexCount() <= impl_->positions.capacity && model.faceCount() <= impl_->kinds.capacity &&
-                    (!model.textured() || model.faceCount() <= impl_->texcoords.capacity);
+                    (!model.textured() || (model.faceCount() <= impl_->texcoords.capacity &&
+                                           model.faceCount() <= impl_->materials.capacity));
   if (model.dirty().all || !fits || model.textured() != impl_->model_textured) {
     impl_->uploadAll(model);
   } else {
@@ -261,15 +335,15 @@ void SceneRenderer::upload(SurfaceModel& model) {
   model.clearDirty();
 }
 
-void SceneRenderer::setTextures(const RgbImage& skin, const RgbImage& wall) {
-  for (const RgbImage* image : {&skin, &wall})
-    if (image->width <= 0 || image->height <= 0 ||
-        image->rgb.size() != static_cast<std::size_t>(image->width) * static_cast<std::size_t>(image->height) * 3)
-      throw ViewerError("setTextures: an image's pixels do not match its " + std::to_string(image->width) + "x" +
-                        std::to_string(image->height) + " RGB size");
-  uploadImage(impl_->skin_texture, skin);
-  uploadImage(impl_->wall_texture, wall);
+void SceneRenderer::setTextures(const TissueImages& images) {
+  if (images.skins.empty()) throw ViewerError("setTextures: no skin image");
+  for (const RgbImage* image : {&images.wall}) checkImage(*image);
+  for (const RgbImage& image : images.skins) checkImage(image);
+  uploadLayers(impl_->skin_texture, images.skins);
+  uploadImage(impl_->wall_texture, images.wall);
   glBindTexture(GL_TEXTURE_2D, 0);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+  impl_->skin_layers = static_cast<GLint>(images.skins.size());
   impl_->images = true;
 }
 
@@ -296,17 +370,21 @@ void SceneRenderer::Impl::drawSurface(const Eigen::Matrix4f& view, const Eigen::
   glBindVertexArray(0);
 }
 
-// Units 1-3: the texture coordinates' buffer, the skin's and the walls' images.
+// Units 1-4: the texture coordinates' buffer, the skins' array and the walls' image, the materials' buffer.
 void SceneRenderer::Impl::bindTextures(GLuint program) {
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_BUFFER, texcoords_texture);
   glUniform1i(glGetUniformLocation(program, "texcoords"), 1);
   glActiveTexture(GL_TEXTURE2);
-  glBindTexture(GL_TEXTURE_2D, skin_texture);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, skin_texture);
   glUniform1i(glGetUniformLocation(program, "skin_texture"), 2);
+  glUniform1i(glGetUniformLocation(program, "skin_layers"), skin_layers);
   glActiveTexture(GL_TEXTURE3);
   glBindTexture(GL_TEXTURE_2D, wall_texture);
   glUniform1i(glGetUniformLocation(program, "wall_texture"), 3);
+  glActiveTexture(GL_TEXTURE4);
+  glBindTexture(GL_TEXTURE_BUFFER, materials_texture);
+  glUniform1i(glGetUniformLocation(program, "materials"), 4);
   glActiveTexture(GL_TEXTURE0);
 }
 

@@ -41,7 +41,10 @@ bool SurfaceModel::update(const sim::GeometryMirror& mirror) {
     indices_.resize(3 * mirror.faces().size(), 0);
     kinds_.resize(mirror.faces().size(), sim::kDeletedFace);
   }
-  if (!mirror.faceTexCoords().empty()) texcoords_.resize(6 * faceCount(), 0.0f);
+  if (!mirror.faceTexCoords().empty()) {
+    texcoords_.resize(6 * faceCount(), 0.0f);
+    materials_.resize(faceCount(), sim::kNoMaterial);
+  }
   for (const std::uint32_t f : mirror.changedFaces()) {
     setFace(f, mirror.faces()[f], mirror.faceKind()[f]);
     copyTexCoords(mirror, f);
@@ -111,15 +114,19 @@ void SurfaceModel::copyTexCoords(const sim::GeometryMirror& mirror, std::uint32_
   float* to = &texcoords_[6 * static_cast<std::size_t>(f)];
   if (f < uv.size() && live(kinds_[f])) {  // a deleted face's are what it had: not drawn, kept as zeros
     std::copy(uv[f].begin(), uv[f].end(), to);
+    materials_[f] = mirror.faceMaterial()[f];
   } else {
     std::fill(to, to + 6, 0.0f);
+    materials_[f] = sim::kNoMaterial;
   }
 }
 
 void SurfaceModel::copyTexCoords(const sim::GeometryMirror& mirror) {
   texcoords_.clear();
+  materials_.clear();
   if (mirror.faceTexCoords().empty()) return;
   texcoords_.resize(6 * faceCount(), 0.0f);
+  materials_.resize(faceCount(), sim::kNoMaterial);
   for (std::uint32_t f = 0; f < faceCount(); ++f) copyTexCoords(mirror, f);
 }
 
@@ -136,6 +143,7 @@ void SurfaceModel::rebuild(const std::vector<std::array<double, 3>>& p,
   indices_.assign(3 * m, 0);
   kinds_.assign(m, sim::kDeletedFace);
   texcoords_.clear();  // a mirror's rebuild copies them again
+  materials_.clear();
   vertex_faces_.assign(n, {});
   live_faces_ = wall_faces_ = 0;
   for (std::size_t f = 0; f < m; ++f) setFace(static_cast<std::uint32_t>(f), faces[f], kind[f]);

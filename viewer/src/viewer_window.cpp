@@ -348,7 +348,7 @@ void ViewerWindow::follow(const ViewerFeed& feed, sim::GeometryMirror seeded) {
   impl_->skin_tets_version = 0;
   impl_->scalpel = MouseScalpel(feed.scalpel_options);
   impl_->plan_triangles = feed.plan ? planTriangles(*feed.plan) : std::vector<float>{};
-  if (feed.textures) impl_->renderer->setTextures(feed.textures->skin, feed.textures->wall);
+  if (feed.textures) impl_->renderer->setTextures(*feed.textures);
   impl_->input.clock = feed.scalpel ? &impl_->feed.clock_s : nullptr;
   impl_->input.cursor.clear();
   impl_->show_tets = static_cast<bool>(feed.physics_state);  // a simulated tissue: as simulated

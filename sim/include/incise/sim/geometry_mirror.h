@@ -10,7 +10,8 @@
 //
 // Shapes: positions_m()[v] (metres, the sim's doubles bit for bit), faces()[f] (vertex indices,
 // counter-clockwise from outside), face_kind()[f] (mesh::FaceKind, or kDeletedFace), vertex_kind()[v],
-// faceTexCoords()[f] (a textured tissue's: u, v per corner).
+// faceTexCoords()[f] (a textured tissue's: u, v per corner) and faceMaterial()[f] (its material's index,
+// kNoMaterial for none).
 // Threads: one reader thread (the one that calls GeometryStream::read). Cost: O(records) per pull; the
 // arrays grow with the mesh (amortised). Failure: nothing throws but std::bad_alloc.
 #pragma once
@@ -40,6 +41,8 @@ class GeometryMirror {
   // A textured tissue's corners' texture coordinates per face (u, v per corner, faces()' order, floats);
   // empty until the first FaceTexCoords record since the last Reset (a tissue without them: always).
   const std::vector<std::array<float, 6>>& faceTexCoords() const noexcept { return face_texcoords_; }
+  // As faceTexCoords: empty until the first FaceTexCoords record since the last Reset.
+  const std::vector<std::uint8_t>& faceMaterial() const noexcept { return face_material_; }
 
   std::int64_t frame() const noexcept { return frame_; }  // of the last Frame record; -1 before one
   bool complete() const noexcept { return (flags_ & kFrameComplete) != 0; }
@@ -64,6 +67,7 @@ class GeometryMirror {
   std::vector<std::array<std::int32_t, 3>> faces_;
   std::vector<std::uint8_t> face_kind_, vertex_kind_;
   std::vector<std::array<float, 6>> face_texcoords_;
+  std::vector<std::uint8_t> face_material_;
   std::vector<std::uint8_t> vertex_changed_, face_changed_;
   std::vector<std::uint32_t> changed_vertices_, changed_faces_;
   bool requested_ = false, started_ = false, rebuilt_ = false;

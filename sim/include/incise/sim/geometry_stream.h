@@ -60,7 +60,10 @@ struct GeometryTet {
 // kDeletedFace), vertices (counter-clockwise from outside, in OpenMesh's order from the face's halfedge).
 // TetReset: info (vertices = tet nodes, faces = base tets). TetNode: index, position_m. Tet: index (the base
 // tet), kind (the slot), tet. FaceTexCoords (only for a tissue with texture coordinates, right after the
-// live face's Face record): index, texcoords (u, v per corner, the Face record's order, as floats).
+// live face's Face record): index, kind (the face's material: its index in the tissue's materials, or
+// kNoMaterial for none and past 254), texcoords (u, v per corner, the Face record's order, as floats).
+inline constexpr std::uint8_t kNoMaterial = 255;
+
 struct GeometryRecord {
   GeometryRecordType type;
   std::uint8_t kind;

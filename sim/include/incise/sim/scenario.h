@@ -72,7 +72,7 @@ struct TissueShape {
 // A textured tissue's look ("tissue": {"texture": {"map": "box", "tile_m": 0.02, "skin": "textures/skin.png",
 // "wall": "textures/flesh.png"}}): texture coordinates made for it (map "box": mesh::boxTexCoords over
 // tile_m) or, without "map", the mesh file's own (a mesh without them is refused at load); the images the
-// viewer, render and train draw on the skin and the walls (PNG paths; none: the first material's map_Kd,
+// viewer, render and train draw on the skin and the walls (PNG paths; none: each material's map_Kd or Kd colour,
 // else the plain skin colour; incise's flesh for the walls).
 struct TextureSpec {
   bool given = false;

@@ -6,8 +6,9 @@
 // uploaded (glBufferSubData), a whole buffer only after a reset or when it must grow. The face kinds are a
 // buffer texture read by gl_PrimitiveID, so one draw call colours walls and skin apart. A textured model
 // (SurfaceModel::textured()) with images set (setTextures) is drawn through a second program: a geometry
-// stage fetches each face's corners' texture coordinates from another buffer texture (3 RG texels a face)
-// and the skin and walls take their images' texels (mipmapped, repeating) instead of the plain colours;
+// stage fetches each face's corners' texture coordinates (3 RG texels a face) and its material from two
+// more buffer textures, and the skin (its material's layer of an array texture) and the walls take their
+// images' texels (mipmapped, repeating) instead of the plain colours;
 // it costs 11-26% of the frame rate on Mesa's llvmpipe (docs/benchmarks.md).
 // Colours (linear RGB, also what the pixel tests look for): kSkinColour, kWallColour, kBackground.
 // Threads: the thread whose context is current (GlContext). Cost: upload O(changed elements), draw O(F) on
@@ -46,10 +47,11 @@ struct ToolView {
   double metres_per_newton = 0.004;  // the force vector's drawn length
 };
 
-// The images a textured tissue is drawn with: its skin's (the first material's map_Kd, or one chosen by the
-// scenario) and its walls'.
+// The images a textured tissue is drawn with: its skin's, one per material (skins[i] on the faces of the
+// tissue's material i; skins[0] also on faces without one), and its walls'.
 struct TissueImages {
-  RgbImage skin, wall;
+  std::vector<RgbImage> skins;
+  RgbImage wall;
 };
 
 struct DrawOptions {
@@ -68,10 +70,11 @@ class SceneRenderer {
 
   // Uploads what changed in `model` since its last clearDirty(), then clears it.
   void upload(SurfaceModel& model);
-  // The skin's and the walls' images (8-bit RGB, any size; mipmaps made here), drawn on a model with
-  // texture coordinates; until then, and on a model without them, the plain colours are. O(pixels).
-  // ViewerError for an image whose pixels do not match its size.
-  void setTextures(const RgbImage& skin, const RgbImage& wall);
+  // The skins' and the walls' images (8-bit RGB, any size: the skins are resampled to the largest among
+  // them, as layers of one array; mipmaps made here), drawn on a model with texture coordinates; until
+  // then, and on a model without them, the plain colours are. O(pixels). ViewerError for no skin image or
+  // an image whose pixels do not match its size.
+  void setTextures(const TissueImages& images);
   // Whether the model last uploaded is drawn with the images.
   bool drawsTextures() const noexcept;
   // Clears and draws into the bound framebuffer's `width` x `height` viewport.

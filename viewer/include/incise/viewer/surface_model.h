@@ -9,7 +9,8 @@
 // smooth shading. A vertex with no skin face has a zero normal.
 // Shapes: positions() and normals() 3 floats per vertex (metres; unit vectors), indices() 3 per face,
 // faceKinds() 1 per face (mesh::FaceKind, or sim::kDeletedFace), faceTexCoords() 6 per face (u, v per corner,
-// in indices()' order) for a textured tissue's surface, else empty. Threads: one (the viewer's). Cost:
+// in indices()' order) and faceMaterials() 1 per face (the material's index, sim::kNoMaterial for none)
+// for a textured tissue's surface, else empty. Threads: one (the viewer's). Cost:
 // update() O(V + F) after a reset, else O(changed elements x their neighbourhoods); allocates as the mesh
 // grows. Failure: nothing throws but std::bad_alloc.
 #pragma once
@@ -55,6 +56,7 @@ class SurfaceModel {
   const std::vector<std::uint32_t>& indices() const noexcept { return indices_; }
   const std::vector<std::uint8_t>& faceKinds() const noexcept { return kinds_; }
   const std::vector<float>& faceTexCoords() const noexcept { return texcoords_; }
+  const std::vector<std::uint8_t>& faceMaterials() const noexcept { return materials_; }
   bool textured() const noexcept { return !texcoords_.empty(); }
   std::size_t vertexCount() const noexcept { return positions_.size() / 3; }
   std::size_t faceCount() const noexcept { return kinds_.size(); }
@@ -83,7 +85,8 @@ class SurfaceModel {
   void rebuild(const std::vector<std::array<double, 3>>& positions_m,
                const std::vector<std::array<std::int32_t, 3>>& faces, const std::vector<std::uint8_t>& kinds);
   void setFace(std::uint32_t f, const std::array<std::int32_t, 3>& t, std::uint8_t kind);
-  // The mirror's texture coordinates of face `f` (zeros where it has none yet); all faces: copyTexCoords(m).
+  // The mirror's texture coordinates and material of face `f` (zeros and none where it has none yet); all
+  // faces: copyTexCoords(m).
   void copyTexCoords(const sim::GeometryMirror& mirror, std::uint32_t f);
   void copyTexCoords(const sim::GeometryMirror& mirror);
   void recomputeNormal(std::uint32_t v);
@@ -94,6 +97,7 @@ class SurfaceModel {
   std::vector<std::uint32_t> indices_;
   std::vector<std::uint8_t> kinds_;
   std::vector<float> texcoords_;
+  std::vector<std::uint8_t> materials_;
   std::vector<std::vector<std::uint32_t>> vertex_faces_;
   std::vector<std::uint8_t> normal_dirty_, vertex_dirty_, face_dirty_;
   std::vector<std::uint32_t> normal_list_;
