@@ -9,7 +9,7 @@
 // stage fetches each face's corners' texture coordinates (3 RG texels a face) and its material from two
 // more buffer textures, and the skin (its material's layer of an array texture) and the walls take their
 // images' texels (mipmapped, repeating) instead of the plain colours;
-// it costs 11-26% of the frame rate on Mesa's llvmpipe (docs/benchmarks.md).
+// it costs 11-32% of the frame rate on Mesa's llvmpipe (docs/benchmarks.md).
 // Colours (linear RGB, also what the pixel tests look for): kSkinColour, kWallColour, kBackground.
 // Threads: the thread whose context is current (GlContext). Cost: upload O(changed elements), draw O(F) on
 // the GPU. Failure: ViewerError for a shader that does not compile or link (with the driver's log) and an
