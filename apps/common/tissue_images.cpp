@@ -69,10 +69,10 @@ viewer::RgbImage materialImage(const char* command, const mesh::Material& materi
 
 }  // namespace
 
-std::optional<viewer::TissueImages> tissueImages(const char* command, const LoadedScenario& run) {
-  const mesh::SurfaceMesh& tissue = run.world->tissue();
+std::optional<viewer::TissueImages> tissueImages(const char* command, const sim::Scenario& scenario,
+                                                 const mesh::SurfaceMesh& tissue) {
   if (!tissue.hasTexCoords()) return std::nullopt;
-  const sim::TextureSpec& spec = run.scenario.texture;
+  const sim::TextureSpec& spec = scenario.texture;
   viewer::TissueImages images;
   if (!spec.skin_image.empty()) {
     images.skins.push_back(readImage(command, spec.skin_image, "skin"));

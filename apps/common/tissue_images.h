@@ -16,6 +16,10 @@
 namespace incise::apps {
 
 // nullopt for a tissue without texture coordinates (drawn in the plain colours).
-std::optional<viewer::TissueImages> tissueImages(const char* command, const LoadedScenario& run);
+std::optional<viewer::TissueImages> tissueImages(const char* command, const sim::Scenario& scenario,
+                                                 const mesh::SurfaceMesh& tissue);
+inline std::optional<viewer::TissueImages> tissueImages(const char* command, const LoadedScenario& run) {
+  return tissueImages(command, run.scenario, run.world->tissue());
+}
 
 }  // namespace incise::apps

@@ -25,6 +25,7 @@
 #include "progress.h"
 #include "scenario_run.h"
 #include "score_plots.h"
+#include "tissue_images.h"
 #include "training_commands.h"
 
 namespace incise::apps::training {
@@ -94,7 +95,7 @@ std::vector<OverlayLine> planOverlay(const sim::Scenario& scenario, const mesh::
 
 // One trace: scored (the cut left in run.world for the picture), its plots written.
 nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const mesh::SurfaceMesh& tissue,
-                                ScoredSession& s) {
+                                ScoredSession& s, const std::optional<viewer::TissueImages>& images) {
   run.world = std::make_unique<sim::World>(tissue, run.scenario.world);
   run.poses = std::move(s.poses);
   const sim::Score score = sim::scoreReplay(run.scenario, tissue, *run.world, run.poses);
@@ -105,6 +106,7 @@ nlohmann::ordered_json scoreOne(const ScoreArgs& a, LoadedScenario& run, const m
       picture.camera = viewer::CameraOption{0.0, 89.0, std::nullopt};
       picture.tool = false;
       if (run.scenario.plan.given) picture.overlay = planOverlay(run.scenario, tissue);
+      picture.textures = images;
       writePicture("score", run, score.frames - 1, plotPath(a, s.file, "-top").string(), picture);
     }
   }
@@ -144,11 +146,14 @@ int runScore(const ScoreArgs& a) {
   run.scenario = scoring.scenario;
   const mesh::SurfaceMesh& tissue = scoring.tissue;
   std::vector<ScoredSession> sessions = readTraces(a, scoring);
+  // A textured tissue's images, read once, before any scoring: a bad one stops here.
+  const std::optional<viewer::TissueImages> images =
+      a.picture && !a.plots.empty() ? tissueImages("score", run.scenario, tissue) : std::nullopt;
   std::vector<nlohmann::ordered_json> lines;
   Progress progress("score " + run.scenario.name, static_cast<double>(sessions.size()));
   try {
     for (std::size_t i = 0; i < sessions.size(); ++i) {
-      lines.push_back(scoreOne(a, run, tissue, sessions[i]));
+      lines.push_back(scoreOne(a, run, tissue, sessions[i], images));
       progress.update(static_cast<double>(i + 1));
     }
   } catch (const std::exception& e) {

@@ -2,7 +2,8 @@
 // ones, written once into the scratch folder, under the names the seed scenarios use (relative to
 // scratch() / "scenarios", where the input is written): meshes/tiny.obj and tiny.off (a regular octahedron,
 // closed and outward-facing), traces/tiny.csv (two samples), hid/tiny.hid (a one-report recording),
-// hid/descriptors/tiny.txt (a one-byte-report descriptor in hex), generate/tiny.json (a strokes scenario).
+// hid/descriptors/tiny.txt (a one-byte-report descriptor in hex), generate/tiny.json (a strokes scenario),
+// textures/tiny.png (one skin-coloured pixel).
 // The shipped meshes and recordings are far larger; the loaders only need something valid to read.
 // Also the harnesses' shared body (runScenario) and their LLVMFuzzerInitialize: include this header from
 // one harness file only (each harness is its own program).
@@ -32,6 +33,12 @@ inline void writeScenarioFiles() {
   const std::string descriptor = "05 01 09 02 a1 01 05 09 19 01 29 08 15 00 25 01 75 01 95 08 81 02 c0";
   d.write("scenarios/hid/descriptors/tiny.txt", "# a mouse's buttons\n" + descriptor + "\n");
   d.write("scenarios/hid/tiny.hid", "R: 23 " + descriptor + "\nN: tiny\nI: 3 056a 0357\nE: 000000.000000 1 01\n");
+  d.write("scenarios/textures/tiny.png",
+          std::string("\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x00\x01\x00\x00"
+                      "\x00\x01\x08\x02\x00\x00\x00\x90\x77\x53\xde\x00\x00\x00\x0c\x49\x44\x41\x54\x78\x9c"
+                      "\x63\x78\xb7\x63\x1e\x00\x04\xdc\x02\x45\xaa\x9c\xca\x9b\x00\x00\x00\x00\x49\x45\x4e\x44"
+                      "\xae\x42\x60\x82",
+                      69));
   d.write("scenarios/generate/tiny.json",
           "{\"tissue\": {\"mesh\": \"../meshes/tiny.obj\"}, \"pose_source\": {\"kind\": \"strokes\", \"strokes\": "
           "[{\"start_m\": [0, 0.02, 0]}]}}\n");
