@@ -184,6 +184,13 @@ TEST_CASE("picture: each material's faces are drawn with its own image", "[viewe
   CHECK(magenta2 > 5000);
   CHECK(magenta1 == 0);
   CHECK(yellow1 > yellow2 + magenta2 * 9 / 10);  // the right half yellow too
+  // Images the renderer refuses, naming why.
+  options.textures->skins.clear();
+  CHECK_THROWS_WITH(viewer::renderPicture(run->mirror, run->stroke(), options), Catch::Contains("no skin image"));
+  options.textures->skins = {solid({230, 220, 30})};
+  options.textures->wall.rgb.pop_back();
+  CHECK_THROWS_WITH(viewer::renderPicture(run->mirror, run->stroke(), options),
+                    Catch::Contains("do not match its 2x3 RGB size"));
 }
 
 }  // namespace texture_picture_test

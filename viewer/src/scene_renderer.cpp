@@ -337,7 +337,7 @@ void SceneRenderer::upload(SurfaceModel& model) {
 
 void SceneRenderer::setTextures(const TissueImages& images) {
   if (images.skins.empty()) throw ViewerError("setTextures: no skin image");
-  for (const RgbImage* image : {&images.wall}) checkImage(*image);
+  checkImage(images.wall);
   for (const RgbImage& image : images.skins) checkImage(image);
   uploadLayers(impl_->skin_texture, images.skins);
   uploadImage(impl_->wall_texture, images.wall);
