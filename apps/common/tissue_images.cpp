@@ -33,7 +33,8 @@ viewer::RgbImage plainColour(const std::array<float, 3>& rgb) {
   viewer::RgbImage image;
   image.width = image.height = 1;
   for (const float c : rgb)
-    image.rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)));
+    image.rgb.push_back(
+        static_cast<std::uint8_t>(std::isfinite(c) ? std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f) : 0));
   return image;
 }
 
