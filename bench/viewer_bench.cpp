@@ -192,9 +192,7 @@ nlohmann::json skinCost(const char* scenario) {
 
 // The images a textured run is drawn with (--textured).
 viewer::TissueImages shippedImages() {
-  const auto flesh = mesh::detail::wallTexturePng();
-  return {{viewer::readPng(std::string(INCISE_SCENARIOS_DIR) + "/textures/skin.png")},
-          viewer::decodePng({flesh.data(), flesh.size()}, "the compiled-in flesh image")};
+  return {{viewer::readPng(std::string(INCISE_SCENARIOS_DIR) + "/textures/skin.png")}, viewer::fleshImage()};
 }
 
 struct RealTimeResult {

@@ -85,8 +85,7 @@ std::optional<viewer::TissueImages> tissueImages(const char* command, const sim:
   if (!spec.wall_image.empty()) {
     images.wall = readImage(command, spec.wall_image, "wall");
   } else {
-    const auto flesh = mesh::detail::wallTexturePng();
-    images.wall = viewer::decodePng({flesh.data(), flesh.size()}, "the compiled-in flesh image");
+    images.wall = viewer::fleshImage();
   }
   return images;
 }

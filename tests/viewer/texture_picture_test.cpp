@@ -194,3 +194,16 @@ TEST_CASE("picture: each material's faces are drawn with its own image", "[viewe
 }
 
 }  // namespace texture_picture_test
+
+namespace texture_picture_test {
+
+TEST_CASE("picture: the walls' compiled-in flesh decodes to the shipped image, pixel for pixel", "[viewer]") {
+  const viewer::RgbImage flesh = viewer::fleshImage();
+  const viewer::RgbImage shipped = viewer::readPng(INCISE_SCENARIOS_DIR "/textures/flesh.png");
+  CHECK(flesh.width == shipped.width);
+  CHECK(flesh.height == shipped.height);
+  CHECK(flesh.rgb == shipped.rgb);
+  CHECK(flesh.width > 1);
+}
+
+}  // namespace texture_picture_test

@@ -11,6 +11,7 @@
 #include <png.h>
 
 #include "incise/core/atomic_file.h"
+#include "incise/mesh/surface_mesh.h"
 
 namespace incise::viewer {
 
@@ -121,6 +122,11 @@ RgbImage decodePng(std::span<const std::uint8_t> png_bytes, const std::string& w
   copyRows(png, info, image);
   png_destroy_read_struct(&png, &info, nullptr);
   return image;
+}
+
+RgbImage fleshImage() {
+  const std::span<const unsigned char> flesh = mesh::detail::wallTexturePng();
+  return decodePng(flesh, "the compiled-in flesh image");
 }
 
 RgbImage readPng(const std::filesystem::path& path) {

@@ -157,6 +157,13 @@ void mipmappedRepeating(GLenum target) {
   glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_REPEAT);
 }
 
+// `texture` bound to unit `unit` as `target`, the program's sampler `name` pointed at it.
+void bindUnit(GLuint program, int unit, GLenum target, GLuint texture, const char* name) {
+  glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
+  glBindTexture(target, texture);
+  glUniform1i(glGetUniformLocation(program, name), unit);
+}
+
 // An image as a mipmapped, repeating 2D texture (8-bit RGB, as the file has it).
 void uploadImage(GLuint texture, const RgbImage& image) {
   glBindTexture(GL_TEXTURE_2D, texture);
@@ -359,10 +366,8 @@ void SceneRenderer::Impl::drawSurface(const Eigen::Matrix4f& view, const Eigen::
   glUniform3fv(glGetUniformLocation(program, "skin"), 1, kSkinColour.data());
   glUniform3fv(glGetUniformLocation(program, "wall"), 1, kWallColour.data());
   glUniform1i(glGetUniformLocation(program, "wireframe"), options.wireframe ? 1 : 0);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_BUFFER, kinds_texture);
-  glUniform1i(glGetUniformLocation(program, "kinds"), 0);
   if (program == textured_program) bindTextures(program);
+  bindUnit(program, 0, GL_TEXTURE_BUFFER, kinds_texture, "kinds");
   glBindVertexArray(surface_vao);
   glPolygonMode(GL_FRONT_AND_BACK, options.wireframe ? GL_LINE : GL_FILL);
   glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
@@ -372,19 +377,11 @@ void SceneRenderer::Impl::drawSurface(const Eigen::Matrix4f& view, const Eigen::
 
 // Units 1-4: the texture coordinates' buffer, the skins' array and the walls' image, the materials' buffer.
 void SceneRenderer::Impl::bindTextures(GLuint program) {
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_BUFFER, texcoords_texture);
-  glUniform1i(glGetUniformLocation(program, "texcoords"), 1);
-  glActiveTexture(GL_TEXTURE2);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, skin_texture);
-  glUniform1i(glGetUniformLocation(program, "skin_texture"), 2);
+  bindUnit(program, 1, GL_TEXTURE_BUFFER, texcoords_texture, "texcoords");
+  bindUnit(program, 2, GL_TEXTURE_2D_ARRAY, skin_texture, "skin_texture");
+  bindUnit(program, 3, GL_TEXTURE_2D, wall_texture, "wall_texture");
+  bindUnit(program, 4, GL_TEXTURE_BUFFER, materials_texture, "materials");
   glUniform1i(glGetUniformLocation(program, "skin_layers"), skin_layers);
-  glActiveTexture(GL_TEXTURE3);
-  glBindTexture(GL_TEXTURE_2D, wall_texture);
-  glUniform1i(glGetUniformLocation(program, "wall_texture"), 3);
-  glActiveTexture(GL_TEXTURE4);
-  glBindTexture(GL_TEXTURE_BUFFER, materials_texture);
-  glUniform1i(glGetUniformLocation(program, "materials"), 4);
   glActiveTexture(GL_TEXTURE0);
 }
 

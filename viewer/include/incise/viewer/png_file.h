@@ -24,5 +24,7 @@ void writePng(const std::filesystem::path& path, const RgbImage& image);
 // in the error (a path, "the compiled-in flesh image").
 RgbImage readPng(const std::filesystem::path& path);
 RgbImage decodePng(std::span<const std::uint8_t> png_bytes, const std::string& what);
+// The walls' flesh compiled into the mesh library (mesh::detail::wallTexturePng), decoded.
+RgbImage fleshImage();
 
 }  // namespace incise::viewer
