@@ -10,7 +10,8 @@
 // rotations). Then the same tissue is cut along a stroke on its top (the surface cutter and tets::TetCutter,
 // the journal applied after every sample: apply() timed), reset to rest and timed again. Also the contact
 // model's cost (three CG solves) at a point of the top surface.
-// Usage: incise_bench_physics [--steps N] [--skip-bunny]. Prints one JSON document.
+// Usage: incise_bench_physics [--steps N] [--skip-bunny] [--ssor W] [--max-cg N] [--cg-tolerance T]
+// [--no-extrapolate] (ModelOptions' fields; the defaults otherwise). Prints one JSON document.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -231,6 +232,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--ssor") && i + 1 < argc) g_options.ssor_relaxation = std::atof(argv[++i]);
     if (!std::strcmp(argv[i], "--max-cg") && i + 1 < argc) g_options.max_cg_iterations = std::atoi(argv[++i]);
     if (!std::strcmp(argv[i], "--cg-tolerance") && i + 1 < argc) g_options.cg_tolerance = std::atof(argv[++i]);
+    if (!std::strcmp(argv[i], "--no-extrapolate")) g_options.extrapolate_velocity = false;
   }
   nlohmann::json tissues = nlohmann::json::array();
   nlohmann::json results = nlohmann::json::array();

@@ -101,7 +101,7 @@ TissueModel::TissueModel(const tets::TetMesh& mesh, const Material& material, co
   const std::size_t nodes = static_cast<std::size_t>(n + options.reserve_nodes);
   const std::size_t tets = mesh.tets.size(), elements = tets + static_cast<std::size_t>(options.reserve_elements);
   for (auto* v : {&s.rest_m, &s.x_m, &s.v_m_per_s, &s.target_m, &s.external_N, &s.force_N, &s.rhs, &s.v_next,
-                  &s.contact_w, &s.contact_z[0], &s.contact_z[1], &s.contact_z[2]})
+                  &s.dv_last_m_per_s, &s.contact_w, &s.contact_z[0], &s.contact_z[1], &s.contact_z[2]})
     v->reserve(nodes);
   for (auto* v : {&s.active, &s.fixed_by_boundary, &s.known, &s.held_by_tool}) v->reserve(nodes);
   s.mass_kg.reserve(nodes), s.role.reserve(nodes), s.node_mark.reserve(nodes), s.touched_nodes.reserve(nodes);
@@ -150,8 +150,8 @@ void TissueModel::State::addNode(const Eigen::Vector3d& rest, int matrix_room, i
   matrix.addRow(matrix_room);
   node_elements.addList(element_room);
   rest_m.push_back(rest), x_m.push_back(rest), target_m.push_back(rest);
-  for (auto* v :
-       {&v_m_per_s, &external_N, &force_N, &rhs, &v_next, &contact_w, &contact_z[0], &contact_z[1], &contact_z[2]})
+  for (auto* v : {&v_m_per_s, &external_N, &force_N, &rhs, &v_next, &dv_last_m_per_s, &contact_w, &contact_z[0],
+                  &contact_z[1], &contact_z[2]})
     v->push_back(Eigen::Vector3d::Zero());
   mass_kg.push_back(0.0), role.push_back(NodeRole::Unused), active.push_back(0);
   fixed_by_boundary.push_back(insideFixedBox(boundary, rest) ? 1 : 0);
@@ -233,6 +233,8 @@ void TissueModel::resetState() noexcept {
   State& s = *s_;
   s.x_m = s.rest_m;  // same size: no allocation
   for (auto& v : s.v_m_per_s) v.setZero();
+  for (auto& dv : s.dv_last_m_per_s) dv.setZero();
+  s.last_step_dt_s = 0.0;
   for (auto& e : s.elements) e.q = {1.0, 0.0, 0.0, 0.0};
   s.moveHeldNodes();
 }

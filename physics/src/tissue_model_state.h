@@ -34,6 +34,9 @@ struct TissueModel::State {
 
   // Per node.
   std::vector<Eigen::Vector3d> rest_m, x_m, v_m_per_s, target_m, external_N, force_N, rhs, v_next;
+  // The last step's change of velocity per node (zero where not Free): the next step's CG starts from
+  // v + dv_last (a constant acceleration's guess) when it has the same dt.
+  std::vector<Eigen::Vector3d> dv_last_m_per_s;
   std::vector<double> mass_kg;
   std::vector<NodeRole> role;
   std::vector<std::uint8_t> active;             // role == Free: the solver's projection
@@ -60,7 +63,9 @@ struct TissueModel::State {
     double stiffness_N_per_m = 0.0;
   } press;
   Eigen::Vector3d press_force_N = Eigen::Vector3d::Zero();
-  double last_dt_s = 0.0;  // of the matrix in `matrix` (0: none assembled for a step)
+  double last_dt_s = 0.0;       // of the matrix in `matrix` (0: none assembled for a step)
+  double last_step_dt_s = 0.0;  // of the last step, whose dv_last_m_per_s holds (0: none, or reset since)
+  int last_step_cg_iterations = 0;
   std::int64_t steps = 0;
 
   // Elements at rest by centroid (locate(), and new nodes' starting positions).

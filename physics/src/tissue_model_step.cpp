@@ -3,7 +3,7 @@
 // Linearised backward Euler with Rayleigh damping D = alpha M + beta K (Baraff & Witkin 1998; SOFA's
 // EulerImplicitSolver): with f = f_ext + M g + f_el(x0) and K the co-rotated stiffness at x0,
 //   [(1 + h alpha) M + h (h + beta) K] v1 = M v0 + h f,   x1 = x0 + h v1,
-// solved for v1 by CG from v0. The static solve takes Newton steps K dx = f with the same K and f.
+// solved for v1 by CG from v0 + (v0 - v-1) while the tissue moves (ModelOptions::extrapolate_velocity). The static solve takes Newton steps K dx = f with the same K and f.
 #include <algorithm>
 #include <cmath>
 
@@ -107,14 +107,17 @@ StepStats TissueModel::step(double dt_s) noexcept {
   s.moveHeldNodes();
   stats.inverted_elements = s.assemble(1.0 + h * alpha, h * (h + beta));
   s.addToolPress(h * h);
-  s.last_dt_s = h;
+  // The last step's dv is this step's best guess while the tissue moves; once it has settled (the last
+  // solve took at most 2 iterations) dv is mostly the solver's own error, and v alone is the better guess.
+  const bool extrapolate = s.options.extrapolate_velocity && s.last_step_dt_s == h && s.last_step_cg_iterations > 2;
+  s.last_dt_s = h, s.last_step_dt_s = 0.0;
   const Eigen::Vector3d& g = s.boundary.gravity_m_per_s2;
   for (std::size_t i = 0; i < s.x_m.size(); ++i) {
     s.rhs[i] =
         s.active[i]
             ? Eigen::Vector3d(s.mass_kg[i] * s.v_m_per_s[i] + h * (s.external_N[i] + s.mass_kg[i] * g + s.force_N[i]))
             : Eigen::Vector3d::Zero();
-    s.v_next[i] = s.v_m_per_s[i];
+    s.v_next[i] = extrapolate ? Eigen::Vector3d(s.v_m_per_s[i] + s.dv_last_m_per_s[i]) : s.v_m_per_s[i];
   }
   // The floor: gravity's momentum over the step (a tissue at rest has b ~ 0, and a residual small next to
   // its own weight is small enough).
@@ -128,12 +131,20 @@ StepStats TissueModel::step(double dt_s) noexcept {
   for (std::size_t i = 0; i < s.x_m.size() && finite; ++i) finite = s.v_next[i].allFinite();
   if (!finite) {
     for (auto& v : s.v_m_per_s) v.setZero();
+    for (auto& dv : s.dv_last_m_per_s) dv.setZero();
     stats.status = StepStatus::NonFinite;
     return stats;
   }
-  for (std::size_t i = 0; i < s.x_m.size(); ++i)
-    if (s.active[i]) s.v_m_per_s[i] = s.v_next[i], s.x_m[i] += h * s.v_next[i];
+  for (std::size_t i = 0; i < s.x_m.size(); ++i) {
+    if (!s.active[i]) {
+      s.dv_last_m_per_s[i].setZero();
+      continue;
+    }
+    s.dv_last_m_per_s[i] = s.v_next[i] - s.v_m_per_s[i];
+    s.v_m_per_s[i] = s.v_next[i], s.x_m[i] += h * s.v_next[i];
+  }
   ++s.steps;
+  s.last_step_dt_s = h, s.last_step_cg_iterations = cg.iterations;
   stats.status = cg.converged ? StepStatus::Converged : StepStatus::IterationLimit;
   return stats;
 }
@@ -174,7 +185,8 @@ StaticResult TissueModel::solveStatic(const StaticOptions& options) {
     ++result.newton_iterations;
   }
   s.options = kept;
-  s.last_dt_s = 0.0;  // the matrix is K alone, not a step's
+  s.last_dt_s = 0.0;       // the matrix is K alone, not a step's
+  s.last_step_dt_s = 0.0;  // and the velocities were zeroed
   return result;
 }
 
