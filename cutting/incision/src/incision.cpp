@@ -342,6 +342,9 @@ void Incision::refreshRestColumns(int first_column) {
 }
 
 int Incision::finalColumns() const noexcept {
+  // A stroke of fewer stations never opens (stationRamp is 0 at every one): cut, it would leave a slit whose
+  // walls lie on each other. So nothing is final until it has them; a finished one without them is not cut.
+  if (stationCount() < minOpeningStations()) return 0;
   if (finished_) return extrapolatedEnd();
   const int padding = options_.order - 1;
   return stationCount() >= 2 ? padding + stationCount() - 1 : 0;

@@ -518,6 +518,7 @@ TEST_CASE(
 TEST_CASE("surface_cutter: a stroke too short for the wound to open is reported too short", "[cutting]") {
   // The opening is 0 at the two stations at each end of a cubic lattice: under 5 stations (2 mm) the
   // columns cut leave a slit whose walls lie on each other, which is not a groove.
+  // So such a stroke cuts nothing: the tissue is left as it was, no slit.
   for (const double length_m : {0.0006, 0.0012, 0.0019}) {
     INFO("a stroke of " << 1e3 * length_m << " mm");
     mesh::SurfaceMesh pad = tissues().pad2;
@@ -528,6 +529,9 @@ TEST_CASE("surface_cutter: a stroke too short for the wound to open is reported 
     CHECK(f.shortfall == Shortfall::TooShort);
     CHECK_THAT(describeShortfall(f), Contains("shorter than the 2.0 mm"));
     CHECK(after.closed_two_manifold);
+    CHECK(pad.mesh().n_faces() == tissues().pad2.mesh().n_faces());
+    CHECK(pad.mesh().n_vertices() == tissues().pad2.mesh().n_vertices());
+    CHECK(mesh::findSelfIntersections(pad.mesh()).empty());
   }
   // A quadratic lattice (order 3) keeps 2 stations shut at each end too: 1.75 mm is too short for it.
   {

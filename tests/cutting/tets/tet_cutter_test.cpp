@@ -399,6 +399,26 @@ TEST_CASE("tet_cutter: a second incision crossing the first cuts the already cut
   }
 }
 
+TEST_CASE("tet_cutter: a stroke too short for its wound to open cuts no tet (and no skin)", "[cutting]") {
+  const Tissue& tissue = bunnyTissue();
+  mesh::SurfaceMesh surface = tissue.surface;
+  incision::SurfaceCutter cutter(surface, incision::CutterOptions{});
+  TetCutter tets(tissue.tets, TetCutterOptions{});
+  const incision::Stroke stroke = incision::testing::backStroke(tissue.surface, 0.0015);
+  cutter.begin(stroke.first, stroke.blade_direction);
+  for (const auto& sample : stroke.samples) {
+    cutter.extend(sample);
+    tets.follow(*cutter.incision(), cutter.stats().incisions);
+  }
+  cutter.finish();
+  while (cutter.pending()) cutter.advance(1e9);
+  tets.follow(*cutter.incision(), cutter.stats().incisions, TetBudget::All);
+  REQUIRE(cutter.stats().figures.back().shortfall == incision::Shortfall::TooShort);
+  CHECK(tets.stats().tets_cut == 0);
+  CHECK(tets.view(TetShape::Rest).mesh.tets.size() == tissue.tets.tets.size());
+  CHECK(surface.mesh().n_faces() == tissue.surface.mesh().n_faces());
+}
+
 TEST_CASE("tet_cutter: bad tissue and options are refused at load", "[cutting]") {
   TetMesh broken = bunnyTissue().tets;
   std::swap(broken.tets[0][0], broken.tets[0][1]);  // inverted
