@@ -3,7 +3,8 @@
 // Linearised backward Euler with Rayleigh damping D = alpha M + beta K (Baraff & Witkin 1998; SOFA's
 // EulerImplicitSolver): with f = f_ext + M g + f_el(x0) and K the co-rotated stiffness at x0,
 //   [(1 + h alpha) M + h (h + beta) K] v1 = M v0 + h f,   x1 = x0 + h v1,
-// solved for v1 by CG from v0 + (v0 - v-1) while the tissue moves (ModelOptions::extrapolate_velocity). The static solve takes Newton steps K dx = f with the same K and f.
+// solved for v1 by CG from v0 + (v0 - v-1) while the tissue moves (ModelOptions::extrapolate_velocity).
+// The static solve takes Newton steps K dx = f with the same K and f.
 #include <algorithm>
 #include <cmath>
 

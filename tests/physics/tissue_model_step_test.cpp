@@ -256,8 +256,12 @@ struct Swing {
   std::vector<Eigen::Vector3d> x_m;
 };
 
+testing::Grid swingBeam() {
+  return grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, 0.01, 0.04), Eigen::Vector3i(5, 5, 20));
+}
+
 Swing swing(bool extrapolate) {
-  const testing::Grid g = grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, 0.01, 0.04), Eigen::Vector3i(5, 5, 20));
+  const testing::Grid g = swingBeam();
   Boundary b;
   b.fixed_boxes = {plane(2, 0.0)};
   b.gravity_m_per_s2 = Eigen::Vector3d(0, -kG, 0);
@@ -280,8 +284,7 @@ TEST_CASE("tissue_model: CG started from the extrapolated velocity converges in 
   INFO("CG iterations over 120 steps: from v " << from_v.iterations << ", extrapolated " << extrapolated.iterations);
   CHECK(extrapolated.iterations < 0.85 * from_v.iterations);
   double largest_m = 0.0, differs_m = 0.0;
-  const testing::Grid rest =
-      grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, 0.01, 0.04), Eigen::Vector3i(5, 5, 20));
+  const testing::Grid rest = swingBeam();
   for (std::size_t i = 0; i < from_v.x_m.size(); ++i) {
     largest_m = std::max(largest_m, (from_v.x_m[i] - rest.mesh.nodes_m[i]).norm());
     differs_m = std::max(differs_m, (from_v.x_m[i] - extrapolated.x_m[i]).norm());

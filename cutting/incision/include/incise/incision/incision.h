@@ -142,8 +142,9 @@ class Incision {
   int minOpeningStations() const noexcept { return 2 * closedEndStations() + 1; }
   // Column j is final once station j - P + 1 exists (its tangent is known) or the stroke is
   // finished, and the stroke has minOpeningStations() (a shorter wound cannot open: cut, it would leave a
-  // slit whose walls lie on each other; a stroke finished shorter cuts nothing, so its first 2 mm are cut
-  // when its fifth station comes). Only final columns open and only the parameter range they determine, v < finalEndV(), is cut;
+  // slit whose walls lie on each other; a stroke finished shorter cuts nothing, and a longer one's first
+  // stations are cut when it has them). Only final columns open and only the parameter range they
+  // determine, v < finalEndV(), is cut;
   // so the cut trails the newest sample by about (order/2 + 1) * spacing_m, and the result depends only on
   // the samples, never on how they were grouped into calls (growing sample by sample = one call with all).
   // Columns [0, finalColumns()) are final.
