@@ -1,4 +1,5 @@
-// thicknessBelowVertices (thickness.h): CGAL's AABB tree over the faces, one ray per vertex on oneTBB.
+// SurfaceRays and thicknessBelowVertices (thickness.h): CGAL's AABB tree over the faces; the thickness is one
+// ray per vertex on oneTBB, a probe one segment.
 // Compiled in the mesh module's CGAL object library.
 #include <cmath>
 #include <limits>
@@ -16,6 +17,7 @@
 #include <tbb/parallel_for.h>
 #include <boost/variant/get.hpp>
 
+#include "incise/mesh/surface_query.h"
 #include "incise/mesh/thickness.h"
 
 namespace incise::mesh {
@@ -26,7 +28,7 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point toPoint(const TriMesh::Point& p) { return Point(p[0], p[1], p[2]); }
 
@@ -56,7 +58,8 @@ Eigen::Vector3d vertexNormal(const TriMesh& mesh, TriMesh::VertexHandle v) {
   return norm > 0.0 && std::isfinite(norm) ? Eigen::Vector3d(sum / norm) : Eigen::Vector3d::Zero();
 }
 
-float thicknessAt(const Tree& tree, const Eigen::Vector3d& p, const Eigen::Vector3d& n, double max_m, double skin_m) {
+float thicknessAt(const AabbTree& tree, const Eigen::Vector3d& p, const Eigen::Vector3d& n, double max_m,
+                  double skin_m) {
   constexpr float kNone = std::numeric_limits<float>::infinity();
   if (n.isZero()) return kNone;
   const Eigen::Vector3d start = p - skin_m * n;
@@ -69,17 +72,74 @@ float thicknessAt(const Tree& tree, const Eigen::Vector3d& p, const Eigen::Vecto
   return distance_m <= max_m ? static_cast<float>(distance_m) : kNone;
 }
 
+// Receives the faces whose boxes a segment meets (AABB_tree::all_intersected_primitives) and keeps the
+// nearest crossing along it out of the tissue (through a face whose outward normal the segment runs along):
+// no container, so a query allocates nothing.
+struct NearestCrossing {
+  const Eigen::Vector3d* a;
+  const Eigen::Vector3d* b;
+  double* t;
+  NearestCrossing& operator*() { return *this; }
+  NearestCrossing& operator++() { return *this; }
+  NearestCrossing operator++(int) { return *this; }
+  NearestCrossing& operator=(std::vector<Triangle>::const_iterator face) {
+    const auto corner = [&](int i) {
+      return Eigen::Vector3d(face->vertex(i).x(), face->vertex(i).y(), face->vertex(i).z());
+    };
+    const Eigen::Vector3d p0 = corner(0), p1 = corner(1), p2 = corner(2);
+    if ((p1 - p0).cross(p2 - p0).dot(*b - *a) <= 0.0) return *this;  // entering the tissue, or along the face
+    if (const auto at = segmentTriangle(*a, *b, p0, p1, p2); at && *at < *t) *t = *at;
+    return *this;
+  }
+};
+
 }  // namespace
 
+struct SurfaceRays::Tree {
+  std::vector<Triangle> triangles;
+  AabbTree tree;
+};
+
+SurfaceRays::SurfaceRays(const TriMesh& mesh) : tree_(std::make_unique<Tree>()) {
+  tree_->triangles = trianglesOf(mesh);
+  if (tree_->triangles.empty()) return;
+  tree_->tree.insert(tree_->triangles.begin(), tree_->triangles.end());
+  tree_->tree.build();  // now, not lazily inside the first of the concurrent queries
+}
+
+SurfaceRays::~SurfaceRays() = default;
+SurfaceRays::SurfaceRays(SurfaceRays&&) noexcept = default;
+SurfaceRays& SurfaceRays::operator=(SurfaceRays&&) noexcept = default;
+
+double SurfaceRays::firstCrossing(const Eigen::Vector3d& from_m, const Eigen::Vector3d& direction,
+                                  double max_m) const noexcept {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (!tree_ || tree_->triangles.empty() || !from_m.allFinite() || !direction.allFinite() || !(max_m > 0.0) ||
+      !std::isfinite(max_m))
+    return kNone;
+  const Eigen::Vector3d to_m = from_m + max_m * direction;
+  if (!to_m.allFinite() || to_m == from_m) return kNone;
+  double t = kNone;
+  try {
+    const Kernel::Segment_3 segment(Point(from_m.x(), from_m.y(), from_m.z()), Point(to_m.x(), to_m.y(), to_m.z()));
+    tree_->tree.all_intersected_primitives(segment, NearestCrossing{&from_m, &to_m, &t});
+  } catch (...) {  // CGAL's exact fallback could not allocate: no crossing known
+    return kNone;
+  }
+  return t <= 1.0 ? t * max_m : kNone;
+}
+
 std::vector<float> thicknessBelowVertices(const TriMesh& mesh, double max_m, double skin_m) {
+  return thicknessBelowVertices(mesh, SurfaceRays(mesh), max_m, skin_m);
+}
+
+std::vector<float> thicknessBelowVertices(const TriMesh& mesh, const SurfaceRays& rays, double max_m, double skin_m) {
   if (!(max_m >= 0.0) || !std::isfinite(max_m) || !(skin_m >= 0.0) || !std::isfinite(skin_m))
     throw std::invalid_argument("thicknessBelowVertices: max_m = " + std::to_string(max_m) +
                                 " and skin_m = " + std::to_string(skin_m) + " must be finite and >= 0");
   std::vector<float> out(mesh.n_vertices(), std::numeric_limits<float>::infinity());
-  const std::vector<Triangle> triangles = trianglesOf(mesh);
-  if (triangles.empty()) return out;
-  Tree tree(triangles.begin(), triangles.end());
-  tree.build();  // now, not lazily inside the first of the concurrent queries
+  if (rays.tree_->triangles.empty()) return out;
+  const AabbTree& tree = rays.tree_->tree;
   const auto vertex = [&](int i) {
     const TriMesh::VertexHandle v(i);
     if (!mesh.status(v).deleted())

@@ -55,3 +55,23 @@ TEST_CASE("thickness: a negative or non-finite reach is refused", "[mesh][thickn
                     std::invalid_argument);
   REQUIRE_THROWS_AS(thicknessBelowVertices(box.mesh(), 1.0, std::nan("")), std::invalid_argument);
 }
+
+TEST_CASE("thickness: a segment finds where it leaves the solid, not where it enters", "[mesh][thickness]") {
+  const SurfaceMesh box = makeBox(Eigen::AlignedBox3d(Vector3d::Zero(), Vector3d(0.01, 0.02, 0.03)));
+  const SurfaceRays rays(box.mesh());
+  const Vector3d x = Vector3d::UnitX();
+  // From inside, along +x: the face x = 10 mm, 7 mm away; a segment shorter than that leaves through none.
+  REQUIRE(rays.firstCrossing(Vector3d(0.003, 0.01, 0.01), x, 0.02) == Approx(0.007).margin(1e-12));
+  REQUIRE(std::isinf(rays.firstCrossing(Vector3d(0.003, 0.01, 0.01), x, 0.006)));
+  // From 1 mm outside the face x = 0: it enters there (not counted) and leaves 11 mm on.
+  REQUIRE(rays.firstCrossing(Vector3d(-0.001, 0.01, 0.01), x, 0.05) == Approx(0.011).margin(1e-12));
+  // Along -y from inside: the face y = 0.
+  REQUIRE(rays.firstCrossing(Vector3d(0.005, 0.004, 0.01), -Vector3d::UnitY(), 0.05) == Approx(0.004).margin(1e-12));
+  // Missing the box, or bad input: none.
+  REQUIRE(std::isinf(rays.firstCrossing(Vector3d(0.005, 0.05, 0.01), x, 0.05)));
+  REQUIRE(std::isinf(rays.firstCrossing(Vector3d(std::nan(""), 0.01, 0.01), x, 0.05)));
+  REQUIRE(std::isinf(rays.firstCrossing(Vector3d(0.003, 0.01, 0.01), x, -1.0)));
+  REQUIRE(std::isinf(rays.firstCrossing(Vector3d(0.003, 0.01, 0.01), x, std::numeric_limits<double>::infinity())));
+  // The thickness below each vertex is the same read through prepared rays.
+  REQUIRE(thicknessBelowVertices(box.mesh(), rays, 0.05, 1e-5) == thicknessBelowVertices(box.mesh(), 0.05, 1e-5));
+}
