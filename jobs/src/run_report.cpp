@@ -35,6 +35,7 @@ nlohmann::json incisionFiguresJson(const std::vector<incision::IncisionFigures>&
                     {"refined_vertices", f.refined_vertices},
                     {"refined_faces", f.refined_faces},
                     {"thickness_limited_samples", f.thickness_limited_samples},
+                    {"row_limited_stations", f.row_limited_stations},
                     {"depth_clamped_samples", f.depth_clamped_samples},
                     {"through_samples", f.through_samples},
                     {"through", incision::toString(f.through)},

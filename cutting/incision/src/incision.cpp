@@ -220,6 +220,7 @@ void Incision::restart(const StrokeSample& first, const Eigen::Vector3d& blade_d
   stations_.clear();
   first_unsettled_ = 0;
   finished_ = false;
+  row_limited_stations_ = 0;
   startAt(first, blade_direction);
 }
 
@@ -287,6 +288,14 @@ Eigen::Vector3d Incision::stationNormal(const Eigen::Vector3d& normal, double de
 
 void Incision::addStation(Station station) {
   station.normal = stationNormal(station.normal, station.depth_m);
+  if (row_limit_) {
+    const double limited_m =
+        std::max(options_.min_depth_m, row_limit_->rowDepth(station.point, -station.normal, station.depth_m));
+    if (limited_m < station.depth_m) {
+      station.depth_m = limited_m;
+      ++row_limited_stations_;
+    }
+  }
   stations_.push_back(station);
   // A new station changes the tangent of the one before it and the extrapolated columns after it; while
   // there are at most two stations, T_0 changes too, and with it the padding before the start.

@@ -67,7 +67,8 @@ SurfaceCutter::SurfaceCutter(mesh::SurfaceMesh& mesh, const CutterOptions& optio
   const double cell_edge_m = refine ? std::min(edge_m, refine_edge_m_) : edge_m;
   grid_ = mesh::VertexGrid(std::max({2.0 * cell_edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
   for (const auto v : m.vertices()) grid_.insert(v.idx(), mesh::toEigen(m.point(v)));
-  thickness_below_m_ = mesh::thicknessBelowVertices(m, io.depth_m / kFloorOfThickness, kSkinM);
+  row_probe_.rays = std::make_unique<mesh::SurfaceRays>(m);
+  thickness_below_m_ = mesh::thicknessBelowVertices(m, *row_probe_.rays, io.depth_m / kFloorOfThickness, kSkinM);
   coarse_grid_ = mesh::VertexGrid(std::max({2.0 * edge_m, 0.5 * io.order * io.spacing_m, 1e-9}));
   if (refine) initCoarse();
   reserveHeadroom();  // after every property is added: OpenMesh reserves the properties there are
@@ -129,10 +130,9 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   const bool had_previous = incision_ != nullptr;
   std::unique_ptr<Incision> incision = had_previous ? std::move(incision_) : std::move(spare_);
   try {
-    if (incision)
-      incision->restart(first, blade_direction);
-    else
-      incision = std::make_unique<Incision>(options_.incision, first, blade_direction);
+    if (!incision) incision = std::make_unique<Incision>(options_.incision, first, blade_direction);
+    incision->limitRows(&row_probe_);  // before its first station
+    incision->restart(first, blade_direction);
   } catch (const std::exception& e) {                   // the sample was checked above: only allocation is left
     if (had_previous) incision_ = std::move(incision);  // a throwing restart changed nothing
     fail(std::string("SurfaceCutter::begin: ") + e.what());

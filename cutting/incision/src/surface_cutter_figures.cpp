@@ -117,6 +117,7 @@ std::string describeShortfall(const IncisionFigures& f) {
 void SurfaceCutter::diagnose() noexcept {
   IncisionFigures& f = stats_.figures.back();
   f.done = true;
+  f.row_limited_stations = incision_->rowLimitedStations();
   const double spacing_m = options_.incision.spacing_m;
   const double start_v = incision_->startV(), end_v = incision_->lastStationV();
   const int last = std::min(static_cast<int>(std::ceil(end_v)), static_cast<int>(cell_first_.size()));

@@ -75,6 +75,17 @@ bool SurfaceCutter::limitToThickness(StrokeSample& sample) noexcept {
   return true;
 }
 
+double SurfaceCutter::RowProbe::rowDepth(const Eigen::Vector3d& point_m, const Eigen::Vector3d& inward,
+                                         double want_m) const noexcept {
+  if (!rays) return want_m;
+  const double tissue_m = rays->firstCrossing(point_m + kSkinM * inward, inward, want_m / kFloorOfThickness);
+  // A micrometre's slack: a sample limitToThickness() limited (from the thickness below the vertices, kept
+  // as floats) is not limited again by its rounding.
+  constexpr double kSlackM = 1e-6;
+  const double allowed_m = kFloorOfThickness * (tissue_m + kSkinM);
+  return want_m <= allowed_m + kSlackM ? want_m : allowed_m;
+}
+
 double SurfaceCutter::thicknessBelow(const StrokeSample& sample) noexcept {
   // The last answer holds within a lattice spacing (the stations' own resolution).
   ThicknessProbe& c = thickness_;

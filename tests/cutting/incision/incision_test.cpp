@@ -263,3 +263,43 @@ TEST_CASE("incision: a full lattice ends the incision", "[cutting]") {
   REQUIRE(incision.finished());
   REQUIRE(incision.finalColumns() <= options.max_columns);
 }
+
+namespace {
+
+// Rows beyond x = 5 mm may reach 1 mm deep; records the direction it was asked along.
+struct ShallowBeyond5mm final : RowLimit {
+  mutable Eigen::Vector3d inward = Eigen::Vector3d::Zero();
+  double rowDepth(const Eigen::Vector3d& point_m, const Eigen::Vector3d& direction,
+                  double want_m) const noexcept override {
+    inward = direction;
+    return point_m.x() > 0.005 ? std::min(want_m, 0.001) : want_m;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("incision: a row limit makes the stations it limits shallower, counted, and a restart keeps it",
+          "[cutting]") {
+  const IncisionOptions options;
+  const auto samples = planeStroke(400);  // 20 mm: stations 0 .. 40 at x = 0, 0.5, .. 20 mm
+  Incision incision(options, samples[0], Eigen::Vector3d::UnitX());
+  const ShallowBeyond5mm limit;
+  incision.limitRows(&limit);
+  for (int round = 0; round < 2; ++round) {
+    incision.restart(samples[0], Eigen::Vector3d::UnitX());
+    for (size_t k = 1; k < samples.size(); ++k) REQUIRE(incision.extend(samples[k]) == SampleStatus::Accepted);
+    REQUIRE((limit.inward - Eigen::Vector3d(0.0, -1.0, 0.0)).norm() < 1e-12);  // along -N
+    REQUIRE(incision.rowLimitedStations() == 30);                              // x = 5.5 .. 20 mm
+    // The blade's depth at w = bottomW(): full before 5 mm, 1 mm from 5.5 mm on (station s is v = startV + s).
+    const bspline::BSplineVolume& rest = incision.rest();
+    const double v0 = incision.startV();
+    REQUIRE(rest.evaluate(0.5, v0 + 4.0, incision.bottomW()).y() == Approx(-options.depth_m).margin(1e-12));
+    REQUIRE(rest.evaluate(0.5, v0 + 20.0, incision.bottomW()).y() == Approx(-0.001).margin(1e-12));
+  }
+  incision.limitRows(nullptr);
+  incision.restart(samples[0], Eigen::Vector3d::UnitX());
+  for (size_t k = 1; k < samples.size(); ++k) REQUIRE(incision.extend(samples[k]) == SampleStatus::Accepted);
+  REQUIRE(incision.rowLimitedStations() == 0);
+  REQUIRE(incision.rest().evaluate(0.5, incision.startV() + 20.0, incision.bottomW()).y() ==
+          Approx(-options.depth_m).margin(1e-12));
+}

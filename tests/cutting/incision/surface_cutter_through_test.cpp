@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "incise/mesh/self_intersection.h"
 #include "incise/mesh/shapes.h"
 #include "incise/mesh/solid.h"
+#include "incise/mesh/thickness.h"
 #include "incise/tets/tet_cutter.h"
 #include "incise/tets/tetrahedralize.h"
 #include "stroke_fixture.h"
@@ -179,4 +181,74 @@ TEST_CASE("The tets follow a cut through the slab: two pieces with the halves' v
   CHECK(std::abs(pieces[0] - (0.5 * kSideM + z_m) * kSideM * kSlabM) <= slice_m3);
   CHECK(std::abs(pieces[1] - (0.5 * kSideM - z_m) * kSideM * kSlabM) <= slice_m3);
   CHECK(pieces[0] + pieces[1] == Approx(kSideM * kSideM * kSlabM).epsilon(1e-9));
+}
+
+namespace {
+
+// An ellipsoid with semi-axes (3, 10, 20) mm about the origin: a fin 6 mm thick whose top ridge (y = 10 mm)
+// curves with a radius of 0.9 mm across it. Latitude-longitude rings: 48 from pole to pole, 96 around.
+mesh::SurfaceMesh fin() {
+  const Eigen::Vector3d axes_m(0.003, 0.01, 0.02);
+  constexpr int kRings = 48, kAround = 96;
+  std::vector<Eigen::Vector3d> points{Eigen::Vector3d(0.0, axes_m.y(), 0.0)};
+  for (int i = 1; i < kRings; ++i)
+    for (int j = 0; j < kAround; ++j) {
+      const double theta = M_PI * i / kRings, phi = 2.0 * M_PI * j / kAround;
+      points.emplace_back(axes_m.x() * std::sin(theta) * std::cos(phi), axes_m.y() * std::cos(theta),
+                          axes_m.z() * std::sin(theta) * std::sin(phi));
+    }
+  points.emplace_back(0.0, -axes_m.y(), 0.0);
+  const int last = static_cast<int>(points.size()) - 1;
+  const auto at = [](int i, int j) { return 1 + (i - 1) * kAround + j % kAround; };
+  std::vector<std::array<int, 3>> faces;
+  for (int j = 0; j < kAround; ++j) faces.push_back({0, at(1, j + 1), at(1, j)});
+  for (int i = 1; i + 1 < kRings; ++i)
+    for (int j = 0; j < kAround; ++j) {
+      faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      faces.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  for (int j = 0; j < kAround; ++j) faces.push_back({last, at(kRings - 1, j), at(kRings - 1, j + 1)});
+  mesh::SurfaceMesh out;
+  std::vector<mesh::TriMesh::VertexHandle> handles;
+  for (const Eigen::Vector3d& p : points) handles.push_back(out.addVertex(p));
+  for (const auto& f : faces) out.mesh().add_face(handles[f[0]], handles[f[1]], handles[f[2]]);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Over a thin fin's ridge every row of the lattice ends inside the tissue, clear of its far side",
+          "[surface_cutter][through]") {
+  // Guards against rows that lag the surface's normal up the fin's flank (Incision::stationNormal) reaching
+  // towards its far side sideways, which the thickness straight below each vertex does not see: a row ended
+  // 0.06 mm short of it, and the opened walls left the tissue (247 pairs of faces crossing in this stroke;
+  // 15 once every row ends within kFloorOfThickness, 0.8, of the tissue along it).
+  mesh::SurfaceMesh tissue = fin();
+  const mesh::SurfaceRays rays(tissue.mesh());
+  StrokePathOptions path;
+  path.start_m = Eigen::Vector3d(0.0028403877053226985, 0.05, 0.005416062454870226);
+  path.direction = Eigen::Vector3d(std::cos(3.45124260025839), 0.0, std::sin(3.45124260025839));
+  path.length_m = 0.01858534329374016;
+  const Stroke stroke = strokeAlongPath(tissue, path);
+  CutterOptions options;
+  options.incision.depth_m = 0.0035935217282423173;
+  SurfaceCutter cutter(tissue, options);
+  cutter.begin(stroke.first, stroke.blade_direction);
+  cutter.extend(stroke.samples);
+  cutter.settle();
+  REQUIRE(cutter.stats().figures.back().row_limited_stations > 0);
+  // Station s's row (Eq. 2, the middle plane of column s + order - 1): from G_s along -N_s, the blade's
+  // depth d_s = beta_s depth_m / beta_m, read from the rows' spacing beta_s.
+  const Incision& incision = *cutter.incision();
+  const int n = options.incision.normal_controls;
+  for (int s = 0; s < incision.stationCount(); ++s) {
+    const int column = s + options.incision.order - 1;
+    const Eigen::Vector3d g = incision.rest().control(2, column, n / 2);
+    const Eigen::Vector3d up = incision.rest().control(2, column, n / 2 - 1) - g;
+    const double depth_m = up.norm() * options.incision.depth_m / options.incision.beta_m;
+    const double far_m = rays.firstCrossing(g - 1e-5 * up.normalized(), -up.normalized(), depth_m / 0.8);
+    INFO("station " << s << " of " << incision.stationCount() << ": the row " << depth_m << " m, the far side " << far_m
+                    << " m along it");
+    REQUIRE(std::isinf(far_m));
+  }
 }

@@ -66,6 +66,20 @@ enum class SampleStatus : std::uint8_t {
 };
 const char* toString(SampleStatus status) noexcept;
 
+// How deep a lattice row may reach into the tissue the incision cuts (the surface cutter answers from the
+// surface as loaded). A row runs from a station's point inwards along its normal, lagging the surface's
+// where it turns fast (Incision::stationNormal); over a sharp edge it can meet the tissue's far side
+// sideways, where the thickness straight below the surface's vertices sees tissue enough.
+// Threads: called on the incision's owner's thread. Must not allocate or throw.
+class RowLimit {
+ public:
+  virtual ~RowLimit() = default;
+  // The depth (m) the row from point_m along the unit `inward` may have: want_m, or less where the tissue
+  // along it is thinner.
+  virtual double rowDepth(const Eigen::Vector3d& point_m, const Eigen::Vector3d& inward,
+                          double want_m) const noexcept = 0;
+};
+
 class Incision {
  public:
   // Starts an incision at `first` with the blade travelling along `blade_direction` (used as the tangent
@@ -81,6 +95,12 @@ class Incision {
   // Finished, and every station's opening at its final width (retraction_time_s after its time): the
   // displacement no longer changes with time.
   bool woundSettled() const noexcept { return finished_ && first_unsettled_ >= stationCount(); }
+  // Every station made from now on has its depth limited by `limit` (nullptr: none), after its normal:
+  // the station's rows, and with them the walls and the floor, end where `limit` says. `limit` must
+  // outlive the incision's use of it (a restart keeps it).
+  void limitRows(const RowLimit* limit) noexcept { row_limit_ = limit; }
+  // Stations whose depth `limit` made shallower than their samples asked, since the (re)start.
+  int rowLimitedStations() const noexcept { return row_limited_stations_; }
   // The blade's direction of travel it started with (a unit vector), as given to the constructor or restart().
   const Eigen::Vector3d& bladeDirection() const noexcept { return blade_direction_; }
 
@@ -254,6 +274,8 @@ class Incision {
   std::vector<Frame> frames_;           // per column, as last written into rest_
   int first_unsettled_ = 0;             // stations before it have settled to their full opening
   bool finished_ = false;
+  const RowLimit* row_limit_ = nullptr;  // limitRows()
+  int row_limited_stations_ = 0;
 };
 
 }  // namespace incise::incision

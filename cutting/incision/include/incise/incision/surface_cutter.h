@@ -32,6 +32,7 @@
 #include "incise/mesh/solid.h"
 #include "incise/mesh/surface_mesh.h"
 #include "incise/mesh/surface_query.h"
+#include "incise/mesh/thickness.h"
 #include "incise/mesh/vertex_grid.h"
 
 namespace incise::incision {
@@ -452,6 +453,13 @@ class SurfaceCutter {
   // The loaded mesh's thickness under each vertex (mesh::thicknessBelowVertices, at construction, up to
   // depth_m / kFloorOfThickness), by vertex index; vertices made later have none.
   std::vector<float> thickness_below_m_;
+  // Each station's rows end at kFloorOfThickness of the tissue along them (the loaded mesh's surface, by
+  // one segment query on `rays`): a row lagging the surface over a sharp edge does not reach its far side.
+  struct RowProbe final : RowLimit {
+    std::unique_ptr<mesh::SurfaceRays> rays;
+    double rowDepth(const Eigen::Vector3d& point_m, const Eigen::Vector3d& inward,
+                    double want_m) const noexcept override;
+  } row_probe_;
   int last_query_units_ = 0;  // the last column query's units: the next one waits for as much budget
   size_t next_candidate_ = 0;
   std::vector<mesh::TriMesh::VertexHandle> fresh_;

@@ -119,6 +119,8 @@ struct IncisionFigures {
   int refined_faces = 0;              // faces it added (two an edge bisected on a closed mesh)
   // Set when the work is done:
   bool done = false;
+  int row_limited_stations = 0;   // stations whose rows the tissue's far side along them made shallower (the
+                                  // rows lag the surface over a sharp edge and can reach it sideways)
   int columns = 0;                // lattice columns from the stroke's first station to its last
   int empty_columns = 0;          // of those, columns whose slab held no vertex of the surface
   double first_empty_at_m = -1;   // arc length along the stroke of the first empty column (-1: none)
