@@ -10,39 +10,80 @@
 
 namespace incise::physics {
 
-void TetLocator::build(std::span<const Eigen::Vector3d> rest_m, std::span<const LocatorTet> tets) {
+std::optional<TetLocator::Held> TetLocator::held(std::span<const Eigen::Vector3d> rest_m, const LocatorTet& t) {
+  Held h{t, Eigen::Matrix3d::Identity(), {}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (t.nodes[i] < 0 || static_cast<std::size_t>(t.nodes[i]) >= rest_m.size()) return std::nullopt;
+    h.x_m[i] = rest_m[static_cast<std::size_t>(t.nodes[i])];
+  }
+  Eigen::Matrix3d edges;
+  for (int i = 0; i < 3; ++i) edges.col(i) = h.x_m[static_cast<std::size_t>(i + 1)] - h.x_m[0];
+  const double scale = edges.colwise().norm().maxCoeff();
+  if (!(std::abs(edges.determinant()) > 1e-12 * scale * scale * scale)) return std::nullopt;  // flat at rest
+  h.inverse_edges = edges.inverse();
+  return h;
+}
+
+template <typename Visit>
+void TetLocator::forCells(const Held& h, Visit&& visit) const {
+  const double cell_m = grid_.cellSize();
+  const Eigen::AlignedBox3d box = h.box();
+  const Eigen::Array3d first = (box.min().array() / cell_m).floor(), last = (box.max().array() / cell_m).floor();
+  for (double cx = first.x(); cx <= last.x(); ++cx)
+    for (double cy = first.y(); cy <= last.y(); ++cy)
+      for (double cz = first.z(); cz <= last.z(); ++cz) visit(Eigen::Vector3d(cx + 0.5, cy + 0.5, cz + 0.5) * cell_m);
+}
+
+void TetLocator::build(std::span<const Eigen::Vector3d> rest_m, std::span<const LocatorTet> tets,
+                       std::vector<int>* slots) {
   tets_.clear();
+  free_.clear();
   tets_.reserve(tets.size());
+  if (slots) slots->assign(tets.size(), -1);
   double edge_sum_m = 0.0;
-  for (const LocatorTet& t : tets) {
-    Held h{t, Eigen::Matrix3d::Identity(), {}};
-    bool in_range = true;
-    for (std::size_t i = 0; i < 4; ++i) {
-      in_range = in_range && t.nodes[i] >= 0 && static_cast<std::size_t>(t.nodes[i]) < rest_m.size();
-      if (in_range) h.x_m[i] = rest_m[static_cast<std::size_t>(t.nodes[i])];
-    }
-    if (!in_range) continue;
-    Eigen::Matrix3d edges;
-    for (int i = 0; i < 3; ++i) edges.col(i) = h.x_m[static_cast<std::size_t>(i + 1)] - h.x_m[0];
-    const double scale = edges.colwise().norm().maxCoeff();
-    if (!(std::abs(edges.determinant()) > 1e-12 * scale * scale * scale)) continue;  // flat at rest
-    h.inverse_edges = edges.inverse();
-    edge_sum_m += scale;
-    tets_.push_back(h);
+  for (std::size_t i = 0; i < tets.size(); ++i) {
+    std::optional<Held> h = held(rest_m, tets[i]);
+    if (!h) continue;
+    if (h->tet.key < 0) h->tet.key = static_cast<std::int64_t>(i);
+    double longest_m = 0.0;  // of the edges from its first node
+    for (std::size_t k = 1; k < 4; ++k) longest_m = std::max(longest_m, (h->x_m[k] - h->x_m[0]).norm());
+    edge_sum_m += longest_m;
+    if (slots) (*slots)[i] = static_cast<int>(tets_.size());
+    tets_.push_back(*h);
   }
   // Each tet is entered in every grid cell its bounding box overlaps (at the cell's centre), so that the
   // tets that may hold p are those entered in p's own cell.
   const double cell_m = tets_.empty() ? 1.0 : std::max(edge_sum_m / static_cast<double>(tets_.size()), 1e-9);
   grid_ = mesh::VertexGrid(cell_m);
   grid_.reserve(8 * tets_.size());
-  for (std::size_t i = 0; i < tets_.size(); ++i) {
-    Eigen::AlignedBox3d box;
-    for (const Eigen::Vector3d& p : tets_[i].x_m) box.extend(p);
-    const Eigen::Array3d first = (box.min().array() / cell_m).floor(), last = (box.max().array() / cell_m).floor();
-    for (double cx = first.x(); cx <= last.x(); ++cx)
-      for (double cy = first.y(); cy <= last.y(); ++cy)
-        for (double cz = first.z(); cz <= last.z(); ++cz)
-          grid_.insert(static_cast<int>(i), Eigen::Vector3d(cx + 0.5, cy + 0.5, cz + 0.5) * cell_m);
+  for (std::size_t i = 0; i < tets_.size(); ++i)
+    forCells(tets_[i], [&](const Eigen::Vector3d& centre) { grid_.insert(static_cast<int>(i), centre); });
+}
+
+void TetLocator::update(std::span<const Eigen::Vector3d> rest_m, std::span<const int> removed,
+                        std::span<const LocatorTet> added, std::vector<int>& slots) {
+  for (const int slot : removed) {
+    if (slot < 0 || static_cast<std::size_t>(slot) >= tets_.size()) continue;
+    Held& h = tets_[static_cast<std::size_t>(slot)];
+    if (h.tet.nodes[0] < 0) continue;  // already free
+    forCells(h, [&](const Eigen::Vector3d& centre) { grid_.remove(slot, centre); });
+    h.tet.nodes = {-1, -1, -1, -1};
+    free_.push_back(slot);
+  }
+  slots.assign(added.size(), -1);
+  for (std::size_t i = 0; i < added.size(); ++i) {
+    const std::optional<Held> h = held(rest_m, added[i]);
+    if (!h) continue;
+    int slot = static_cast<int>(tets_.size());
+    if (free_.empty()) {
+      tets_.push_back(*h);
+    } else {
+      slot = free_.back();
+      free_.pop_back();
+      tets_[static_cast<std::size_t>(slot)] = *h;
+    }
+    slots[i] = slot;
+    forCells(*h, [&](const Eigen::Vector3d& centre) { grid_.insert(slot, centre); });
   }
 }
 
@@ -64,7 +105,7 @@ std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilt
     e.outside_m = outside_m;
     return e;
   };
-  // Inside: the tet where p is deepest (largest smallest weight; ties to the lower index, as queried).
+  // Inside: the tet where p is deepest (largest smallest weight; ties to the smaller key).
   int best = -1;
   double best_score = -std::numeric_limits<double>::infinity();
   for (const int c : candidates) {
@@ -72,7 +113,9 @@ std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilt
     if (!filter(h.tet.element)) continue;
     const Eigen::Vector3d l = h.inverse_edges * (p - h.x_m[0]);
     const double deepest = std::min({1.0 - l.sum(), l.x(), l.y(), l.z()});
-    if (deepest > best_score) best = c, best_score = deepest;
+    if (deepest > best_score ||
+        (deepest == best_score && best >= 0 && h.tet.key < tets_[static_cast<std::size_t>(best)].tet.key))
+      best = c, best_score = deepest;
   }
   constexpr double kInside = -1e-12;
   if (best >= 0 && best_score >= kInside) return embedded(tets_[static_cast<std::size_t>(best)], 0.0);
@@ -85,9 +128,12 @@ std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilt
   best = -1;
   for (const int c : candidates) {
     const Held& h = tets_[static_cast<std::size_t>(c)];
-    if (!filter(h.tet.element)) continue;
+    // A tet whose box is farther than the nearest so far is farther too (a tie is measured: it may win).
+    if (!filter(h.tet.element) || h.box().exteriorDistance(p) > best_distance) continue;
     const double d = detail::distanceToTet(h.x_m, p);
-    if (d < best_distance) best = c, best_distance = d;
+    if (d < best_distance ||
+        (d == best_distance && best >= 0 && h.tet.key < tets_[static_cast<std::size_t>(best)].tet.key))
+      best = c, best_distance = d;
   }
   if (best < 0 || best_distance > max_distance_m) return std::nullopt;
   return embedded(tets_[static_cast<std::size_t>(best)], best_distance);

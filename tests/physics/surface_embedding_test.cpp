@@ -2,7 +2,9 @@
 // locator, and a cut surface's vertices embedded on their own side of the cut.
 #include "incise/physics/surface_embedding.h"
 
+#include <cstdint>
 #include <random>
+#include <span>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -64,6 +66,53 @@ TEST_CASE("surface_embedding: a tet locator finds the tets and weights the model
   CHECK(elsewhere->element.base_tet != holder);
   CHECK_FALSE(locator.locate(Eigen::Vector3d(0.1, 0.1, 0.1), {}, 1e-3));
   CHECK_FALSE(locator.locate(Eigen::Vector3d(NAN, 0.0, 0.0), {}, 1e-3));
+}
+
+TEST_CASE("surface_embedding: a tet locator reached by updates answers as one built at once", "[physics]") {
+  // The viewer's locator takes the pieces of the base tets a cut changed, not all of them again: the same
+  // tets, however entered, give the same tet and weights, also where a point lies on tets equally (a grid
+  // node, edge or face shared by several: ties go to the smaller key).
+  const testing::Grid g =
+      testing::grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.02, 0.01, 0.03), Eigen::Vector3i(4, 2, 6));
+  std::vector<LocatorTet> all = locatorTets(g.mesh);
+  for (std::size_t t = 0; t < all.size(); ++t) all[t].key = static_cast<std::int64_t>(t);
+  TetLocator whole, grown;
+  whole.build(g.mesh.nodes_m, all);
+  // The first half built, a third of it taken out; then put back in reverse order with the second half.
+  const std::size_t half = all.size() / 2, third = half / 3;
+  std::vector<int> slots, more;
+  grown.build(g.mesh.nodes_m, std::span<const LocatorTet>(all).first(half), &slots);
+  REQUIRE(slots.size() == half);
+  const std::vector<int> removed(slots.begin(), slots.begin() + static_cast<std::ptrdiff_t>(third));
+  std::vector<LocatorTet> added(all.rend() - static_cast<std::ptrdiff_t>(third), all.rend());
+  added.insert(added.end(), all.begin() + static_cast<std::ptrdiff_t>(half), all.end());
+  grown.update(g.mesh.nodes_m, removed, added, more);
+  REQUIRE(more.size() == added.size());
+  REQUIRE(grown.size() == whole.size());
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> x(-0.002, 0.022), y(-0.002, 0.012), z(-0.002, 0.032);
+  std::uniform_int_distribution<int> node_x(0, 4), node_y(0, 2), node_z(0, 6);
+  const auto odd = [](const ElementInfo& e) { return e.base_tet % 2 == 1; };
+  int on_nodes = 0;
+  for (int i = 0; i < 3000; ++i) {
+    // Every third point a grid node (5 mm steps), every third a point on a grid plane, the rest anywhere.
+    Eigen::Vector3d p(x(random), y(random), z(random));
+    if (i % 3 == 0) p = Eigen::Vector3d(0.005 * node_x(random), 0.005 * node_y(random), 0.005 * node_z(random));
+    if (i % 3 == 1) p.x() = 0.005 * node_x(random);
+    for (const bool filtered : {false, true}) {
+      const ElementFilter filter = filtered ? ElementFilter(odd) : ElementFilter();
+      const std::optional<Embedded> a = whole.locate(p, filter, 1e-3), b = grown.locate(p, filter, 1e-3);
+      INFO("point " << i << " at " << p.transpose() << (filtered ? ", odd tets only" : ""));
+      REQUIRE(a.has_value() == b.has_value());
+      if (!a) continue;
+      REQUIRE(a->nodes == b->nodes);
+      REQUIRE(a->weights == b->weights);
+      REQUIRE(a->element.base_tet == b->element.base_tet);
+      REQUIRE(a->outside_m == b->outside_m);
+      on_nodes += i % 3 == 0 ? 1 : 0;
+    }
+  }
+  CHECK(on_nodes > 1000);
 }
 
 TEST_CASE("surface_embedding: a vertex on a cut goes with the tets of its own side", "[physics]") {

@@ -14,11 +14,13 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "incise/mesh/vertex_grid.h"
 #include "incise/physics/embedding.h"
@@ -34,33 +36,54 @@ class PointLocator {
                                          double max_distance_m) const = 0;
 };
 
-// One tet for a TetLocator: its four nodes (positively oriented at rest) and what a filter sees of it.
+// One tet for a TetLocator: its four nodes (positively oriented at rest), what a filter sees of it, and its
+// key: of two tets a point lies equally deep in (or equally near), locate() gives the one with the smaller
+// key (-1: its index in build()'s list), so that the answer does not depend on how the tets were entered.
 struct LocatorTet {
   std::array<int, 4> nodes{-1, -1, -1, -1};
   ElementInfo element;
+  std::int64_t key = -1;
 };
 
 // A locator over a plain list of tets at rest (a reader's copy of the tet cutter's mesh): a uniform grid
-// (cells the tets' mean edge) in whose cells each tet is entered where its bounding box overlaps them.
-// Build O(tets x cells a tet overlaps); locate O(tets in the point's cell), or within max_distance_m when
-// the point is in none; the candidates in a per-thread scratch list. Tets flat at rest are left out.
+// (cells the tets' mean edge at the last build) in whose cells each tet is entered where its bounding box
+// overlaps them. Build O(tets x cells a tet overlaps); update O(the tets removed and added x their cells);
+// locate O(tets in the point's cell), or within max_distance_m when the point is in none; the candidates in
+// a per-thread scratch list. Tets flat at rest are left out. The same tets, built at once or reached by
+// updates, give the same answers.
 class TetLocator final : public PointLocator {
  public:
   TetLocator() : grid_(1.0) {}
-  // Replaces what it holds: `rest_m` the node positions (indexed as the tets' nodes), `tets` the tets.
-  void build(std::span<const Eigen::Vector3d> rest_m, std::span<const LocatorTet> tets);
+  // Replaces what it holds: `rest_m` the node positions (indexed as the tets' nodes), `tets` the tets. When
+  // `slots` is given, it receives each tet's slot (for update()), -1 for a tet left out.
+  void build(std::span<const Eigen::Vector3d> rest_m, std::span<const LocatorTet> tets,
+             std::vector<int>* slots = nullptr);
+  // Removes the tets in `removed` (slots from build() or update(); -1 is skipped) and enters `added`, their
+  // nodes in `rest_m`; `slots` receives each added tet's slot, -1 for one left out. The grid's cells stay.
+  void update(std::span<const Eigen::Vector3d> rest_m, std::span<const int> removed, std::span<const LocatorTet> added,
+              std::vector<int>& slots);
   std::optional<Embedded> locate(const Eigen::Vector3d& rest_m, ElementFilter filter,
                                  double max_distance_m) const override;
-  std::size_t size() const noexcept { return tets_.size(); }
+  std::size_t size() const noexcept { return tets_.size() - free_.size(); }
 
  private:
   struct Held {
     LocatorTet tet;
     Eigen::Matrix3d inverse_edges;       // [x1 - x0, x2 - x0, x3 - x0]^-1 at rest
     std::array<Eigen::Vector3d, 4> x_m;  // the nodes at rest
+    Eigen::AlignedBox3d box() const {
+      Eigen::AlignedBox3d b;
+      for (const Eigen::Vector3d& p : x_m) b.extend(p);
+      return b;
+    }
   };
+  static std::optional<Held> held(std::span<const Eigen::Vector3d> rest_m, const LocatorTet& t);
+  // Enters (or removes) slot `slot`'s tet in every cell its bounding box overlaps, at the cell's centre.
+  template <typename Visit>
+  void forCells(const Held& h, Visit&& visit) const;
   mesh::VertexGrid grid_;
-  std::vector<Held> tets_;
+  std::vector<Held> tets_;  // by slot; a free slot's tet has nodes -1
+  std::vector<int> free_;   // slots removed and not reused yet
 };
 
 // How far towards its probe a vertex is nudged to find its own tet, and how far off that tet (rounding) it
