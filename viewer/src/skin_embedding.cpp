@@ -110,12 +110,39 @@ void SkinEmbedding::rebuildLocator(const sim::TetMirror& tets) {
   }
   scratch_m_.clear();
   for (const auto& p : tets.positions_m()) scratch_m_.push_back(asVector(p));
+  // Each piece's key orders it as a whole build lists it (base, then child): ties break alike either way.
+  const auto piecesOf = [&](std::size_t b, std::vector<physics::LocatorTet>& out) {
+    const auto children = tets.children(b);
+    for (std::size_t c = 0; c < children.size(); ++c)
+      out.push_back({{children[c].nodes[0], children[c].nodes[1], children[c].nodes[2], children[c].nodes[3]},
+                     {static_cast<int>(b), children[c].side},
+                     static_cast<std::int64_t>(b) << 32 | static_cast<std::int64_t>(c)});
+  };
   std::vector<physics::LocatorTet> list;
-  list.reserve(tets.tetCount());
-  for (std::size_t b = 0; b < tets.baseTetCount(); ++b)
-    for (const sim::TetMirror::Child& c : tets.children(b))
-      list.push_back({{c.nodes[0], c.nodes[1], c.nodes[2], c.nodes[3]}, {static_cast<int>(b), c.side}});
-  locator_.build(scratch_m_, list);
+  std::vector<int> slots;
+  if (reset || rebuilds_ == 0) {  // every base tet's pieces, entered at once
+    list.reserve(tets.tetCount());
+    for (std::size_t b = 0; b < bases; ++b) piecesOf(b, list);
+    locator_.build(scratch_m_, list, &slots);
+    base_slots_.assign(bases, {});
+    for (std::size_t b = 0, i = 0; b < bases; ++b)
+      for (std::size_t c = 0; c < tets.children(b).size(); ++c) base_slots_[b].push_back(slots[i++]);
+  } else {  // only the changed base tets' pieces: out with the old, in with the new
+    base_slots_.resize(bases);
+    std::vector<int> removed;
+    for (std::size_t b = 0; b < bases; ++b) {
+      if (!base_changed_[b]) continue;
+      removed.insert(removed.end(), base_slots_[b].begin(), base_slots_[b].end());
+      piecesOf(b, list);
+    }
+    locator_.update(scratch_m_, removed, list, slots);
+    for (std::size_t b = 0, i = 0; b < bases; ++b) {
+      if (!base_changed_[b]) continue;
+      base_slots_[b].assign(slots.begin() + static_cast<std::ptrdiff_t>(i),
+                            slots.begin() + static_cast<std::ptrdiff_t>(i + tets.children(b).size()));
+      i += tets.children(b).size();
+    }
+  }
   ++rebuilds_;
 }
 

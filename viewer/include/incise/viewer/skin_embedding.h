@@ -4,12 +4,14 @@
 // the physics publishes after every step (sim::PhysicsState). So the skin moves every physics step while
 // the sim thread does nothing for it: the embedding is the reader's work.
 //
-// update() follows the mirror: when the tets changed (TetMirror::version) the locator is rebuilt and every
+// update() follows the mirror: when the tets changed (TetMirror::version) the locator takes the pieces of
+// the base tets that changed (the old ones out, the new ones in; all of them after a reset) and every
 // vertex whose embedding consulted a base tet whose pieces changed (physics::EmbedBases) is embedded again;
 // a vertex new, moved at rest, or whose faces changed or neighbours moved (its probe beside it depends on
 // them) is embedded when it is seen. Shapes: positions in metres, indexed as the mirror's vertices; node
 // positions indexed as the tets' nodes. Threads: the viewer's (the one that pulls the mirror). Cost:
-// update() O(V + F) to check, O(tets) to rebuild the locator when the tets changed, a few point locations
+// update() O(V + F) to check, O(base tets) to find those whose pieces changed and O(their pieces) to update
+// the locator (O(tets) to build it at the first update and after a reset), a few point locations
 // per vertex embedded (milliseconds for thousands); positions() O(V). Failure: nothing throws but
 // std::bad_alloc.
 #pragma once
@@ -40,7 +42,7 @@ class SkinEmbedding {
                  std::vector<std::array<double, 3>>& out_m) const;
 
   std::size_t embedded() const noexcept { return embedded_; }  // vertices in a tet
-  std::size_t rebuilds() const noexcept { return rebuilds_; }  // locator builds so far
+  std::size_t rebuilds() const noexcept { return rebuilds_; }  // locator builds and updates so far
   std::uint64_t version() const noexcept { return version_; }  // bumped by every update() that changed one
   // The vertex's tet and weights (nodes -1: none). v < the mirror's vertices at the last update.
   const physics::Embedded& vertex(std::size_t v) const { return vertices_[v]; }
@@ -57,6 +59,7 @@ class SkinEmbedding {
   std::vector<physics::EmbedBases> bases_;            // the base tets each vertex's embedding consulted
   std::vector<std::uint64_t> base_hash_;              // per base tet, a hash of its pieces at the last build
   std::vector<std::uint8_t> base_changed_;            // ... and whether that build changed them
+  std::vector<std::vector<int>> base_slots_;          // per base tet, its pieces' slots in the locator
   // A hash of each vertex's faces and their corners: when it was embedded, and now.
   std::vector<std::uint64_t> embedded_faces_, faces_now_;
   std::vector<std::uint32_t> face_offsets_, face_list_, face_fill_;  // each vertex's live faces
