@@ -107,15 +107,16 @@ std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilt
   };
   // Inside: the tet where p is deepest (largest smallest weight; ties to the smaller key).
   int best = -1;
+  const auto keyBefore = [&](const Held& h) {  // a tie: h goes before the best so far
+    return best >= 0 && h.tet.key < tets_[static_cast<std::size_t>(best)].tet.key;
+  };
   double best_score = -std::numeric_limits<double>::infinity();
   for (const int c : candidates) {
     const Held& h = tets_[static_cast<std::size_t>(c)];
     if (!filter(h.tet.element)) continue;
     const Eigen::Vector3d l = h.inverse_edges * (p - h.x_m[0]);
     const double deepest = std::min({1.0 - l.sum(), l.x(), l.y(), l.z()});
-    if (deepest > best_score ||
-        (deepest == best_score && best >= 0 && h.tet.key < tets_[static_cast<std::size_t>(best)].tet.key))
-      best = c, best_score = deepest;
+    if (deepest > best_score || (deepest == best_score && keyBefore(h))) best = c, best_score = deepest;
   }
   constexpr double kInside = -1e-12;
   if (best >= 0 && best_score >= kInside) return embedded(tets_[static_cast<std::size_t>(best)], 0.0);
@@ -131,9 +132,7 @@ std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilt
     // A tet whose box is farther than the nearest so far is farther too (a tie is measured: it may win).
     if (!filter(h.tet.element) || h.box().exteriorDistance(p) > best_distance) continue;
     const double d = detail::distanceToTet(h.x_m, p);
-    if (d < best_distance ||
-        (d == best_distance && best >= 0 && h.tet.key < tets_[static_cast<std::size_t>(best)].tet.key))
-      best = c, best_distance = d;
+    if (d < best_distance || (d == best_distance && keyBefore(h))) best = c, best_distance = d;
   }
   if (best < 0 || best_distance > max_distance_m) return std::nullopt;
   return embedded(tets_[static_cast<std::size_t>(best)], best_distance);

@@ -60,6 +60,7 @@ class TetLocator final : public PointLocator {
              std::vector<int>* slots = nullptr);
   // Removes the tets in `removed` (slots from build() or update(); -1 is skipped) and enters `added`, their
   // nodes in `rest_m`; `slots` receives each added tet's slot, -1 for one left out. The grid's cells stay.
+  // Added tets carry their keys (one left at -1 keeps it and wins every tie).
   void update(std::span<const Eigen::Vector3d> rest_m, std::span<const int> removed, std::span<const LocatorTet> added,
               std::vector<int>& slots);
   std::optional<Embedded> locate(const Eigen::Vector3d& rest_m, ElementFilter filter,
@@ -78,7 +79,7 @@ class TetLocator final : public PointLocator {
     }
   };
   static std::optional<Held> held(std::span<const Eigen::Vector3d> rest_m, const LocatorTet& t);
-  // Enters (or removes) slot `slot`'s tet in every cell its bounding box overlaps, at the cell's centre.
+  // Calls visit(centre) for every grid cell the tet's bounding box overlaps: where it is entered or removed.
   template <typename Visit>
   void forCells(const Held& h, Visit&& visit) const;
   mesh::VertexGrid grid_;
