@@ -94,6 +94,14 @@ void soupOf(std::span<const Eigen::Vector3d> positions, std::span<const std::arr
 // are swapped (both keep their capacity). Cost: see splitAtDiscontinuities.
 void splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdSplit& split);
 
+// Per vertex of the split: its twin across the plane (a side -1 vertex's side +1 copy and back: the same
+// plane, source vertex and source edge), or -1. O(V log V).
+std::vector<int> twinsOf(const DffdSplit& split);
+
+// A mesh of the vertices x and triangles `faces` (vertex k is x[k], face f is faces[f]); DffdError
+// (NotTwoManifold) naming the first face that cannot be added. O(V + F).
+mesh::SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std::array<int, 3>>& faces);
+
 // How close to a plane splitAt puts a vertex on it (a split there would make a sliver), for `box`.
 inline double snapDistance(const Eigen::AlignedBox3d& box) { return 1e-9 * box.sizes().maxCoeff(); }
 

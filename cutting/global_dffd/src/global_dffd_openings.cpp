@@ -1,6 +1,6 @@
 // The openings the split leaves (§3.2): closed for the stitched treatment (zipOpenings: welded, or a strip
-// as the fallback), the stitching level, the capped treatment (cappedDeform, CGAL) and the count of the
-// boundary loops left open.
+// as the fallback), the stitching level and the count of the boundary loops left open. The capped
+// treatment is in global_dffd_caps.cpp.
 #include "incise/global_dffd/global_dffd.h"
 
 #include <algorithm>
@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "global_dffd_internal.h"
-#include "incise/global_dffd/clip_cap.h"
 
 namespace incise::global_dffd {
 
@@ -292,56 +291,6 @@ double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index) {
   for (size_t v = 0; v < split.rest_m.size(); ++v)
     if (split.plane[v] == index) sum += split.rest_m[v].z(), ++count;
   return count > 0 ? sum / count : dffd.box().center().z();
-}
-
-namespace {
-
-// Appends `piece` (the p-th between the planes) to `out`, each vertex mapped through F from its side, each
-// face with its kind, material and texture coordinates.
-void appendMapped(const mesh::SurfaceMesh& piece, size_t p, const GlobalDffd& dffd, mesh::SurfaceMesh& out) {
-  const mesh::TriMesh& m = piece.mesh();
-  std::vector<mesh::TriMesh::VertexHandle> handles(m.n_vertices());
-  for (const auto v : m.vertices()) {  // skips deleted vertices
-    const Eigen::Vector3d x = mesh::toEigen(m.point(v));
-    int side = 0;  // a cap vertex on the plane below this piece (+ side) or above it (- side)
-    if (p > 0 && x.x() == dffd.obstacles()[p - 1].u) side = 1;
-    if (p < dffd.obstacles().size() && x.x() == dffd.obstacles()[p].u) side = -1;
-    handles[static_cast<size_t>(v.idx())] = out.addVertex(dffd.map(x, side));
-  }
-  std::vector<int> material;  // the piece's material indices as out's
-  for (const mesh::Material& entry : piece.materials()) material.push_back(out.addMaterial(entry));
-  for (const auto f : m.faces()) {
-    std::array<mesh::TriMesh::VertexHandle, 3> t;
-    std::array<mesh::TriMesh::HalfedgeHandle, 3> h;
-    auto g = m.halfedge_handle(f);
-    for (size_t i = 0; i < 3; ++i, g = m.next_halfedge_handle(g))
-      t[i] = handles[static_cast<size_t>(m.to_vertex_handle(g).idx())], h[i] = g;
-    const auto made = out.mesh().add_face(t[0], t[1], t[2]);
-    if (!made.is_valid()) continue;
-    out.setKind(made, piece.kind(f));
-    if (piece.hasMaterials()) out.setMaterial(made, material[static_cast<size_t>(piece.material(f))]);
-    if (!piece.hasTexCoords()) continue;
-    auto k = out.mesh().halfedge_handle(made);
-    while (out.mesh().to_vertex_handle(k) != t[0]) k = out.mesh().next_halfedge_handle(k);
-    for (size_t i = 0; i < 3; ++i, k = out.mesh().next_halfedge_handle(k)) out.setTexCoord(k, piece.texCoord(h[i]));
-  }
-}
-
-}  // namespace
-
-mesh::SurfaceMesh cappedDeform(const mesh::SurfaceMesh& model, const GlobalDffd& dffd) {
-  // Pieces between consecutive planes: below the first, between each pair, above the last.
-  std::vector<mesh::SurfaceMesh> pieces;
-  mesh::SurfaceMesh rest = model;
-  for (const DffdObstacle& o : dffd.obstacles()) {
-    pieces.push_back(clipAndCap(rest, 0, o.u, KeepSide::Below));
-    rest = clipAndCap(rest, 0, o.u, KeepSide::Above);
-  }
-  pieces.push_back(std::move(rest));
-  mesh::SurfaceMesh out;
-  if (model.hasTexCoords()) out.addTexCoords();
-  for (size_t p = 0; p < pieces.size(); ++p) appendMapped(pieces[p], p, dffd, out);
-  return out;
 }
 
 int boundaryLoops(const mesh::TriMesh& mesh) {

@@ -240,7 +240,9 @@ void dress(const DffdSplit& split, const std::vector<std::array<int, 3>>& faces,
   for (const auto f : m.faces()) mesh.setMaterial(f, split.face_material[static_cast<size_t>(f.idx())]);
 }
 
-mesh::SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std::array<int, 3>>& faces) {
+}  // namespace
+
+mesh::SurfaceMesh detail::meshOf(const std::vector<Eigen::Vector3d>& x, const std::vector<std::array<int, 3>>& faces) {
   mesh::SurfaceMesh mesh;
   mesh::TriMesh& m = mesh.mesh();
   std::vector<mesh::TriMesh::VertexHandle> handles;
@@ -256,8 +258,6 @@ mesh::SurfaceMesh meshOf(const std::vector<Eigen::Vector3d>& x, const std::vecto
   }
   return mesh;
 }
-
-}  // namespace
 
 void detail::splitSoup(Soup& s, const GlobalDffd& dffd, Openings openings, DffdSplit& split) {
   for (size_t i = 0; i < dffd.obstacles().size(); ++i) {
@@ -346,8 +346,8 @@ mesh::SurfaceMesh DffdSplit::surface(std::span<const Eigen::Vector3d> positions)
   if (!positions.empty() && positions.size() != rest_m.size())
     throw DffdError(DffdErrorKind::BadInput, "DffdSplit::surface: " + std::to_string(positions.size()) +
                                                  " positions for " + std::to_string(rest_m.size()) + " vertices");
-  mesh::SurfaceMesh mesh =
-      meshOf(positions.empty() ? rest_m : std::vector<Eigen::Vector3d>(positions.begin(), positions.end()), faces);
+  mesh::SurfaceMesh mesh = detail::meshOf(
+      positions.empty() ? rest_m : std::vector<Eigen::Vector3d>(positions.begin(), positions.end()), faces);
   dress(*this, faces, mesh);
   return mesh;
 }
@@ -363,11 +363,9 @@ void deformSplit(const DffdSplit& split, const GlobalDffd& dffd, std::span<Eigen
   });
 }
 
-namespace {
-
 // Per vertex of the split: its twin across the plane (a side -1 vertex's side +1 copy and back: the same
 // plane, source vertex and source edge), or -1. A key held by more than one pair is left without twins.
-std::vector<int> twinsOf(const DffdSplit& split) {
+std::vector<int> detail::twinsOf(const DffdSplit& split) {
   using Key = std::array<int, 4>;
   std::map<Key, std::array<int, 3>> pairs;  // key -> (minus, plus, count of vertices)
   for (size_t v = 0; v < split.side.size(); ++v) {
@@ -384,13 +382,11 @@ std::vector<int> twinsOf(const DffdSplit& split) {
   return twin;
 }
 
-}  // namespace
-
 mesh::SurfaceMesh weldClosedLips(const DffdSplit& split, std::span<const Eigen::Vector3d> positions) {
   if (positions.size() != split.rest_m.size())
     throw DffdError(DffdErrorKind::BadInput, "weldClosedLips: " + std::to_string(positions.size()) + " positions for " +
                                                  std::to_string(split.rest_m.size()) + " vertices");
-  const std::vector<int> twin = twinsOf(split);
+  const std::vector<int> twin = detail::twinsOf(split);
   const size_t n = positions.size();
   std::vector<char> closed(n, 0);  // a side -1 vertex whose twin's image is its own, bit for bit
   for (size_t v = 0; v < n; ++v)
@@ -415,7 +411,7 @@ mesh::SurfaceMesh weldClosedLips(const DffdSplit& split, std::span<const Eigen::
   std::vector<std::array<int, 3>> faces(split.faces.size());
   for (size_t f = 0; f < faces.size(); ++f)
     for (size_t i = 0; i < 3; ++i) faces[f][i] = index[static_cast<size_t>(split.faces[f][i])];
-  mesh::SurfaceMesh mesh = meshOf(x, faces);
+  mesh::SurfaceMesh mesh = detail::meshOf(x, faces);
   dress(split, faces, mesh);
   return mesh;
 }

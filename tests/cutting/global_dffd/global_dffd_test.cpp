@@ -162,7 +162,7 @@ TEST_CASE("global_dffd: stitched and capped outputs are closed", "[cutting]") {
     // det J is 0 on the seam (each plane drawn into a curve, up to rounding: about -1e-20), never folded.
     CHECK(dffd.minJacobian() > -1e-9);
   }
-  SECTION("capped: clipped by the plane (CGAL), each side closed, none inside the bar") {
+  SECTION("capped: the section capped where F separates the sides, closed, none inside the bar") {
     const GlobalDffd dffd({bar()}, options());
     const mesh::SurfaceMesh out = cappedDeform(sphere, dffd);
     const mesh::ManifoldReport report = mesh::checkManifold(out.mesh());
@@ -172,6 +172,33 @@ TEST_CASE("global_dffd: stitched and capped outputs are closed", "[cutting]") {
     for (const auto v : out.mesh().vertices())
       worst_m = std::min(worst_m, barDistance(mesh::toEigen(out.mesh().point(v))));
     CHECK(worst_m >= -1e-6);
+  }
+}
+
+TEST_CASE("global_dffd: capped, only where F separates the sides: closed, no faces crossing, caps apart", "[cutting]") {
+  // A slab wider than the lattice box (y beyond it) moving past the bar: the plane x = 0 cuts all of it,
+  // but F separates the sides only near the bar. A cap over the whole section would lie on the other
+  // side's cap wherever F does not (hundreds of pairs of faces crossing).
+  const GlobalDffd dffd({bar()}, options());
+  for (const double y_m : {-0.03, -0.012, 0.0, 0.012}) {
+    INFO("slab at y " << y_m);
+    const Eigen::AlignedBox3d slab(Eigen::Vector3d(-0.02, y_m - 0.02, -0.004),
+                                   Eigen::Vector3d(0.02, y_m + 0.02, 0.004));
+    const mesh::SurfaceMesh out = cappedDeform(mesh::makeBox(slab, Eigen::Vector3i(20, 20, 4)), dffd);
+    const mesh::ManifoldReport report = mesh::checkManifold(out.mesh());
+    INFO(report.first_problem);
+    CHECK(report.closed_two_manifold);
+    CHECK(mesh::findSelfIntersections(out.mesh()).empty());
+    CHECK(worstPenetration(out.mesh(), {bar()}) <= 1e-6);
+    // Caps only where the sides part: each cap vertex is off the plane x = 0 unless both caps share it.
+    int walls = 0, on_plane = 0;
+    for (const auto f : out.mesh().faces()) {
+      if (out.kind(f) != mesh::FaceKind::Wall) continue;
+      ++walls;
+      for (const auto v : out.mesh().fv_range(f)) on_plane += out.mesh().point(v)[0] == 0.0;
+    }
+    CHECK(walls > 0);
+    CHECK(on_plane < walls);
   }
 }
 

@@ -206,7 +206,7 @@ TEST_CASE("global_dffd texture: a clipped and capped mesh keeps its charts, the 
     CHECK(c.worst_tissue < 1e-9);
     CHECK(c.worst_cap < 1e-9);
   }
-  // cappedDeform's pieces, mapped through F, keep them; the OBJ names the walls' material for the caps.
+  // cappedDeform's output keeps them (its caps are walls); the OBJ names the walls' material for the caps.
   const mesh::SurfaceMesh out = cappedDeform(model, GlobalDffd({bar()}, options()));
   REQUIRE(out.hasTexCoords());
   REQUIRE(out.hasMaterials());

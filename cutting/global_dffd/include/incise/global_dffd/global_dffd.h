@@ -247,10 +247,15 @@ class DffdSplitter {
 // centre in w if there are none). O(V).
 double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index);
 
-// §3.2's first method, for a closed two-manifold model: the model clipped by every plane u = u_i into
-// closed pieces (clipAndCap, CGAL), each piece mapped through F from its own side (cap vertices at u_i +/-
-// epsilon), and the pieces' union returned: every piece closed. Cost: one CGAL clip per plane and piece
-// plus O(V * order^3). Failure: MeshError from clipAndCap.
+// §3.2's first method, for a closed two-manifold model: the model split at every plane u = u_i, mapped
+// through F (each vertex from its own side), its lips welded where F leaves the two sides together, and each
+// opening closed by two caps: the model's section at the plane, restricted to the knot cells (v, w) in which
+// F separates the sides, triangulated at rest (CGAL's constrained Delaunay triangulation, with points inside
+// so that the caps bend with F) and mapped through F- (the - side's cap) and F+ (the + side's). The caps meet
+// the welded lips along the cells' boundary, so the result is closed and no two caps lie face to face. Cap
+// faces are walls (material 0, planar texture coordinates at rest). Cost: O(V * order^3) for the mapping plus
+// a CDT of each plane's section (O(S log S) in its lip edges and inner points). Failure: DffdError
+// (NotTwoManifold) naming the plane when its section cannot be capped (lips crossing, the model not closed).
 mesh::SurfaceMesh cappedDeform(const mesh::SurfaceMesh& model, const GlobalDffd& dffd);
 
 // Every vertex of `split` mapped through F (its side on a discontinuity), into out_m (one per vertex; else
