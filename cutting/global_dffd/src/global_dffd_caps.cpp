@@ -339,10 +339,6 @@ void markCaps(Cap& cap, const Cells& cells, Cdt& cdt) {
   }
 }
 
-// An edge with both ends shared and a cap face on each side (or a cap face and the outside: a lip piece)
-// would be used by both caps and, for a lip piece, both sides: such an edge gets its midpoint (a cap point;
-// on a lip piece, on its lip edge), which lies inside R. Returns whether any was added (the caller
-// triangulates again).
 // The lip edge a lip piece between cap points a and b lies on.
 int edgeBetween(const Cap& cap, int a, int b) {
   for (const int p : {a, b})
@@ -354,6 +350,10 @@ int edgeBetween(const Cap& cap, int a, int b) {
   fail(cap.plane, "no lip edge joins cap points " + std::to_string(a) + " and " + std::to_string(b));
 }
 
+// An edge with both ends shared and a cap face on each side (or a cap face and the outside: a lip piece)
+// would be used by both caps and, for a lip piece, both sides: such an edge gets its midpoint (a cap point;
+// on a lip piece, on its lip edge), which lies inside R. Returns whether any was added (the caller
+// triangulates again).
 bool splitSharedEdges(Cap& cap, const DffdSplit& split, const Cdt& cdt) {
   std::vector<std::pair<int, int>> inner, lips;
   for (const auto& e : cdt.finite_edges()) {
@@ -438,9 +438,8 @@ struct Assembly {
 
 // The split's vertices: a + side vertex whose twin is shared by the caps (or has the same image where no
 // cap reaches) is its twin's vertex.
-void placeVertices(const DffdSplit& split, std::span<const Eigen::Vector3d> positions, const std::vector<Cap>& caps,
-                   Assembly& out) {
-  const std::vector<int> twin = detail::twinsOf(split);
+void placeVertices(const DffdSplit& split, const std::vector<int>& twin, std::span<const Eigen::Vector3d> positions,
+                   const std::vector<Cap>& caps, Assembly& out) {
   std::vector<char> weld(split.rest_m.size(), 0);
   for (size_t v = 0; v < weld.size(); ++v)
     weld[v] = split.side[v] < 0 && twin[v] >= 0 && positions[v] == positions[static_cast<size_t>(twin[v])];
@@ -460,9 +459,8 @@ void placeVertices(const DffdSplit& split, std::span<const Eigen::Vector3d> posi
 // Each cap point's vertex on the - and + side: a lip vertex's (or its twin's), else a new one, one for both
 // sides where it is shared (at rest: F is the identity there), else F-'s and F+'s images; -1 for a point
 // no face uses (R's boundary beyond the section).
-std::vector<std::array<int, 2>> capVertices(const Cap& cap, const DffdSplit& split, const GlobalDffd& dffd,
+std::vector<std::array<int, 2>> capVertices(const Cap& cap, const std::vector<int>& twin, const GlobalDffd& dffd,
                                             Assembly& out) {
-  const std::vector<int> twin = detail::twinsOf(split);
   std::vector<char> used(cap.at.size(), 0);  // by a cap face or on a lip edge (its faces fanned)
   for (const auto& f : cap.faces)
     for (const int p : f) used[static_cast<size_t>(p)] = 1;
@@ -504,9 +502,9 @@ std::map<std::pair<int, int>, LipEdgeRef> lipEdgeRefs(const std::vector<Cap>& ca
 }
 
 // The split's faces; one along a lip edge with points on it becomes a fan from its third vertex.
-void modelFaces(const DffdSplit& split, const std::vector<Cap>& caps,
+void modelFaces(const DffdSplit& split, const std::vector<int>& twin, const std::vector<Cap>& caps,
                 const std::vector<std::vector<std::array<int, 2>>>& sides, Assembly& out) {
-  const auto refs = lipEdgeRefs(caps, detail::twinsOf(split));
+  const auto refs = lipEdgeRefs(caps, twin);
   for (size_t f = 0; f < split.faces.size(); ++f) {
     std::array<int, 3> t = split.faces[f];
     std::array<Eigen::Vector2d, 3> uv = split.face_uv.empty() ? std::array<Eigen::Vector2d, 3>{} : split.face_uv[f];
@@ -586,11 +584,12 @@ mesh::SurfaceMesh cappedDeform(const mesh::SurfaceMesh& model, const GlobalDffd&
   deformSplit(split, dffd, positions);
   std::vector<Cap> caps;
   for (int i = 0; i < static_cast<int>(dffd.obstacles().size()); ++i) caps.push_back(capOf(split, dffd, i));
+  const std::vector<int> twin = detail::twinsOf(split);
   Assembly out;
-  placeVertices(split, positions, caps, out);
+  placeVertices(split, twin, positions, caps, out);
   std::vector<std::vector<std::array<int, 2>>> sides;
-  for (const Cap& cap : caps) sides.push_back(capVertices(cap, split, dffd, out));
-  modelFaces(split, caps, sides, out);
+  for (const Cap& cap : caps) sides.push_back(capVertices(cap, twin, dffd, out));
+  modelFaces(split, twin, caps, sides, out);
   capFaces(caps, sides, out);
   return meshOf(split, out);
 }
