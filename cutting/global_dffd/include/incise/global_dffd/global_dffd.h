@@ -255,7 +255,8 @@ double stitchLevel(const DffdSplit& split, const GlobalDffd& dffd, int index);
 // the welded lips along the cells' boundary, so the result is closed and no two caps lie face to face. Cap
 // faces are walls (material 0, planar texture coordinates at rest). Cost: O(V * order^3) for the mapping plus
 // a CDT of each plane's section (O(S log S) in its lip edges and inner points). Failure: DffdError
-// (NotTwoManifold) naming the plane when its section cannot be capped (lips crossing, the model not closed).
+// (BadModel) from validateModel for a model that is not closed or has a degenerate face; DffdError
+// (NotTwoManifold) naming the plane when its section cannot be capped (its edges cross).
 mesh::SurfaceMesh cappedDeform(const mesh::SurfaceMesh& model, const GlobalDffd& dffd);
 
 // Every vertex of `split` mapped through F (its side on a discontinuity), into out_m (one per vertex; else
