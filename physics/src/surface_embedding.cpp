@@ -56,8 +56,17 @@ void TetLocator::build(std::span<const Eigen::Vector3d> rest_m, std::span<const 
   const double cell_m = tets_.empty() ? 1.0 : std::max(edge_sum_m / static_cast<double>(tets_.size()), 1e-9);
   grid_ = mesh::VertexGrid(cell_m);
   grid_.reserve(8 * tets_.size());
-  for (std::size_t i = 0; i < tets_.size(); ++i)
-    forCells(tets_[i], [&](const Eigen::Vector3d& centre) { grid_.insert(static_cast<int>(i), centre); });
+  cells_.setEmpty();
+  for (std::size_t i = 0; i < tets_.size(); ++i) enter(static_cast<int>(i));
+}
+
+void TetLocator::enter(int slot) {
+  const Held& h = tets_[static_cast<std::size_t>(slot)];
+  const double cell_m = grid_.cellSize();
+  const Eigen::AlignedBox3d box = h.box();
+  cells_.extend((box.min().array() / cell_m).floor().matrix());
+  cells_.extend((box.max().array() / cell_m).floor().matrix());
+  forCells(h, [&](const Eigen::Vector3d& centre) { grid_.insert(slot, centre); });
 }
 
 void TetLocator::update(std::span<const Eigen::Vector3d> rest_m, std::span<const int> removed,
@@ -83,8 +92,26 @@ void TetLocator::update(std::span<const Eigen::Vector3d> rest_m, std::span<const
       tets_[static_cast<std::size_t>(slot)] = *h;
     }
     slots[i] = slot;
-    forCells(*h, [&](const Eigen::Vector3d& centre) { grid_.insert(slot, centre); });
+    enter(slot);
   }
+}
+
+void TetLocator::ringCandidates(const Eigen::Array3d& index, int ring, std::vector<int>& out) const {
+  out.clear();
+  // The cells at Chebyshev distance `ring` from `index`: two faces of the cube whole in x, two in y without
+  // the x faces' rows, two in z without either. A box from a quarter cell before the first cell's centre
+  // to a quarter after the last's holds exactly their entries (entered at cell centres).
+  const double cell_m = grid_.cellSize(), r = static_cast<double>(ring);
+  const auto slab = [&](Eigen::Array3d lo, Eigen::Array3d hi) {
+    grid_.query(Eigen::AlignedBox3d(((lo + 0.25) * cell_m).matrix(), ((hi + 0.75) * cell_m).matrix()), out);
+  };
+  for (const double side : {-r, r}) {
+    slab(index + Eigen::Array3d(side, -r, -r), index + Eigen::Array3d(side, r, r));
+    slab(index + Eigen::Array3d(1 - r, side, -r), index + Eigen::Array3d(r - 1, side, r));
+    slab(index + Eigen::Array3d(1 - r, 1 - r, side), index + Eigen::Array3d(r - 1, r - 1, side));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilter filter,
@@ -120,19 +147,29 @@ std::optional<Embedded> TetLocator::locate(const Eigen::Vector3d& p, ElementFilt
   }
   constexpr double kInside = -1e-12;
   if (best >= 0 && best_score >= kInside) return embedded(tets_[static_cast<std::size_t>(best)], 0.0);
-  // Outside every tet: the nearest one within max_distance_m.
-  candidates.clear();
-  const double reach = max_distance_m + cell_m;  // every cell within max_distance_m of p has its centre in
-  grid_.query(Eigen::AlignedBox3d(p.array() - reach, p.array() + reach), candidates);
-  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  // Outside every tet: the nearest one within max_distance_m, ring by ring of cells around p's cell (ring 0
+  // is p's cell, already listed). A tet entered in no cell of rings 0..k has its box, and so itself, farther
+  // from p than k cells plus p's margin in its own cell: the search stops once the nearest so far is nearer
+  // than that, or that is beyond max_distance_m. The same answer as a search of every tet within reach.
+  const Eigen::Array3d index = (p.array() / cell_m).floor();
+  const Eigen::Array3d offset_m = p.array() - index * cell_m;
+  const double margin_m = std::max(0.0, std::min(offset_m.minCoeff(), (cell_m - offset_m).minCoeff()));
   double best_distance = std::numeric_limits<double>::infinity();
   best = -1;
-  for (const int c : candidates) {
-    const Held& h = tets_[static_cast<std::size_t>(c)];
-    // A tet whose box is farther than the nearest so far is farther too (a tie is measured: it may win).
-    if (!filter(h.tet.element) || h.box().exteriorDistance(p) > best_distance) continue;
-    const double d = detail::distanceToTet(h.x_m, p);
-    if (d < best_distance || (d == best_distance && keyBefore(h))) best = c, best_distance = d;
+  for (int ring = 0;; ++ring) {
+    if (ring > 0) ringCandidates(index, ring, candidates);
+    for (const int c : candidates) {
+      const Held& h = tets_[static_cast<std::size_t>(c)];
+      // A tet whose box is farther than the nearest so far is farther too (a tie is measured: it may win).
+      if (!filter(h.tet.element) || h.box().exteriorDistance(p) > best_distance) continue;
+      const double d = detail::distanceToTet(h.x_m, p);
+      if (d < best_distance || (d == best_distance && keyBefore(h))) best = c, best_distance = d;
+    }
+    // Unseen tets are farther than this (less a rounding allowance).
+    const double cleared_m = static_cast<double>(ring) * cell_m + margin_m - 1e-9 * cell_m;
+    const bool every_cell =
+        (index - ring <= cells_.min().array()).all() && (index + ring >= cells_.max().array()).all();
+    if (best_distance < cleared_m || cleared_m >= max_distance_m || every_cell) break;
   }
   if (best < 0 || best_distance > max_distance_m) return std::nullopt;
   return embedded(tets_[static_cast<std::size_t>(best)], best_distance);

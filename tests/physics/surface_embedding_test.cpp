@@ -3,6 +3,7 @@
 #include "incise/physics/surface_embedding.h"
 
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <span>
 #include <vector>
@@ -66,6 +67,45 @@ TEST_CASE("surface_embedding: a tet locator finds the tets and weights the model
   CHECK(elsewhere->element.base_tet != holder);
   CHECK_FALSE(locator.locate(Eigen::Vector3d(0.1, 0.1, 0.1), {}, 1e-3));
   CHECK_FALSE(locator.locate(Eigen::Vector3d(NAN, 0.0, 0.0), {}, 1e-3));
+}
+
+TEST_CASE("surface_embedding: a tet locator finds the nearest tet several grid cells away", "[physics]") {
+  // Cells of about 1 mm (the tets' mean edge) and points up to 6 mm off the block: the search goes out ring
+  // by ring of cells and must stop neither before the nearest tet nor at a farther one found first. Against
+  // the model's locator, which measures every tet within its reach. A tet farther than max_distance_m is
+  // none; an unbounded reach still ends (nothing passes the filter).
+  const testing::Grid g =
+      testing::grid(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.006, 0.004, 0.008), Eigen::Vector3i(6, 4, 8));
+  Boundary b;
+  b.fixed_boxes = {testing::plane(1, 0.0)};
+  const TissueModel model(g.mesh, Material{}, b, ModelOptions{});
+  TetLocator locator;
+  locator.build(g.mesh.nodes_m, locatorTets(g.mesh));
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> x(-0.006, 0.012), y(-0.006, 0.010), z(-0.006, 0.014);
+  const auto odd = [](const ElementInfo& e) { return e.base_tet % 2 == 1; };
+  int far = 0;
+  for (int i = 0; i < 1500; ++i) {
+    const Eigen::Vector3d p(x(random), y(random), z(random));
+    for (const bool filtered : {false, true}) {
+      const ElementFilter filter = filtered ? ElementFilter(odd) : ElementFilter();
+      const std::optional<Embedded> mine = locator.locate(p, filter, 0.006), theirs = model.locate(p, filter, 0.006);
+      INFO("point " << i << " at " << p.transpose() << (filtered ? ", odd tets only" : ""));
+      REQUIRE(mine.has_value() == theirs.has_value());
+      if (!mine) continue;
+      CHECK(mine->outside_m == Approx(theirs->outside_m).margin(1e-15));
+      CHECK((embeddedPosition(*mine, g.mesh.nodes_m) - embeddedPosition(*theirs, g.mesh.nodes_m)).norm() < 1e-12);
+      far += mine->outside_m > 0.002 ? 1 : 0;
+    }
+  }
+  CHECK(far > 300);  // most of the outside points are more than two cells away
+  const Eigen::Vector3d beyond(0.03, 0.03, 0.03);
+  CHECK_FALSE(locator.locate(beyond, {}, 0.01));
+  const std::optional<Embedded> unbounded = locator.locate(beyond, {}, std::numeric_limits<double>::infinity());
+  REQUIRE(unbounded);
+  CHECK(unbounded->outside_m == Approx((beyond - Eigen::Vector3d(0.006, 0.004, 0.008)).norm()).epsilon(1e-12));
+  CHECK_FALSE(locator.locate(
+      beyond, [](const ElementInfo&) { return false; }, std::numeric_limits<double>::infinity()));
 }
 
 TEST_CASE("surface_embedding: a tet locator reached by updates answers as one built at once", "[physics]") {

@@ -48,9 +48,9 @@ struct LocatorTet {
 // A locator over a plain list of tets at rest (a reader's copy of the tet cutter's mesh): a uniform grid
 // (cells the tets' mean edge at the last build) in whose cells each tet is entered where its bounding box
 // overlaps them. Build O(tets x cells a tet overlaps); update O(the tets removed and added x their cells);
-// locate O(tets in the point's cell), or within max_distance_m when the point is in none; the candidates in
-// a per-thread scratch list. Tets flat at rest are left out. The same tets, built at once or reached by
-// updates, give the same answers.
+// locate O(tets in the point's cell), or, when the point is in none, in the rings of cells around it out to
+// its nearest tet (at most max_distance_m); the candidates in a per-thread scratch list. Tets flat at rest
+// are left out. The same tets, built at once or reached by updates, give the same answers.
 class TetLocator final : public PointLocator {
  public:
   TetLocator() : grid_(1.0) {}
@@ -82,9 +82,14 @@ class TetLocator final : public PointLocator {
   // Calls visit(centre) for every grid cell the tet's bounding box overlaps: where it is entered or removed.
   template <typename Visit>
   void forCells(const Held& h, Visit&& visit) const;
+  // Into `out` (cleared; ascending, no repeats): the tets entered in the cells `ring` cells (Chebyshev) from
+  // the cell `index` (integer cell coordinates). O(cells in the ring + their entries).
+  void ringCandidates(const Eigen::Array3d& index, int ring, std::vector<int>& out) const;
+  void enter(int slot);  // the held tet in slot into the grid's cells
   mesh::VertexGrid grid_;
-  std::vector<Held> tets_;  // by slot; a free slot's tet has nodes -1
-  std::vector<int> free_;   // slots removed and not reused yet
+  std::vector<Held> tets_;     // by slot; a free slot's tet has nodes -1
+  std::vector<int> free_;      // slots removed and not reused yet
+  Eigen::AlignedBox3d cells_;  // the cell coordinates of every tet entered since the last build (grows only)
 };
 
 // How far towards its probe a vertex is nudged to find its own tet, and how far off that tet (rounding) it
