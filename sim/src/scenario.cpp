@@ -78,7 +78,7 @@ void readMaterial(const Reader& r, physics::Material& m) {
   if (!(m.prestretch.array() > 0.0).all()) r.fail("must be > 0 along every axis", "prestretch");
 }
 
-// A simulated tissue: tissue.material (with tissue.tets), tissue.fixed (at least one box), gravity_m_per_s2
+// A simulated tissue: tissue.material (its tets from tissue.tets, or that key's defaults), tissue.fixed (at least one box), gravity_m_per_s2
 // and physics_rate_hz (at most the frame rate). The keys but `material` are refused without it.
 void readPhysics(const Reader& root, const Reader& tissue, Scenario& s) {
   PhysicsOptions& p = s.world.physics;
@@ -90,7 +90,7 @@ void readPhysics(const Reader& root, const Reader& tissue, Scenario& s) {
     return;
   }
   p.enabled = true;
-  if (!s.world.tets.enabled) tissue.fail("needs tissue.tets: the tets are what is simulated", "material");
+  s.world.tets.enabled = true;  // the tets are what is simulated: without tissue.tets, made with its defaults
   readMaterial(tissue.child("material"), p.material);
   if (!tissue.has("fixed"))
     tissue.fail(

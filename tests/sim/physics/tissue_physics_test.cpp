@@ -240,10 +240,6 @@ TEST_CASE("tissue physics: out-of-range materials and tissues that cannot be sim
       Contains("tissue.fixed[0].max_m: must be >= min_m along every axis"));
   CHECK_THROWS_WITH(load("nomin", tissuePadScenario(unheld + R"(, "fixed": [{"max_m": [1, 1, 1]}])")),
                     Contains("tissue.fixed[0].min_m: is missing"));
-  // Without tets there is nothing to simulate.
-  CHECK_THROWS_WITH(load("notets", R"({"tissue": {"shape": "pad", "material": {}, "fixed": [{"min_m": [0, 0, 0],
-      "max_m": [1, 1, 1]}]}, "pose_source": {"kind": "strokes", "strokes": [{}]}})"),
-                    Contains("tissue.material: needs tissue.tets"));
   // The physics' keys without a material.
   CHECK_THROWS_WITH(load("gravityonly", tissuePadScenario("", R"(, "gravity_m_per_s2": [0, -9.81, 0])")),
                     Contains("gravity_m_per_s2: is only for a simulated tissue (give tissue.material)"));
@@ -263,6 +259,40 @@ TEST_CASE("tissue physics: out-of-range materials and tissues that cannot be sim
                     Contains("physics_rate_hz: 2000 is outside [10, 1000]"));
   CHECK_THROWS_WITH(load("typo", tissuePadScenario(materialWith("\"poisson_ratio\"", "\"poisson\""))),
                     Contains("tissue.material.poisson"));
+}
+
+TEST_CASE("tissue physics: a material without tissue.tets is simulated on tets made with that key's defaults",
+          "[sim]") {
+  // The tets are what is simulated: a user who gives a material and no tets gets them made at load, as if
+  // "tets": {} were given (TetGen on the surface, quality bound 2, the surface kept).
+  const sim::Scenario s = load("notets", R"({"tissue": {"shape": "pad", "size_m": [0.02, 0.01, 0.02], "grid_m": 0.002,
+      "material": {}, "fixed": [{"min_m": [-1, -1, -1], "max_m": [1, -0.0099, 1]}]},
+      "gravity_m_per_s2": [0, -9.81, 0], "pose_source": {"kind": "strokes", "strokes": [{}]}})");
+  REQUIRE(s.world.physics.enabled);
+  REQUIRE(s.world.tets.enabled);
+  const sim::TetTissueOptions defaults;
+  CHECK(s.world.tets.mesh.max_volume_m3 == defaults.mesh.max_volume_m3);
+  CHECK(s.world.tets.mesh.radius_edge_ratio == defaults.mesh.radius_edge_ratio);
+  CHECK(s.world.tets.mesh.keep_surface == defaults.mesh.keep_surface);
+  sim::World world(sim::loadTissue(s), s.world);
+  REQUIRE(world.tets() != nullptr);
+  CHECK(world.tets()->tetCount() > 100);
+  REQUIRE(world.physics() != nullptr);
+  const physics::TissueModel& model = world.physics()->model();
+  CHECK(model.elementCount() == world.tets()->tetCount());
+  // Under gravity, held at its base, the pad sags: its top (y = 0 at rest) comes down.
+  world.physics()->advance(0.0);  // the first call sets the physics clock
+  CHECK(world.physics()->advance(0.2) == 20);
+  double highest_top_m = -1.0;  // now, of the nodes on the top at rest
+  int top_nodes = 0;
+  for (int n = 0; n < model.nodeCount(); ++n) {
+    if (!(model.restPositions_m()[static_cast<std::size_t>(n)].y() > -1e-9)) continue;
+    ++top_nodes;
+    highest_top_m = std::max(highest_top_m, model.positions_m()[static_cast<std::size_t>(n)].y());
+  }
+  REQUIRE(top_nodes > 10);
+  CHECK(highest_top_m < -1e-6);
+  CHECK(world.physics()->counters().non_finite == 0);
 }
 
 TEST_CASE("tissue physics: a boundary that holds no node is refused when the world is made", "[sim]") {
