@@ -164,19 +164,25 @@ void SkinEmbedding::adjacency(const sim::GeometryMirror& mirror) {
     if (liveFace(kinds[f]))
       for (const std::int32_t v : faces[f])
         face_list_[next[static_cast<std::size_t>(v)]++] = static_cast<std::uint32_t>(f);
-  // Each vertex's faces as a hash (FNV-1a over their indices, corners and the corners' positions): a vertex
-  // whose faces changed or whose neighbours moved is embedded again (its probe depends on them).
+  // Each live face's hash (FNV-1a over its index, its corners and their positions), then each vertex's over
+  // its faces' (in face order): a vertex whose faces changed or whose neighbours moved is embedded again (its
+  // probe depends on them). Faces are hashed once each, not once per corner.
   const auto& p = mirror.positions_m();
+  face_hash_.resize(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (!liveFace(kinds[f])) continue;
+    WordHash h;
+    h.add(f);
+    for (const std::int32_t u : faces[f]) {
+      h.add(static_cast<std::uint32_t>(u));
+      h.add(p[static_cast<std::size_t>(u)]);
+    }
+    face_hash_[f] = h.h;
+  }
   faces_now_.assign(n, 0);
   for (std::size_t v = 0; v < n; ++v) {
     WordHash h;
-    for (std::uint32_t i = face_offsets_[v]; i < face_offsets_[v + 1]; ++i) {
-      h.add(face_list_[i]);
-      for (const std::int32_t u : faces[face_list_[i]]) {
-        h.add(static_cast<std::uint32_t>(u));
-        h.add(p[static_cast<std::size_t>(u)]);
-      }
-    }
+    for (std::uint32_t i = face_offsets_[v]; i < face_offsets_[v + 1]; ++i) h.add(face_hash_[face_list_[i]]);
     faces_now_[v] = h.h;
   }
 }

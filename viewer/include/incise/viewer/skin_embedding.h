@@ -62,6 +62,7 @@ class SkinEmbedding {
   std::vector<std::vector<int>> base_slots_;          // per base tet, its pieces' slots in the locator
   // A hash of each vertex's faces and their corners: when it was embedded, and now.
   std::vector<std::uint64_t> embedded_faces_, faces_now_;
+  std::vector<std::uint64_t> face_hash_;  // per live face: its index, corners and their positions
   std::vector<std::uint32_t> face_offsets_, face_list_, face_fill_;  // each vertex's live faces
   std::vector<std::int32_t> neighbour_scratch_;
   std::vector<Eigen::Vector3d> scratch_m_;
