@@ -8,8 +8,8 @@
 #     --seconds S  time limit per harness (default 30); --runs N  also stop after N executions (default: none)
 #     --jobs J     harnesses run J at a time (default 1); --nice  under nice -n 19
 #     --no-build   run the harnesses already in build-fuzz/ (while another build of it is under way)
-#     --opt FLAGS  the compiler's optimisation flags (default "-O1 -g1"; scripts/test.sh builds with "-O0 -g0":
-#                  a cold clang + ASan build at -O1 takes about 20 min on 2 cores, too long for the suite)
+#     --opt FLAGS  the compiler's optimisation flags (default "-O1 -g1"; scripts/test.sh builds with "-O1 -g0":
+#                  a cold build of all nine takes under 3 min on 2 cores, the CGAL files at -O0 whatever FLAGS)
 #     --build-jobs N  the build's parallel jobs (default: every core; 1 leaves a core to others)
 #     HARNESS      a subset (fuzz_trace_csv ...), only those built; default all nine
 # scripts/test.sh runs it with --seconds 30 --jobs 2; scripts/fuzz_long.sh is the long run. The corpus each
@@ -33,7 +33,7 @@ done
 # Named harnesses: only their targets are built (a cold -O1 build of all nine is the longer wait).
 targets=(incise_fuzzers)
 [ ${#harnesses[@]} -eq 0 ] || targets=("${harnesses[@]}")
-# fuzz_cut_stroke (the cutter's outputs) runs last: at -O0 under ASan one stroke takes about 4 s.
+# fuzz_cut_stroke (the cutter's outputs) runs last: at -O1 under ASan one stroke takes about 1 s.
 [ ${#harnesses[@]} -gt 0 ] || harnesses=(fuzz_trace_csv fuzz_scenario fuzz_wrap_scenario fuzz_surface_mesh
   fuzz_hid_descriptor fuzz_hid_report fuzz_hid_recording fuzz_hid_profile fuzz_cut_stroke)
 

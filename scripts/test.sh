@@ -64,4 +64,4 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
 # Every parser's libFuzzer harness (tests/fuzz/) for 30 s, two at a time, under ASan + UBSan: a crash, leak,
 # sanitizer report, timeout or out-of-memory fails the script (scripts/fuzz_long.sh is the long run).
 echo "== Fuzzing: each libFuzzer harness for 30 s (clang 14, ASan + UBSan), two at a time"
-scripts/fuzz.sh --seconds 30 --jobs 2 --opt "-O0 -g0"
+scripts/fuzz.sh --seconds 30 --jobs 2 --opt "-O1 -g0"
