@@ -24,11 +24,17 @@ std::optional<TetLocator::Held> TetLocator::held(std::span<const Eigen::Vector3d
   return h;
 }
 
+Eigen::AlignedBox3d TetLocator::cellRange(const Held& h) const {
+  const double cell_m = grid_.cellSize();
+  const Eigen::AlignedBox3d box = h.box();
+  return {(box.min().array() / cell_m).floor().matrix(), (box.max().array() / cell_m).floor().matrix()};
+}
+
 template <typename Visit>
 void TetLocator::forCells(const Held& h, Visit&& visit) const {
   const double cell_m = grid_.cellSize();
-  const Eigen::AlignedBox3d box = h.box();
-  const Eigen::Array3d first = (box.min().array() / cell_m).floor(), last = (box.max().array() / cell_m).floor();
+  const Eigen::AlignedBox3d range = cellRange(h);
+  const Eigen::Vector3d first = range.min(), last = range.max();
   for (double cx = first.x(); cx <= last.x(); ++cx)
     for (double cy = first.y(); cy <= last.y(); ++cy)
       for (double cz = first.z(); cz <= last.z(); ++cz) visit(Eigen::Vector3d(cx + 0.5, cy + 0.5, cz + 0.5) * cell_m);
@@ -62,10 +68,7 @@ void TetLocator::build(std::span<const Eigen::Vector3d> rest_m, std::span<const 
 
 void TetLocator::enter(int slot) {
   const Held& h = tets_[static_cast<std::size_t>(slot)];
-  const double cell_m = grid_.cellSize();
-  const Eigen::AlignedBox3d box = h.box();
-  cells_.extend((box.min().array() / cell_m).floor().matrix());
-  cells_.extend((box.max().array() / cell_m).floor().matrix());
+  cells_.extend(cellRange(h));
   forCells(h, [&](const Eigen::Vector3d& centre) { grid_.insert(slot, centre); });
 }
 

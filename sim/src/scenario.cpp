@@ -78,8 +78,9 @@ void readMaterial(const Reader& r, physics::Material& m) {
   if (!(m.prestretch.array() > 0.0).all()) r.fail("must be > 0 along every axis", "prestretch");
 }
 
-// A simulated tissue: tissue.material (its tets from tissue.tets, or that key's defaults), tissue.fixed (at least one box), gravity_m_per_s2
-// and physics_rate_hz (at most the frame rate). The keys but `material` are refused without it.
+// A simulated tissue: tissue.material (its tets from tissue.tets, or that key's defaults), tissue.fixed (at
+// least one box), gravity_m_per_s2 and physics_rate_hz (at most the frame rate). The keys but `material` are
+// refused without it.
 void readPhysics(const Reader& root, const Reader& tissue, Scenario& s) {
   PhysicsOptions& p = s.world.physics;
   if (!tissue.has("material")) {

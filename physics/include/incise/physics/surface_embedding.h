@@ -79,6 +79,8 @@ class TetLocator final : public PointLocator {
     }
   };
   static std::optional<Held> held(std::span<const Eigen::Vector3d> rest_m, const LocatorTet& t);
+  // The integer coordinates of the first and last grid cells the tet's bounding box overlaps.
+  Eigen::AlignedBox3d cellRange(const Held& h) const;
   // Calls visit(centre) for every grid cell the tet's bounding box overlaps: where it is entered or removed.
   template <typename Visit>
   void forCells(const Held& h, Visit&& visit) const;
