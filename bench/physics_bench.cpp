@@ -233,6 +233,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--max-cg") && i + 1 < argc) g_options.max_cg_iterations = std::atoi(argv[++i]);
     if (!std::strcmp(argv[i], "--cg-tolerance") && i + 1 < argc) g_options.cg_tolerance = std::atof(argv[++i]);
     if (!std::strcmp(argv[i], "--no-extrapolate")) g_options.extrapolate_velocity = false;
+    if (!std::strcmp(argv[i], "--coarse") && i + 1 < argc) g_options.coarse_aggregates = std::atoi(argv[++i]);
   }
   nlohmann::json tissues = nlohmann::json::array();
   nlohmann::json results = nlohmann::json::array();

@@ -74,6 +74,16 @@ class BlockMatrix {
   void upperMultiply(std::span<const Eigen::Vector3d> x, std::span<Eigen::Vector3d> y,
                      std::span<const std::uint8_t> active, double omega) const noexcept;
 
+  // f(col, block) over row `row`'s stored blocks above the diagonal (a dead one is zero after an assembly).
+  template <class F>
+  void forEachUpper(int row, F&& f) const noexcept {
+    const auto r = static_cast<std::size_t>(row);
+    for (int k = 0; k < count_[r]; ++k) {
+      const auto e = static_cast<std::size_t>(first_[r] + k);
+      if (col_[e] >= 0) f(col_[e], blocks_[e]);
+    }
+  }
+
   std::size_t entries() const noexcept;  // the diagonal and the live blocks above it
   int overflows() const noexcept { return overflows_; }
 

@@ -96,15 +96,68 @@ double floorNorm(std::span<const Eigen::Vector3d> f, std::span<const std::uint8_
   return std::sqrt(std::max(sum, 0.0));
 }
 
+// z = M^-1 r = (D / w + U)^-1 (D / w) (D / w + L)^-1 r, plus the coarse correction; returns r . z and, in
+// ssor_part, r . M^-1 r.
+double twoLevel(const BlockMatrix& a, std::span<const std::uint8_t> active, double omega, CoarseSpace& coarse,
+                std::span<const Eigen::Vector3d> r, std::span<Eigen::Vector3d> z, PcgScratch& s,
+                double& ssor_part) noexcept {
+  a.lowerSolve(r, s.t, s.inverse_diagonal, active, omega, s.push);
+  for (std::size_t i = 0; i < active.size(); ++i)
+    if (active[i]) s.t[i] = s.scaled_diagonal[i] * s.t[i];
+  a.upperSolve(s.t, z, s.inverse_diagonal, active, omega);
+  ssor_part = dotActive(r, z, active);
+  return ssor_part + coarse.addCorrection(r, z, active);
+}
+
+// CG on A with the two-level preconditioner (see solvePcg); the diagonal already inverted.
+PcgResult solveTwoLevel(const BlockMatrix& a, std::span<const std::uint8_t> active, std::span<const Eigen::Vector3d> b,
+                        std::span<Eigen::Vector3d> x, double tolerance, int max_iterations, double omega,
+                        std::span<const Eigen::Vector3d> floor_vector, PcgScratch& s, CoarseSpace& coarse) noexcept {
+  const std::size_t n = active.size();
+  double bb = 0.0;
+  twoLevel(a, active, omega, coarse, b, s.z, s, bb);
+  const double scale = std::max(std::sqrt(std::max(bb, 0.0)), floorNorm(floor_vector, active, s));
+  const double limit2 = tolerance * tolerance * scale * scale;
+  a.multiply(x, s.q, active, s.push);
+  for (std::size_t i = 0; i < n; ++i) s.r[i] = active[i] ? Eigen::Vector3d(b[i] - s.q[i]) : Eigen::Vector3d::Zero();
+  PcgResult result;
+  double ssor_part = 0.0;  // r^T M^-1 r: the stopping test's, as SSOR alone's
+  double rz = twoLevel(a, active, omega, coarse, s.r, s.z, s, ssor_part);
+  for (std::size_t i = 0; i < n; ++i) s.p[i] = s.z[i];
+  while (ssor_part > limit2 && result.iterations < max_iterations) {
+    a.multiply(s.p, s.q, active, s.push);
+    const double pq = dotActive(s.p, s.q, active);
+    if (!(pq > 0.0) || !std::isfinite(rz)) {
+      result.finite = std::isfinite(pq) && std::isfinite(rz);
+      break;
+    }
+    const double alpha = rz / pq;
+    for (std::size_t i = 0; i < n; ++i)
+      if (active[i]) x[i] += alpha * s.p[i], s.r[i] -= alpha * s.q[i];
+    const double rz_next = twoLevel(a, active, omega, coarse, s.r, s.z, s, ssor_part);
+    ++result.iterations;
+    const double beta = rz_next / rz;
+    rz = rz_next;
+    if (ssor_part <= limit2) break;
+    for (std::size_t i = 0; i < n; ++i) s.p[i] = s.z[i] + beta * s.p[i];
+  }
+  result.relative_residual = scale > 0.0 ? std::sqrt(std::max(ssor_part, 0.0)) / scale : 0.0;
+  result.converged = ssor_part <= limit2;
+  result.finite = result.finite && std::isfinite(rz) && std::isfinite(ssor_part);
+  return result;
+}
+
 }  // namespace
 
 PcgResult solvePcg(const BlockMatrix& a, std::span<const std::uint8_t> active, std::span<const Eigen::Vector3d> b,
                    std::span<Eigen::Vector3d> x, double tolerance, int max_iterations, double omega,
-                   std::span<const Eigen::Vector3d> floor_vector, PcgScratch& s) noexcept {
+                   std::span<const Eigen::Vector3d> floor_vector, PcgScratch& s, CoarseSpace* coarse) noexcept {
   const std::size_t n = active.size();
   for (std::size_t i = 0; i < n; ++i)
     if (!active[i]) x[i].setZero();
   invertDiagonal(a, active, omega, s);
+  if (coarse && coarse->ready() && omega > 0.0)
+    return solveTwoLevel(a, active, b, x, tolerance, max_iterations, omega, floor_vector, s, *coarse);
   const System system{a, active, omega, s};
   // r = b^ - A^ x^ (q holds x^, then b^).
   if (omega > 0.0) {

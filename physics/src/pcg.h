@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "block_matrix.h"
+#include "coarse_space.h"
 
 namespace incise::physics::detail {
 
@@ -40,9 +41,15 @@ struct PcgResult {
 // sqrt(r^T M^-1 r) <= tolerance x scale, scale = max(sqrt(b^T M^-1 b), sqrt(f^T D^-1 f)) with f =
 // `floor_vector` (empty: no floor): a residual small next to b, or next to a load (gravity) when b itself is
 // small. At most max_iterations. Never throws.
+//
+// With a `coarse` space that is ready (and SSOR, w > 0) the preconditioner is two-level:
+// M2^-1 = M^-1 + Z (Z^T A Z)^-1 Z^T (coarse_space.h), CG runs on A itself (one product and the two sweeps
+// an iteration: three passes over the blocks against two) and stops at sqrt(r^T M2^-1 r) <= tolerance x
+// the same scale; r^T M2^-1 r >= r^T M^-1 r, so it stops no less converged than SSOR alone would.
 PcgResult solvePcg(const BlockMatrix& a, std::span<const std::uint8_t> active, std::span<const Eigen::Vector3d> b,
                    std::span<Eigen::Vector3d> x, double tolerance, int max_iterations, double omega,
-                   std::span<const Eigen::Vector3d> floor_vector, PcgScratch& s) noexcept;
+                   std::span<const Eigen::Vector3d> floor_vector, PcgScratch& s,
+                   CoarseSpace* coarse = nullptr) noexcept;
 
 // sum_i a_i . b_i over the active nodes (in node order).
 double dotActive(std::span<const Eigen::Vector3d> a, std::span<const Eigen::Vector3d> b,

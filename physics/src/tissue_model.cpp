@@ -28,6 +28,9 @@ void validateOptions(const ModelOptions& o) {
   if (o.reserve_nodes < 0 || o.reserve_elements < 0)
     refuse("reserve_nodes and reserve_elements must be >= 0 (" + std::to_string(o.reserve_nodes) + ", " +
            std::to_string(o.reserve_elements) + ")");
+  if (o.coarse_aggregates < 0 || o.coarse_aggregates > 64 || o.coarse_nodes_per_aggregate < 1)
+    refuse("coarse_aggregates = " + std::to_string(o.coarse_aggregates) + " must be in [0, 64] and " +
+           "coarse_nodes_per_aggregate = " + std::to_string(o.coarse_nodes_per_aggregate) + " >= 1");
 }
 
 // Elements a locate() query may list (the grid's hits near one point) before its scratch list grows.
@@ -106,6 +109,7 @@ TissueModel::TissueModel(const tets::TetMesh& mesh, const Material& material, co
   for (auto* v : {&s.active, &s.fixed_by_boundary, &s.known, &s.held_by_tool}) v->reserve(nodes);
   s.mass_kg.reserve(nodes), s.role.reserve(nodes), s.node_mark.reserve(nodes), s.touched_nodes.reserve(nodes);
   s.pcg.reserve(nodes);
+  s.coarse.reserve(nodes, options.coarse_aggregates);
   s.elements.reserve(elements), s.free_elements.reserve(elements), s.element_mark.reserve(elements);
   s.touched_elements.reserve(elements);
   s.node_elements.reserve(nodes, 4 * elements + 8 * nodes);
@@ -168,7 +172,9 @@ void TissueModel::State::setRole(int node) noexcept {
   else if (fixed_by_boundary[i])
     r = NodeRole::Fixed;
   role[i] = r;
-  active[i] = r == NodeRole::Free ? 1 : 0;
+  const std::uint8_t free = r == NodeRole::Free ? 1 : 0;
+  if (active[i] != free) ++structure;
+  active[i] = free;
   if (r != NodeRole::Free) v_m_per_s[i].setZero();
 }
 

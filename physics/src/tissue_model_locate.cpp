@@ -168,9 +168,9 @@ ContactModel TissueModel::contactModel(const Embedded& point, const Eigen::Vecto
   Eigen::Matrix3d compliance;
   for (int k = 0; k < 3; ++k) {
     for (std::size_t i = 0; i < 4; ++i) s.contact_w[static_cast<std::size_t>(point.nodes[i])][k] += point.weights[i];
-    const detail::PcgResult cg =
-        detail::solvePcg(s.matrix, s.active, s.contact_w, s.contact_z[static_cast<std::size_t>(k)],
-                         s.options.cg_tolerance, s.options.max_cg_iterations, s.options.ssor_relaxation, {}, s.pcg);
+    const detail::PcgResult cg = detail::solvePcg(
+        s.matrix, s.active, s.contact_w, s.contact_z[static_cast<std::size_t>(k)], s.options.cg_tolerance,
+        s.options.max_cg_iterations, s.options.ssor_relaxation, {}, s.pcg, s.coarse_current ? &s.coarse : nullptr);
     out.cg_iterations += cg.iterations;
     for (const int node : point.nodes) s.contact_w[static_cast<std::size_t>(node)].setZero();
     if (!cg.finite) return out;

@@ -9,6 +9,7 @@
 
 #include "block_matrix.h"
 #include "buckets.h"
+#include "coarse_space.h"
 #include "element.h"
 #include "incise/mesh/vertex_grid.h"
 #include "incise/physics/tissue_model.h"
@@ -53,6 +54,11 @@ struct TissueModel::State {
 
   detail::BlockMatrix matrix;  // the last assembly: A = kM M + kK K
   detail::PcgScratch pcg;
+  detail::CoarseSpace coarse;
+  // Counts changes of the free nodes (setRole); the coarse space is partitioned again at the next step
+  // when it differs from partitioned_structure.
+  std::uint64_t structure = 0, partitioned_structure = ~std::uint64_t{0};
+  bool coarse_current = false;  // `coarse` was built from `matrix` as it is (the contact model's solves use it)
   std::array<std::vector<Eigen::Vector3d>, 3> contact_z;  // contactModel's solutions (warm starts)
   std::vector<Eigen::Vector3d> contact_w;
   // The tool's press (TissueModel::setToolPress) and the force it put on the tissue at the last assembly.
@@ -94,6 +100,7 @@ struct TissueModel::State {
   // returns the number of inverted elements.
   int assemble(double mass_coefficient, double stiffness_coefficient) noexcept;
   void moveHeldNodes() noexcept;  // x = target, v = 0 for every node not Free
+  bool buildCoarse() noexcept;    // the coarse space for this step's matrix (after the assembly): in use?
   // The press's force into force_N and its stiffness times stiffness_coefficient into the matrix (after
   // assemble()); sets press_force_N.
   void addToolPress(double stiffness_coefficient) noexcept;

@@ -75,6 +75,17 @@ int TissueModel::State::assemble(double mass_coefficient, double stiffness_coeff
   return inverted;
 }
 
+bool TissueModel::State::buildCoarse() noexcept {
+  // A settled tissue (the last step's CG took at most one iteration from its guess) needs no coarse level:
+  // its build would be most of such a step.
+  if (options.coarse_aggregates < 2 || (last_step_dt_s > 0.0 && last_step_cg_iterations <= 1)) return false;
+  if (structure != partitioned_structure) {
+    coarse.partition(rest_m, active, options.coarse_aggregates, options.coarse_nodes_per_aggregate);
+    partitioned_structure = structure;
+  }
+  return coarse.build(matrix, x_m, active);
+}
+
 void TissueModel::State::addToolPress(double stiffness_coefficient) noexcept {
   press_force_N.setZero();
   if (!press.on) return;
@@ -108,6 +119,7 @@ StepStats TissueModel::step(double dt_s) noexcept {
   s.moveHeldNodes();
   stats.inverted_elements = s.assemble(1.0 + h * alpha, h * (h + beta));
   s.addToolPress(h * h);
+  s.coarse_current = s.buildCoarse();
   // The last step's dv is this step's best guess while the tissue moves; once it has settled (the last
   // solve took at most 2 iterations) dv is mostly the solver's own error, and v alone is the better guess.
   const bool extrapolate = s.options.extrapolate_velocity && s.last_step_dt_s == h && s.last_step_cg_iterations > 2;
@@ -125,7 +137,7 @@ StepStats TissueModel::step(double dt_s) noexcept {
   for (std::size_t i = 0; i < s.x_m.size(); ++i) s.force_N[i] = (h * s.mass_kg[i]) * g;
   const detail::PcgResult cg =
       detail::solvePcg(s.matrix, s.active, s.rhs, s.v_next, s.options.cg_tolerance, s.options.max_cg_iterations,
-                       s.options.ssor_relaxation, s.force_N, s.pcg);
+                       s.options.ssor_relaxation, s.force_N, s.pcg, s.coarse_current ? &s.coarse : nullptr);
   stats.cg_iterations = cg.iterations;
   stats.relative_residual = cg.relative_residual;
   bool finite = cg.finite;
@@ -163,6 +175,7 @@ StaticResult TissueModel::solveStatic(const StaticOptions& options) {
   for (std::size_t i = 0; i < s.x_m.size(); ++i)
     if (s.active[i]) load += (s.external_N[i] + s.mass_kg[i] * g).squaredNorm();
   load = std::sqrt(load);
+  s.coarse_current = false;
   for (int it = 0; it <= options.max_newton_iterations; ++it) {
     s.assemble(0.0, 1.0);
     s.addToolPress(1.0);
