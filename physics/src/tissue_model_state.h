@@ -59,6 +59,10 @@ struct TissueModel::State {
   // when it differs from partitioned_structure.
   std::uint64_t structure = 0, partitioned_structure = ~std::uint64_t{0};
   bool coarse_current = false;  // `coarse` was built from `matrix` as it is (the contact model's solves use it)
+  // When the coarse level is used (useCoarse): on, on for a first step whose iterations are compared with
+  // the step before's (ssor_iterations, SSOR alone), or resting after one that did not pay.
+  bool coarse_on = false, coarse_trial = false;
+  int ssor_iterations = 0, coarse_rest_steps = 0;
   std::array<std::vector<Eigen::Vector3d>, 3> contact_z;  // contactModel's solutions (warm starts)
   std::vector<Eigen::Vector3d> contact_w;
   // The tool's press (TissueModel::setToolPress) and the force it put on the tissue at the last assembly.
@@ -100,6 +104,7 @@ struct TissueModel::State {
   // returns the number of inverted elements.
   int assemble(double mass_coefficient, double stiffness_coefficient) noexcept;
   void moveHeldNodes() noexcept;  // x = target, v = 0 for every node not Free
+  bool useCoarse() noexcept;      // whether this step's CG uses the coarse level (from the last steps)
   bool buildCoarse() noexcept;    // the coarse space for this step's matrix (after the assembly): in use?
   // The press's force into force_N and its stiffness times stiffness_coefficient into the matrix (after
   // assemble()); sets press_force_N.

@@ -75,10 +75,38 @@ int TissueModel::State::assemble(double mass_coefficient, double stiffness_coeff
   return inverted;
 }
 
+namespace {
+
+// CG's coarse level is used while the tissue is hard to solve (the last step took kCoarseOn iterations or
+// more; off again at kCoarseOff or fewer) and only where it pays: when the first step with it takes more
+// than kCoarseHelps of the iterations SSOR alone took the step before, it stays off for kCoarseRest steps.
+// An iteration with it costs about 1.5 without (three passes over the blocks, not two) and its build a few
+// more: the swinging beams' hard steps fall from 56-60 iterations to 24-25 with it, the 83k-tet bunny's
+// only from 27 to 25 on average. Iteration counts decide, never the clock: the same steps either way.
+constexpr int kCoarseOn = 12, kCoarseOff = 4, kCoarseRest = 200;
+constexpr double kCoarseHelps = 0.7;
+
+}  // namespace
+
+bool TissueModel::State::useCoarse() noexcept {
+  if (options.coarse_aggregates < 2) return false;
+  if (coarse_rest_steps > 0) --coarse_rest_steps;
+  if (!(last_step_dt_s > 0.0)) return coarse_on;  // no step since a reset or a cut: as before
+  const int last = last_step_cg_iterations;
+  if (coarse_on) {
+    if (coarse_trial && last > kCoarseHelps * ssor_iterations)
+      coarse_on = false, coarse_rest_steps = kCoarseRest;
+    else if (last <= kCoarseOff)
+      coarse_on = false;
+    coarse_trial = false;
+  } else if (last >= kCoarseOn && coarse_rest_steps == 0) {
+    coarse_on = coarse_trial = true, ssor_iterations = last;
+  }
+  return coarse_on;
+}
+
 bool TissueModel::State::buildCoarse() noexcept {
-  // A settled tissue (the last step's CG took at most one iteration from its guess) needs no coarse level:
-  // its build would be most of such a step.
-  if (options.coarse_aggregates < 2 || (last_step_dt_s > 0.0 && last_step_cg_iterations <= 1)) return false;
+  if (!useCoarse()) return false;
   if (structure != partitioned_structure) {
     coarse.partition(rest_m, active, options.coarse_aggregates, options.coarse_nodes_per_aggregate);
     partitioned_structure = structure;
@@ -120,6 +148,7 @@ StepStats TissueModel::step(double dt_s) noexcept {
   stats.inverted_elements = s.assemble(1.0 + h * alpha, h * (h + beta));
   s.addToolPress(h * h);
   s.coarse_current = s.buildCoarse();
+  stats.coarse_level = s.coarse_current;
   // The last step's dv is this step's best guess while the tissue moves; once it has settled (the last
   // solve took at most 2 iterations) dv is mostly the solver's own error, and v alone is the better guess.
   const bool extrapolate = s.options.extrapolate_velocity && s.last_step_dt_s == h && s.last_step_cg_iterations > 2;

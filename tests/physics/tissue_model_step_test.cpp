@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include "physics_fixture.h"
+#include "tissue_model_state.h"
 
 namespace incise::physics {
 namespace {
@@ -253,6 +254,7 @@ TEST_CASE("tissue_model: a column let go from its sag vibrates at its first freq
 // stepped at 200 Hz with CG started from v or from v + the last step's dv: every step converged either way.
 struct Swing {
   int iterations = 0;
+  int coarse_steps = 0;  // steps whose CG used the coarse level
   std::vector<Eigen::Vector3d> x_m;
 };
 
@@ -273,6 +275,7 @@ Swing swing(bool extrapolate, int coarse_aggregates = ModelOptions{}.coarse_aggr
     const StepStats stats = model.step(0.005);
     REQUIRE(stats.status == StepStatus::Converged);
     out.iterations += stats.cg_iterations;
+    out.coarse_steps += stats.coarse_level ? 1 : 0;
   }
   out.x_m.assign(model.positions_m().begin(), model.positions_m().end());
   return out;
@@ -304,6 +307,32 @@ TEST_CASE("tissue_model: CG's coarse level (rigid modes per aggregate) cuts its 
   INFO("CG iterations over 120 steps: SSOR " << ssor.iterations << ", with the coarse level " << two_level.iterations);
   CHECK(two_level.iterations < 0.6 * ssor.iterations);
   checkSameMotion(ssor, two_level);
+  INFO("coarse steps " << two_level.coarse_steps << " of 120");
+  CHECK(two_level.coarse_steps > 60);  // the beam swings all along
+  CHECK(ssor.coarse_steps == 0);
+}
+
+TEST_CASE("tissue_model: the coarse level is used while CG needs many iterations and only where it cuts them",
+          "[physics]") {
+  TissueModel::State s(0.001);
+  s.last_step_dt_s = 0.005;
+  const auto after = [&](int iterations) {
+    s.last_step_cg_iterations = iterations;
+    return s.useCoarse();
+  };
+  CHECK_FALSE(after(3));  // easy: SSOR alone
+  CHECK_FALSE(after(11));
+  CHECK(after(30));  // hard: tried
+  CHECK(after(12));  // the trial cut 30 to 12: kept
+  CHECK(after(9));
+  CHECK_FALSE(after(4));   // easy again
+  CHECK(after(20));        // tried again
+  CHECK_FALSE(after(16));  // 20 -> 16 does not pay for its cost: rested
+  int resting = 0;
+  while (!after(40) && resting < 1000) ++resting;
+  CHECK(resting == 199);  // then tried again
+  s.options.coarse_aggregates = 0;
+  CHECK_FALSE(after(60));  // switched off
 }
 
 }  // namespace

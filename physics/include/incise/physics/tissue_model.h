@@ -44,7 +44,9 @@ struct ModelOptions {
   // CG's coarse level (a two-level preconditioner with SSOR): six rigid-body modes on each of up to
   // coarse_aggregates aggregates of the free nodes (0: SSOR alone), each of at least
   // coarse_nodes_per_aggregate nodes (fewer aggregates on a small tissue; none below two), its matrix built
-  // each step from the step's own. On the benchmark's swinging grids CG's p99 iterations fall 2-2.5x.
+  // from the step's own, in the steps where CG needs many iterations and the coarse level cuts them (a
+  // settled tissue, or one whose iterations it does not cut, runs SSOR alone). On the benchmark's swinging
+  // grids CG's p99 iterations fall 2-2.5x.
   int coarse_aggregates = 16;
   int coarse_nodes_per_aggregate = 64;
   double rotation_tolerance = 1e-6;  // per-tet rotation: stop when the correction is below this (radians)
@@ -66,6 +68,7 @@ struct StepStats {
   int cg_iterations = 0;
   double relative_residual = 0.0;  // |r| / max(|b|, h |M g|) at the end
   int inverted_elements = 0;       // det F <= 0 at the start of the step
+  bool coarse_level = false;       // CG used its coarse level (ModelOptions::coarse_aggregates)
 };
 
 struct ChangeStats {
