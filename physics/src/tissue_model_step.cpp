@@ -83,7 +83,10 @@ namespace {
 // An iteration with it costs about 1.5 without (three passes over the blocks, not two) and its build a few
 // more: the swinging beams' hard steps fall from 56-60 iterations to 24-25 with it, the 83k-tet bunny's
 // only from 27 to 25 on average. Iteration counts decide, never the clock: the same steps either way.
-constexpr int kCoarseOn = 12, kCoarseOff = 4, kCoarseRest = 200;
+// A tissue whose aggregates would hold more than kCoarseLargest free nodes each is not tried: where it pays
+// they hold 100-260 (the benchmark's grids); on the 83k-tet bunny (15k free nodes, about 950 an aggregate)
+// the modes cut 27 iterations to 25 on average, and a trial step (capped, at 1.5x) showed in its p99.
+constexpr int kCoarseOn = 12, kCoarseOff = 4, kCoarseRest = 1000, kCoarseLargest = 512;
 constexpr double kCoarseHelps = 0.7;
 
 }  // namespace
@@ -100,7 +103,11 @@ bool TissueModel::State::useCoarse() noexcept {
       coarse_on = false;
     coarse_trial = false;
   } else if (last >= kCoarseOn && coarse_rest_steps == 0) {
-    coarse_on = coarse_trial = true, ssor_iterations = last;
+    const auto free_nodes = std::count(active.begin(), active.end(), std::uint8_t{1});
+    if (free_nodes > static_cast<std::ptrdiff_t>(options.coarse_aggregates) * kCoarseLargest)
+      coarse_rest_steps = kCoarseRest;
+    else
+      coarse_on = coarse_trial = true, ssor_iterations = last;
   }
   return coarse_on;
 }
