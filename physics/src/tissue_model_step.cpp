@@ -81,7 +81,7 @@ namespace {
 // more; off again at kCoarseOff or fewer) and only where it pays: when the first step with it takes more
 // than kCoarseHelps of the iterations SSOR alone took the step before, it stays off for kCoarseRest steps.
 // An iteration with it costs about 1.5 without (three passes over the blocks, not two) and its build a few
-// more: the swinging beams' hard steps fall from 56-60 iterations to 24-25 with it, the 83k-tet bunny's
+// more: the swinging beams' hard steps fall from 56-60 iterations to 24-31 with it, the 83k-tet bunny's
 // only from 27 to 25 on average. Iteration counts decide, never the clock: the same steps either way.
 // A tissue whose aggregates would hold more than kCoarseLargest free nodes each is not tried: where it pays
 // they hold 100-260 (the benchmark's grids); on the 83k-tet bunny (15k free nodes, about 950 an aggregate)
@@ -94,7 +94,7 @@ constexpr double kCoarseHelps = 0.7;
 bool TissueModel::State::useCoarse() noexcept {
   if (options.coarse_aggregates < 2) return false;
   if (coarse_rest_steps > 0) --coarse_rest_steps;
-  if (!(last_step_dt_s > 0.0)) return coarse_on;  // no step since a reset or a cut: as before
+  if (!(last_step_dt_s > 0.0)) return coarse_on;  // no step since the start or a reset: unchanged
   const int last = last_step_cg_iterations;
   if (coarse_on) {
     if (coarse_trial && last > kCoarseHelps * ssor_iterations)
