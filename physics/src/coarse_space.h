@@ -1,6 +1,6 @@
 // Private: the coarse level of CG's two-level preconditioner. The active nodes are partitioned into
 // aggregates (recursive coordinate bisection of their rest positions: halves along the longest axis of the
-// box of the aggregate's nodes, split at the median, the larger aggregate first) and each aggregate carries
+// box of the aggregate's nodes, split in proportion to the aggregates each half gets) and each aggregate carries
 // six rigid-body modes about the nodes' positions when the coarse matrix was built (Z_i = [I | -[d_i]x],
 // d_i = x_i - the aggregate's centre: u_i = t + theta x d_i). Where block SSOR smooths the error locally,
 // these modes carry the long-wave part a bending beam or a swinging pad needs, so CG takes several times
@@ -12,7 +12,7 @@
 // Shapes: vectors nodes x 3. Units: as the matrix (the coarse matrix is A's in the modes' coordinates).
 // Cost: partition O(N log N); build one pass over the stored blocks (about 50 flops a block) and a dense
 // Cholesky of 6 K x 6 K (K = 16: about 0.1 ms); apply O(N) + (6 K)^2. Allocation: none within what reserve()
-// gave. Threads: one owner. Every sum in node order: the same
+// gave. Threads: one owner (the physics thread, through TissueModel). Every sum in node order: the same
 // inputs give the same bits.
 #pragma once
 

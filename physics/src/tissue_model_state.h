@@ -55,8 +55,8 @@ struct TissueModel::State {
   detail::BlockMatrix matrix;  // the last assembly: A = kM M + kK K
   detail::PcgScratch pcg;
   detail::CoarseSpace coarse;
-  // Counts changes of the free nodes (setRole); the coarse space is partitioned again at the next step
-  // when it differs from partitioned_structure.
+  // Counts changes of the free nodes (setRole); the coarse space is partitioned again at the next step that
+  // uses it when it differs from partitioned_structure.
   std::uint64_t structure = 0, partitioned_structure = ~std::uint64_t{0};
   bool coarse_current = false;  // `coarse` was built from `matrix` as it is (the contact model's solves use it)
   // When the coarse level is used (useCoarse): on, on for a first step whose iterations are compared with
