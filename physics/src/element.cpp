@@ -46,6 +46,22 @@ Eigen::Matrix3d rotationMatrix(const std::array<double, 4>& q) noexcept {
   return r;
 }
 
+namespace {
+
+// Whether |theta| < tolerance for either step rotation() would take, known without solving it: by
+// Gershgorin, h's eigenvalues are at least g = min_i (h_ii - sum_j!=i |h_ij|); where g > 0, Newton's step
+// has |h^-1 omega| <= |omega| / g, and the other step |omega| / (|tr A| + 1e-9) is smaller still (g <=
+// tr h / 3 = 2 tr A / 3). The margin keeps the answer the one the solved step would give, rounding and all
+// (so the same bits as solving it); false when unsure, and the step is solved.
+bool converged(const Eigen::Matrix3d& h, const Eigen::Vector3d& omega, double tolerance) noexcept {
+  double g = h(0, 0) - std::abs(h(0, 1)) - std::abs(h(0, 2));
+  g = std::min(g, h(1, 1) - std::abs(h(1, 0)) - std::abs(h(1, 2)));
+  g = std::min(g, h(2, 2) - std::abs(h(2, 0)) - std::abs(h(2, 1)));
+  return g > 0.0 && omega.squaredNorm() < 0.998 * (tolerance * g) * (tolerance * g);
+}
+
+}  // namespace
+
 Eigen::Matrix3d rotation(const Eigen::Matrix3d& f, std::array<double, 4>& q, double tolerance, int max_iterations,
                          int& iterations) noexcept {
   iterations = 0;
@@ -58,6 +74,7 @@ Eigen::Matrix3d rotation(const Eigen::Matrix3d& f, std::array<double, 4>& q, dou
     const double trace = a.trace();
     Eigen::Matrix3d h = -0.5 * (a + a.transpose());
     h.diagonal().array() += trace;
+    if (converged(h, omega, tolerance)) return r;
     // Newton's step where -Hessian is positive definite (near the maximum); else Mueller et al.'s
     // omega / |tr A| (a gradient step scaled by a bound on the curvature), which moves towards it.
     const double m1 = h(0, 0), m2 = h(0, 0) * h(1, 1) - h(0, 1) * h(1, 0), det = h.determinant();

@@ -2,8 +2,10 @@
 // (block_matrix.cpp) and conjugate gradients (pcg.cpp) that the model's step is made of.
 #include "element.h"
 
+#include <cmath>
 #include <random>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -59,6 +61,45 @@ TEST_CASE("element: warm-started, the rotation of the previous step converges in
   const Eigen::Matrix3d r = rotation(f, q, 1e-6, 100, iterations);
   CHECK(iterations <= 2);
   CHECK((r - irvingRotation(f)).norm() < 1e-5);
+}
+
+// The correction rotation() would make next from the rotation r (its Newton step, or its gradient step where
+// -Hessian is not safely positive definite): the oracle for when it may stop.
+Eigen::Vector3d nextCorrection(const Eigen::Matrix3d& f, const Eigen::Matrix3d& r) {
+  const Eigen::Matrix3d a = f * r.transpose();
+  const Eigen::Vector3d omega(a(2, 1) - a(1, 2), a(0, 2) - a(2, 0), a(1, 0) - a(0, 1));
+  const Eigen::Matrix3d h = a.trace() * Eigen::Matrix3d::Identity() - 0.5 * (a + a.transpose());
+  const Eigen::LLT<Eigen::Matrix3d> llt(h);
+  if (llt.info() == Eigen::Success && h.determinant() > 1e-6 * std::pow(std::abs(a.trace()), 3))
+    return llt.solve(omega);
+  return omega / (std::abs(a.trace()) + 1e-9);
+}
+
+TEST_CASE("element: the rotation stops only where its next correction would be below the tolerance", "[physics]") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> stretch(0.3, 2.0), unit(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  int stopped_at_once = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Eigen::Matrix3d r = randomRotation(rng), q = randomRotation(rng);
+    Eigen::Vector3d s(stretch(rng), stretch(rng), stretch(rng));
+    if (trial % 3 == 2) s[2] = -0.2 * s[2];  // inverted
+    const Eigen::Matrix3d f = r * q * s.asDiagonal() * q.transpose();
+    // Warm-started near the answer, 1e-9 to 1e-1 rad away: from already converged to a few corrections.
+    const double angle = std::pow(10.0, -9.0 + 8.0 * unit(rng));
+    const Eigen::Quaterniond start =
+        Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized())) *
+        Eigen::Quaterniond(irvingRotation(f));
+    std::array<double, 4> quaternion{start.w(), start.x(), start.y(), start.z()};
+    const double tolerance = trial % 2 == 0 ? 1e-6 : 1e-9;
+    int iterations = 0;
+    const Eigen::Matrix3d found = rotation(f, quaternion, tolerance, 50, iterations);
+    INFO("trial " << trial << ", " << iterations << " iterations, started " << angle << " rad away");
+    REQUIRE(iterations < 50);
+    CHECK(nextCorrection(f, found).norm() < tolerance);
+    stopped_at_once += iterations == 0 ? 1 : 0;
+  }
+  CHECK(stopped_at_once > 200);  // the converged starts took no correction
 }
 
 TEST_CASE("element: a tet's rest data: volume, gradients and barycentric weights", "[physics]") {
