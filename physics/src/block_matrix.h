@@ -57,6 +57,11 @@ class BlockMatrix {
   Block& diagonal(int row) noexcept { return diagonal_[static_cast<std::size_t>(row)]; }
   const Block& diagonal(int row) const noexcept { return diagonal_[static_cast<std::size_t>(row)]; }
   Block& upper(int row, int local) noexcept { return blocks_[static_cast<std::size_t>(first_[row] + local)]; }
+  // Hints that a block will be written soon (both its cache lines); no effect on the values.
+  void prefetchDiagonal(int row) const noexcept { prefetch(diagonal_[static_cast<std::size_t>(row)]); }
+  void prefetchUpper(int row, int local) const noexcept {
+    prefetch(blocks_[static_cast<std::size_t>(first_[static_cast<std::size_t>(row)] + local)]);
+  }
 
   // Over the active rows (rows and columns elsewhere absent: x must be zero there, y is written zero there).
   // `push` is scratch of rows() Quads. y = A x:
@@ -88,6 +93,7 @@ class BlockMatrix {
   int overflows() const noexcept { return overflows_; }
 
  private:
+  static void prefetch(const Block& b) noexcept { __builtin_prefetch(b.c, 1), __builtin_prefetch(b.c + 8, 1); }
   void moveRow(std::size_t row, int room);
   Eigen::Vector3d gather(std::size_t row, const double* x) const noexcept;             // sum_j U_ij x_j
   void pushRow(std::size_t row, const Eigen::Vector3d& y, Quad* push) const noexcept;  // push_j += U_ij^T y
