@@ -94,7 +94,7 @@ int TissueModel::State::assemble(double mass_coefficient, double stiffness_coeff
   for (auto& f : force_N) f.setZero();
   int inverted = 0;
   // The blocks an element adds to are scattered over the matrix (a megabyte on the benchmark's grids): asking
-  // for those of the element kPrefetchAhead later while this one computes hides most of their misses.
+  // for those of the element kPrefetchAhead later while this one computes hides part of their misses.
   constexpr std::size_t kPrefetchAhead = 2;
   for (std::size_t i = 0; i < elements.size(); ++i) {
     if (i + kPrefetchAhead < elements.size()) prefetchBlocks(elements[i + kPrefetchAhead], matrix);
