@@ -17,22 +17,24 @@ namespace {
 
 using detail::Element;
 
-// The rotated shape gradients c_a = R beta_a and their multiples l_a = kl c_a, m_a = km c_a (kl, km: the
-// Lame coefficients times the volume and the stiffness coefficient), each padded to four lanes (the 4th 0).
+// The rotated shape gradients c_a = R beta_a, each padded to four lanes (the 4th 0).
 struct alignas(32) Gradients {
-  double c[4][4], l[4][4], m[4][4];
+  double c[4][4];
 };
 
-// block += K_ab = kl c_a c_b^T + km c_b c_a^T + km dot I, row r as l_a[r] c_b + m_b[r] c_a (the scalar
-// kl c_a[r] c_b[k] + km c_b[r] c_a[k] in the same order: the same bits), four lanes at a time.
-void addPair(detail::Block& block, const Gradients& g, int a, int b, double km_dot) noexcept {
+// block += K_ab = kl c_a c_b^T + km c_b c_a^T + km dot I (kl, km: the Lame coefficients times the volume and
+// the stiffness coefficient), row r as (kl c_a[r]) c_b + (km c_b[r]) c_a, four lanes at a time: the scalar
+// kl c_a[r] c_b[k] + km c_b[r] c_a[k] in the same order, so the same bits.
+void addPair(detail::Block& block, const Gradients& g, int a, int b, double kl, double km, double dot) noexcept {
   using detail::Lanes;
   const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
   const Lanes ca = Lanes::load(g.c[ua]), cb = Lanes::load(g.c[ub]);
   for (int r = 0; r < 3; ++r) {
     double* row = block.c + 4 * r;
-    (Lanes::load(row) + (Lanes::broadcast(g.l[ua][r]) * cb + Lanes::broadcast(g.m[ub][r]) * ca)).store(row);
+    const Lanes lr = Lanes::broadcast(kl * g.c[ua][r]), mr = Lanes::broadcast(km * g.c[ub][r]);
+    (Lanes::load(row) + (lr * cb + mr * ca)).store(row);
   }
+  const double km_dot = km * dot;
   block(0, 0) += km_dot, block(1, 1) += km_dot, block(2, 2) += km_dot;
 }
 
@@ -62,16 +64,14 @@ bool assembleElement(Element& e, TissueModel::State& s, double k) noexcept {
     g.c[0][d] = -(c3(d, 0) + c3(d, 1) + c3(d, 2));
     for (int a = 1; a < 4; ++a) g.c[a][d] = c3(d, a - 1);
   }
-  for (int a = 0; a < 4; ++a) {
-    g.c[a][3] = 0.0;
-    for (int d = 0; d < 4; ++d) g.l[a][d] = kl * g.c[a][d], g.m[a][d] = km * g.c[a][d];
-  }
+  for (int a = 0; a < 4; ++a) g.c[a][3] = 0.0;
   for (int a = 0; a < 4; ++a)
-    addPair(s.matrix.diagonal(e.nodes[static_cast<std::size_t>(a)]), g, a, a, km * e.dots[static_cast<std::size_t>(a)]);
+    addPair(s.matrix.diagonal(e.nodes[static_cast<std::size_t>(a)]), g, a, a, kl, km,
+            e.dots[static_cast<std::size_t>(a)]);
   for (std::size_t p = 0; p < 6; ++p) {
     int a = detail::kPairs[p][0], b = detail::kPairs[p][1];
     if (e.nodes[static_cast<std::size_t>(a)] > e.nodes[static_cast<std::size_t>(b)]) std::swap(a, b);
-    addPair(s.matrix.upper(e.nodes[static_cast<std::size_t>(a)], e.pair[p]), g, a, b, km * e.dots[4 + p]);
+    addPair(s.matrix.upper(e.nodes[static_cast<std::size_t>(a)], e.pair[p]), g, a, b, kl, km, e.dots[4 + p]);
   }
   return f.determinant() <= 0.0;
 }
