@@ -20,15 +20,29 @@
 namespace incise::global_dffd::detail {
 
 // One construction of a split vertex's position, in the order the split made it: a vertex put on a plane,
-// the crossing point of an edge, or a vertex duplicated on a plane. Replaying them on new positions of the
-// same model, when every vertex is on the same side of every plane, gives the split's new positions.
+// the crossing point of an edge, or a vertex duplicated on a plane; and each choice of the diagonal that
+// splits a crossing face's quadrilateral piece (made from positions, so a replay must make it again).
+// Replaying them on new positions of the same model, when every vertex is on the same side of every plane
+// and every diagonal is chosen as before, gives the split's new positions.
 struct SplitStep {
-  enum class Kind : std::uint8_t { Snap, Point, Copy };
+  enum class Kind : std::uint8_t { Snap, Point, Copy, Diagonal };
   Kind kind = Kind::Snap;
-  int a = -1;        // Snap: the vertex put on the plane; Point: the edge's first end; Copy: the vertex copied
-  int b = -1;        // Point: the edge's second end
-  double u_m = 0.0;  // Snap, Point: the plane x = u
+  int a = -1;               // Snap: the vertex put on the plane; Point: the edge's first end; Copy: the vertex copied;
+                            // Diagonal: the quadrilateral's first corner (p, b, c, q: see quadDiagonalPC)
+  int b = -1;               // Point: the edge's second end; Diagonal: its second corner
+  double u_m = 0.0;         // Snap, Point: the plane x = u
+  int c = -1, d = -1;       // Diagonal: its third and fourth corners
+  bool diagonal_pc = true;  // Diagonal: the choice made (p-c, else b-q)
 };
+
+// Whether the quadrilateral p, b, c, q (a crossing face's piece beyond the plane: p on a-b, q on c-a) is
+// split along p-c (triangles p b c and p c q) rather than b-q (p b q and b c q): b-q only where it is
+// clearly the shorter (by 10%), so that no piece is a needless sliver (a sliver's image through F can flip)
+// and a model moving rigidly keeps its choices (the margin is far above rounding's; ties stay p-c).
+inline bool quadDiagonalPC(const Eigen::Vector3d& p, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                           const Eigen::Vector3d& q) {
+  return (b - q).squaredNorm() >= 0.81 * (p - c).squaredNorm();
+}
 
 // Where the edge a-b crosses the plane x = u (x exactly u): splitAt's and the replay's one formula.
 inline Eigen::Vector3d splitPoint(const Eigen::Vector3d& pa, const Eigen::Vector3d& pb, double u) {

@@ -95,15 +95,9 @@ struct PieceCorners {
   }
 };
 
-// Splits every face crossing the plane x = u and marks the vertices on it. The whole section is split,
-// also where the model reaches beyond the box: F is the identity there, so both lips stay together, and
-// each closed section curve gives exactly two lips (boundary loops) whatever the model's position.
-void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
-  std::map<std::pair<int, int>, int> points;
-  const auto sgn = [&](int v) {
-    return s.x[static_cast<size_t>(v)].x() < u ? -1 : s.x[static_cast<size_t>(v)].x() > u ? 1 : 0;
-  };
-  // Vertices within a hair of the plane are put on it: splitting an edge there would make a sliver.
+// Puts the vertices within a hair of the plane x = u on it (splitting an edge there would make a sliver);
+// whether there were any.
+bool snapToPlane(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
   const double snap = detail::snapDistance(box);
   bool snapped = false;
   for (size_t v = 0; v < s.x.size(); ++v) {
@@ -113,6 +107,18 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
     snapped = true;
     if (s.steps) s.steps->push_back({detail::SplitStep::Kind::Snap, static_cast<int>(v), -1, u});
   }
+  return snapped;
+}
+
+// Splits every face crossing the plane x = u and marks the vertices on it. The whole section is split,
+// also where the model reaches beyond the box: F is the identity there, so both lips stay together, and
+// each closed section curve gives exactly two lips (boundary loops) whatever the model's position.
+void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
+  std::map<std::pair<int, int>, int> points;
+  const auto sgn = [&](int v) {
+    return s.x[static_cast<size_t>(v)].x() < u ? -1 : s.x[static_cast<size_t>(v)].x() > u ? 1 : 0;
+  };
+  const bool snapped = snapToPlane(s, u, plane, box);
   const auto point = [&](int a, int b) {
     const std::pair<int, int> key(std::min(a, b), std::max(a, b));
     if (const auto it = points.find(key); it != points.end()) return it->second;
@@ -163,8 +169,16 @@ void splitAt(Soup& s, double u, int plane, const Eigen::AlignedBox3d& box) {
     } else {  // a alone: crossings on a-b and c-a
       const int p = corners.point(s, a, b, point(a, b)), q = corners.point(s, c, a, point(c, a));
       firstPiece(i, {a, p, q});
-      otherPiece(i, {p, b, c});
-      otherPiece(i, {p, c, q});
+      const auto at = [&](int v) -> const Eigen::Vector3d& { return s.x[static_cast<size_t>(v)]; };
+      const bool pc = detail::quadDiagonalPC(at(p), at(b), at(c), at(q));
+      if (s.steps) s.steps->push_back({detail::SplitStep::Kind::Diagonal, p, b, 0.0, c, q, pc});
+      if (pc) {
+        otherPiece(i, {p, b, c});
+        otherPiece(i, {p, c, q});
+      } else {
+        otherPiece(i, {p, b, q});
+        otherPiece(i, {b, c, q});
+      }
     }
   }
   if (snapped) {  // faces around vertices put on the plane: a full pass (rare)

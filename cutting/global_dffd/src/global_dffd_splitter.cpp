@@ -46,7 +46,9 @@ void planeSides(std::span<const Eigen::Vector3d> positions, const std::vector<do
 }
 
 // The split's positions from the model's: the recorded constructions, in order (splitAt's arithmetic).
-void replay(std::span<const Eigen::Vector3d> positions, const std::vector<SplitStep>& steps,
+// False when a quadrilateral's diagonal would now be chosen otherwise (the connectivity changed; x is then
+// partly written).
+bool replay(std::span<const Eigen::Vector3d> positions, const std::vector<SplitStep>& steps,
             std::vector<Eigen::Vector3d>& x) {
   x.assign(positions.begin(), positions.end());
   for (const SplitStep& step : steps) {
@@ -62,8 +64,14 @@ void replay(std::span<const Eigen::Vector3d> positions, const std::vector<SplitS
         x.push_back(copy);
         break;
       }
+      case SplitStep::Kind::Diagonal: {
+        const auto at = [&](int v) -> const Eigen::Vector3d& { return x[static_cast<size_t>(v)]; };
+        if (detail::quadDiagonalPC(at(step.a), at(step.b), at(step.c), at(step.d)) != step.diagonal_pc) return false;
+        break;
+      }
     }
   }
+  return true;
 }
 
 // The triangles the steps were recorded for, byte for byte (memcmp: 7x faster than comparing arrays here).
@@ -95,10 +103,8 @@ const DffdSplit& DffdSplitter::split(std::span<const Eigen::Vector3d> positions,
   st.kept = st.replayable && openings == Openings::Leave && st.planes_scratch == st.planes_u &&
             dffd.box().min() == st.box.min() && dffd.box().max() == st.box.max() && st.scratch == st.sides &&
             sameFaces(faces, st.faces);
-  if (st.kept) {
-    replay(positions, st.steps, st.split.rest_m);
-    return st.split;
-  }
+  if (st.kept) st.kept = replay(positions, st.steps, st.split.rest_m);
+  if (st.kept) return st.split;
   st.replayable = false;
   st.steps.clear();
   detail::soupOf(positions, faces, st.soup);

@@ -116,6 +116,27 @@ TEST_CASE("global_dffd_splitter: a vertex that changes side, or reaches or leave
     splitter.split(flipped.positions_m, flipped.triangles, dffd);
     CHECK_FALSE(splitter.keptConnectivity());
   }
+  SECTION("a crossing face's four-sided piece whose shorter diagonal changes splits again") {
+    // One triangle across the left plane: a alone on the - side, b and c beyond it. Its piece beyond is
+    // split along the shorter diagonal, p-c or b-q (p on a-b, q on c-a), which c's move along y changes.
+    const double u = dffd.obstacles()[0].u;
+    const auto triangle = [&](double y_c_m) {
+      return Model{{{u - 0.004, 0.0, 0.0}, {u + 0.004, 0.002, 0.0}, {u + 0.004, y_c_m, 0.001}}, {{0, 1, 2}}};
+    };
+    const Model long_pc = triangle(0.010), short_pc = triangle(0.001);
+    REQUIRE(splitAtDiscontinuities(long_pc.positions_m, long_pc.triangles, dffd).faces.size() == 3);
+    REQUIRE(splitAtDiscontinuities(long_pc.positions_m, long_pc.triangles, dffd).faces !=
+            splitAtDiscontinuities(short_pc.positions_m, short_pc.triangles, dffd).faces);
+    DffdSplitter one;
+    one.split(long_pc.positions_m, long_pc.triangles, dffd);
+    requireSameSplit(one.split(short_pc.positions_m, short_pc.triangles, dffd),
+                     splitAtDiscontinuities(short_pc.positions_m, short_pc.triangles, dffd));
+    CHECK_FALSE(one.keptConnectivity());
+    const Model nearby = triangle(0.0012);  // the same diagonal: kept
+    requireSameSplit(one.split(nearby.positions_m, nearby.triangles, dffd),
+                     splitAtDiscontinuities(nearby.positions_m, nearby.triangles, dffd));
+    CHECK(one.keptConnectivity());
+  }
   SECTION("Openings::Close always splits in full") {
     for (int round = 0; round < 2; ++round) {
       requireSameSplit(splitter.split(sphere.positions_m, sphere.triangles, dffd, Openings::Close),

@@ -215,12 +215,14 @@ ModelArrays modelArrays(const mesh::SurfaceMesh& model);
 
 // The split of a model that moves frame after frame, its triangles fixed (the global DFFD's frame: split
 // only what changed). The split's connectivity depends only on which side of each plane x = u_i every
-// vertex lies, or whether it is put on the plane (within snapDistance). When none of that changed since the
-// previous call, with the same triangles, planes and box, the previous connectivity is kept and only the
-// positions are recomputed: the previous split's constructions (vertices put on a plane, edge crossings,
-// duplicated vertices) are replayed in their order on the new positions, which gives the bits a full split
-// gives (tests/cutting/global_dffd/global_dffd_test.cpp). Otherwise, and always with Openings::Close (whose welding
-// depends on the vertices' order in v), it is splitAtDiscontinuities.
+// vertex lies, or whether it is put on the plane (within snapDistance), and on which diagonal splits each
+// crossing face's four-sided piece (the clearly shorter one, else the first). When none of that changed
+// since the previous call, with the same triangles, planes and box, the previous connectivity is kept and
+// only the positions are recomputed: the previous split's constructions (vertices put on a plane, edge
+// crossings, duplicated vertices, the diagonals' choices checked) are replayed in their order on the new
+// positions, which gives the bits a full split gives (tests/cutting/global_dffd/global_dffd_splitter_test.cpp).
+// Otherwise, and always with Openings::Close (whose welding depends on the vertices' order in v), it is
+// splitAtDiscontinuities.
 // Cost: O(V * planes) to compare the sides and O(V') to replay (V' split vertices; about 0.2 ms for the
 // 35k-vertex split robot), else a full split's. No allocation once warmed up on one model.
 // Threads: one call at a time per splitter. Failure: as splitAtDiscontinuities; the splitter then splits
