@@ -67,10 +67,15 @@ void CutJob::run(const std::function<void(std::size_t, std::size_t)>& progress) 
     const incision::CutStep step = call();
     sample_us_.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
     if (step.sample != incision::SampleStatus::Accepted) ++skipped_;
+    return step;
   };
   time([&] { return cutter_->begin(stroke_.first, stroke_.blade_direction); });
   for (std::size_t k = 0; k < stroke_.samples.size(); ++k) {
-    time([&] { return cutter_->extend(stroke_.samples[k]); });
+    const incision::StrokeSample& sample = stroke_.samples[k];
+    // A stroke that turns at a corner goes on as a new incision from there (Incision::extend); the begin,
+    // which settles the incision before it, is not a sample's time.
+    if (time([&] { return cutter_->extend(sample); }).sample == incision::SampleStatus::EndedAtCorner)
+      cutter_->begin(sample, stroke_.blade_direction);
     if (progress) progress(k + 1, stroke_.samples.size());
   }
   cutter_->finish();

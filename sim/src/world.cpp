@@ -335,11 +335,12 @@ void World::cutPose(const devices::PoseSample& pose) noexcept {
     const incision::StrokeSample sample{c.point_m, c.normal, pose.time_s, c.penetration_m};
     if (!cutter_->active()) {  // a new incision: it begins once the previous one's work is done
       queueBegin(sample, pose);
-    } else if (cutter_->addSample(sample, incision::SampleOrigin::OnSurface).sample ==  // on the surface by contact
-                   incision::SampleStatus::SkippedJump &&
+    } else if (const incision::SampleStatus status =
+                   cutter_->addSample(sample, incision::SampleOrigin::OnSurface).sample;  // on the surface by contact
+               (status == incision::SampleStatus::SkippedJump || status == incision::SampleStatus::EndedAtCorner) &&
                !cutter_->active()) {
-      // The blade is farther than a step from the stroke for a second pose (poses were lost): the incision
-      // ended where it was, and a new one begins here.
+      // The blade is farther than a step from the stroke for a second pose (poses were lost), or the stroke
+      // turned at a corner: the incision ended where it was, and a new one begins here.
       queueBegin(sample, pose);
     }
   } else if (cutter_->active()) {

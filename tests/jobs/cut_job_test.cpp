@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "incise/mesh/mesh_hash.h"
+#include "incise/mesh/self_intersection.h"
 
 namespace {
 
@@ -59,4 +60,33 @@ TEST_CASE("cut_job: bad options and a path off the tissue are refused before any
   o = bunnyCut();
   o.mesh = INCISE_SCENARIOS_DIR "/meshes/no-such.obj";
   CHECK_THROWS_AS(incise::jobs::CutJob(o), incise::mesh::MeshError);
+}
+
+TEST_CASE(
+    "cut_job: a stroke down the bunny's flank into a crease goes on as a new incision from the corner, no "
+    "faces crossing",
+    "[jobs]") {
+  // Drawn by scripts/random_cuts.py (the bunny at 0.6 scale, unsubdivided): the ray's point runs down a steep
+  // flank into a crease and up the next one, a 94-degree turn of the path between two stations. As one
+  // incision its lattice folded at the turn and 186 pairs of faces (mostly walls) crossed.
+  incise::jobs::CutJobOptions o;
+  o.mesh = INCISE_SCENARIOS_DIR "/meshes/bunny.obj";
+  o.scale = 0.006;
+  o.subdivide = 0;
+  o.start_m = Eigen::Vector3d(-0.00837261993619708, 0.06, -0.007777047409646843);
+  o.direction = Eigen::Vector3d(0.8047474499560493, 0.0, -0.5936173361596139);
+  o.length_m = 0.011915508633078218;
+  o.cutter.incision.depth_m = 0.0038270701993262917;
+  incise::jobs::CutJob job(o);
+  job.run();
+  const incise::mesh::MeshSummary cut = incise::mesh::summarize(job.mesh());
+  CHECK(job.ok(cut));
+  CHECK(incise::mesh::findSelfIntersections(job.mesh().mesh()).empty());
+  const nlohmann::json summary = job.summary(cut);
+  REQUIRE(summary["incision_figures"].size() == 2);
+  for (const auto& figures : summary["incision_figures"]) {
+    CHECK(figures["shortfall"] == "none");
+    CHECK(figures["groove_length_m"].get<double>() > 0.005);
+  }
+  CHECK(job.sampleUs().size() == job.samples());
 }

@@ -9,6 +9,8 @@
 
 #include "incise/incision/stroke_path.h"
 #include "incise/mesh/mesh_hash.h"
+#include "incise/mesh/self_intersection.h"
+#include "incise/mesh/shapes.h"
 #include "incise/sim/scenario.h"
 #include "incise/sim/stroke_poses.h"
 
@@ -204,6 +206,8 @@ std::vector<devices::PoseSample> twoStrokes(const mesh::SurfaceMesh& tissue, con
 
 struct FramesRun {
   std::uint64_t hash = 0;
+  int incisions = 0;
+  std::size_t crossing_pairs = 0;  // pairs of faces crossing in the end
   sim::WorldCounters counters;
   bool haptic_did_no_cutting = true;  // no updateTool call changed the mesh or the cutter's progress
 };
@@ -230,6 +234,8 @@ FramesRun runFrames(const mesh::SurfaceMesh& tissue, const sim::WorldOptions& op
   for (int frame = 0; frame < 3000; ++frame) world.cut(t_s += 0.001);
   REQUIRE_FALSE(world.pending());
   run.hash = mesh::geometryHash(world.tissue());
+  run.incisions = world.incisions();
+  run.crossing_pairs = mesh::findSelfIntersections(world.tissue().mesh()).size();
   run.counters = world.counters();
   return run;
 }
@@ -258,6 +264,37 @@ TEST_CASE("world: a new incision waits for the previous one's work in later fram
   REQUIRE(b.counters.catch_ups == 0);
   REQUIRE(a.haptic_did_no_cutting);
   REQUIRE(b.haptic_did_no_cutting);
+  REQUIRE(a.hash == b.hash);
+}
+
+TEST_CASE(
+    "world: a stroke that turns at a corner goes on as a new incision from it, the same bytes at once and "
+    "starved",
+    "[sim]") {
+  // 8 mm along +x on a pad, then 8 mm at 100 degrees from it, the blade 3 mm in: one lattice cannot follow
+  // the corner (Incision::extend ends it there); the world begins the next incision at the pose that found
+  // the corner and keeps the poses after it queued until then, so a starved budget cuts the same bytes.
+  sim::WorldOptions options;
+  options.tool.cut_button = 0;
+  const mesh::SurfaceMesh pad =
+      mesh::makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.03, -0.01, -0.03), Eigen::Vector3d(0.03, 0.0, 0.03)),
+                    Eigen::Vector3i(60, 10, 60));
+  const double kink = 100.0 * 3.14159265358979 / 180.0;
+  const Eigen::Vector3d first(1.0, 0.0, 0.0), second(std::cos(kink), 0.0, std::sin(kink));
+  std::vector<devices::PoseSample> poses;
+  Eigen::Vector3d tip(-0.008, -0.003, 0.0013);
+  for (int k = 0; k < 320; ++k) {
+    poses.push_back(poseAt(tip, 0.001 * k));
+    tip += 0.00005 * (k < 160 ? first : second);
+  }
+  sim::WorldOptions at_once = options, starved = options;
+  at_once.cut_budget_us = 1e9;
+  starved.cut_budget_us = 2.0;
+  const FramesRun a = runFrames(pad, at_once, poses), b = runFrames(pad, starved, poses);
+  CHECK(a.incisions == 2);
+  CHECK(b.incisions == 2);
+  CHECK(b.counters.waits >= 1);
+  CHECK(a.crossing_pairs == 0);
   REQUIRE(a.hash == b.hash);
 }
 

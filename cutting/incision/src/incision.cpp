@@ -104,6 +104,8 @@ const char* toString(SampleStatus status) noexcept {
       return "refused: zero normal";
     case SampleStatus::Ended:
       return "ended: incision finished or lattice full";
+    case SampleStatus::EndedAtCorner:
+      return "ended: the stroke turns at a corner (a new incision may begin here)";
   }
   return "unknown";
 }
@@ -207,7 +209,8 @@ double Incision::sampleDepth(const StrokeSample& sample) const noexcept {
 void Incision::startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction) {
   blade_direction_ = blade_direction.normalized();
   last_sample_ = first;
-  addStation({first.point_m, first.normal.normalized(), first.time_s, sampleDepth(first), first.through});
+  addStation(
+      {first.point_m, first.normal.normalized(), first.time_s, sampleDepth(first), first.through, first.in_wound});
   to_next_station_m_ = options_.spacing_m;
 }
 
@@ -248,12 +251,17 @@ SampleStatus Incision::extend(const StrokeSample& sample) noexcept {
       finish();
       return SampleStatus::Ended;
     }
+    if (turnsAtCorner(last_sample_.point_m + f * step,
+                      last_sample_.in_wound || sample.in_wound || last_sample_.through || sample.through)) {
+      finish();
+      return SampleStatus::EndedAtCorner;
+    }
     const Eigen::Vector3d normal = ((1.0 - f) * last_sample_.normal.normalized() + f * sample.normal.normalized());
     addStation({last_sample_.point_m + f * step,
                 normal.norm() > 1e-12 ? normal.normalized() : sample.normal.normalized(),
                 last_sample_.time_s + f * (sample.time_s - last_sample_.time_s),
                 (1.0 - f) * sampleDepth(last_sample_) + f * sampleDepth(sample),
-                f < 0.5 ? last_sample_.through : sample.through});
+                f < 0.5 ? last_sample_.through : sample.through, last_sample_.in_wound || sample.in_wound});
     along_m += options_.spacing_m;
   }
   to_next_station_m_ = along_m - length_m;
@@ -265,6 +273,18 @@ void Incision::finish() noexcept {
   if (finished_) return;
   finished_ = true;
   refreshRestColumns(std::max(0, stationCount() - 2) + options_.order - 1);
+}
+
+bool Incision::turnsAtCorner(const Eigen::Vector3d& next_point_m, bool next_exempt) const noexcept {
+  const int count = stationCount();
+  if (next_exempt || count < std::max(3, minOpeningStations())) return false;
+  for (int k = count - 3; k < count; ++k)
+    if (stations_[static_cast<size_t>(k)].in_wound || stations_[static_cast<size_t>(k)].through) return false;
+  const Station& last = stations_[static_cast<size_t>(count - 1)];
+  const auto inPlane = [&](const Eigen::Vector3d& t) { return Eigen::Vector3d(t - t.dot(last.normal) * last.normal); };
+  const Eigen::Vector3d before = inPlane(last.point - stations_[static_cast<size_t>(count - 3)].point);
+  const Eigen::Vector3d at = inPlane(next_point_m - stations_[static_cast<size_t>(count - 2)].point);
+  return std::atan2(before.cross(at).norm(), before.dot(at)) > kCornerTurn;
 }
 
 Eigen::Vector3d Incision::stationNormal(const Eigen::Vector3d& normal, double depth_m) const noexcept {

@@ -98,6 +98,16 @@ bool SurfaceCutter::onSurface(const Eigen::Vector3d& p) const {
   return false;
 }
 
+bool SurfaceCutter::inWound(const Eigen::Vector3d& p) const {
+  const double reach_m = 1.5 * options_.incision.spacing_m;
+  const Eigen::Vector3d r = Eigen::Vector3d::Constant(reach_m);
+  query_.clear();
+  grid_.query(Eigen::AlignedBox3d(p - r, p + r), query_);
+  for (int id : query_)
+    if (mesh_.kind(VH(id)) != mesh::VertexKind::Original && (restPosition(VH(id)) - p).norm() <= reach_m) return true;
+  return false;
+}
+
 void SurfaceCutter::settle() noexcept { settleStep(true); }
 
 bool SurfaceCutter::settleStep(bool unlimited) noexcept {
@@ -219,6 +229,7 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin o
     }
     StrokeSample limited = sample;
     limitToThickness(limited);
+    limited.in_wound = inWound(limited.point_m);
     step.sample = incision_->extend(limited);
     if (step.sample == SampleStatus::Accepted) {
       noteThrough();
@@ -234,7 +245,7 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin o
       break;
     }
     if (step.sample == SampleStatus::Accepted) jumped_ = false;
-    if (step.sample == SampleStatus::Ended) break;
+    if (step.sample == SampleStatus::Ended || step.sample == SampleStatus::EndedAtCorner) break;
   }
   return step;
 }

@@ -303,3 +303,59 @@ TEST_CASE("incision: a row limit makes the stations it limits shallower, counted
   REQUIRE(incision.rest().evaluate(0.5, incision.startV() + 20.0, incision.bottomW()).y() ==
           Approx(-options.depth_m).margin(1e-12));
 }
+
+TEST_CASE("incision: a stroke that turns at a corner sharper than the lattice follows ends there", "[cutting]") {
+  // On the plane y = 0: 6 mm along +x, then on at `turn_deg` from it. The columns' frames take a station's
+  // tangent across its two neighbours, so a kink of K degrees turns them K/2 at each of two stations.
+  const auto kinked = [](double turn_deg, double first_m) {
+    const double turn = turn_deg * 3.14159265358979 / 180.0;
+    const Eigen::Vector3d second(std::cos(turn), 0.0, std::sin(turn));
+    std::vector<StrokeSample> samples;
+    const int before = static_cast<int>(std::lround(first_m / 0.00005));
+    for (int k = 0; k <= before; ++k)
+      samples.push_back({Eigen::Vector3d(0.00005 * k, 0.0, 0.0), Eigen::Vector3d::UnitY(), 0.001 * k});
+    const Eigen::Vector3d corner = samples.back().point_m;
+    for (int k = 1; k <= 80; ++k)
+      samples.push_back({corner + 0.00005 * k * second, Eigen::Vector3d::UnitY(), 0.001 * (before + k)});
+    return samples;
+  };
+  const auto run = [](const std::vector<StrokeSample>& samples, Incision& incision, size_t& ended_at) {
+    ended_at = 0;
+    for (size_t k = 1; k < samples.size() && ended_at == 0; ++k) {
+      const SampleStatus status = incision.extend(samples[k]);
+      if (status == SampleStatus::EndedAtCorner)
+        ended_at = k;
+      else
+        REQUIRE(status == SampleStatus::Accepted);
+    }
+  };
+  for (const double turn_deg : {75.0, 90.0, 110.0}) {
+    const auto samples = kinked(turn_deg, 0.006);
+    Incision incision(IncisionOptions{}, samples[0], Eigen::Vector3d::UnitX());
+    size_t ended_at = 0;
+    run(samples, incision, ended_at);
+    INFO("kink " << turn_deg << " degrees");
+    REQUIRE(ended_at > 120);  // after the corner (sample 120)...
+    CHECK(incision.finished());
+    CHECK(incision.extend(samples[ended_at + 1]) == SampleStatus::Ended);
+    // ...at the first station beyond it, which is not made: the last station is the corner's.
+    CHECK(ended_at <= 120 + 11);
+    CHECK(incision.stationCount() == 13);  // stations every 0.5 mm from 0 to 6 mm
+    CHECK(std::string(toString(SampleStatus::EndedAtCorner)).find("corner") != std::string::npos);
+  }
+  for (const double turn_deg : {30.0, 60.0}) {  // turns one lattice follows
+    const auto samples = kinked(turn_deg, 0.006);
+    Incision incision(IncisionOptions{}, samples[0], Eigen::Vector3d::UnitX());
+    size_t ended_at = 0;
+    run(samples, incision, ended_at);
+    CHECK(ended_at == 0);
+    CHECK_FALSE(incision.finished());
+  }
+  {  // a corner the path has turned past before the wound could open (5 stations): the incision goes on
+    const auto samples = kinked(90.0, 0.001);
+    Incision incision(IncisionOptions{}, samples[0], Eigen::Vector3d::UnitX());
+    size_t ended_at = 0;
+    run(samples, incision, ended_at);
+    CHECK(ended_at == 0);
+  }
+}

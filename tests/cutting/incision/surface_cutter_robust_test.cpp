@@ -618,3 +618,36 @@ TEST_CASE("surface_cutter: property: random strokes on icospheres, pads, a torus
 TEST_CASE("surface_cutter: property (large): 200 random strokes cut clean", "[cutting][slow]") {
   runProperty(1414, 200);
 }
+
+TEST_CASE("surface_cutter: a stroke with a sharp corner goes on as a second incision from it, no faces crossing",
+          "[cutting]") {
+  // On a pad: 8 mm along +x, then 8 mm at `kink_deg` from it. One lattice around a kink of 105 or 120
+  // degrees folded on its inner side: 66 and 137 pairs of wall faces crossed (75 degrees: 3). The cutter
+  // ends the incision at the corner (SampleStatus::EndedAtCorner) and the caller begins the next one there.
+  for (const double kink_deg : {30.0, 60.0, 75.0, 90.0, 105.0, 120.0}) {
+    mesh::SurfaceMesh pad =
+        mesh::makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.03, -0.01, -0.03), Eigen::Vector3d(0.03, 0.0, 0.03)),
+                      Eigen::Vector3i(60, 10, 60));
+    SurfaceCutter cutter(pad, CutterOptions{});
+    const double kink = kink_deg * 3.14159265358979 / 180.0;
+    const Eigen::Vector3d first(1.0, 0.0, 0.0), second(std::cos(kink), 0.0, std::sin(kink));
+    std::vector<StrokeSample> samples;
+    for (int k = 0; k <= 160; ++k)
+      samples.push_back(
+          {Eigen::Vector3d(-0.008, 0.0, 0.0013) + 0.00005 * k * first, Eigen::Vector3d::UnitY(), 0.001 * k});
+    const Eigen::Vector3d corner = samples.back().point_m;
+    for (int k = 1; k <= 160; ++k)
+      samples.push_back({corner + 0.00005 * k * second, Eigen::Vector3d::UnitY(), 0.001 * (160 + k)});
+    cutter.begin(samples[0], first);
+    for (size_t k = 1; k < samples.size(); ++k)
+      if (cutter.extend(samples[k]).sample == SampleStatus::EndedAtCorner) cutter.begin(samples[k], second);
+    cutter.finish();
+    cutter.settle();
+    INFO("kink " << kink_deg << " degrees");
+    CHECK(cutter.stats().figures.size() == (kink_deg > 70.0 ? 2u : 1u));
+    CHECK(cutter.stats().failure.empty());
+    for (const IncisionFigures& f : cutter.stats().figures) CHECK(f.shortfall == Shortfall::None);
+    CHECK(mesh::checkManifold(pad.mesh()).closed_two_manifold);
+    CHECK(mesh::findSelfIntersections(pad.mesh()).empty());
+  }
+}

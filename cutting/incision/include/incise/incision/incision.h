@@ -51,6 +51,8 @@ struct StrokeSample {
   double time_s = 0.0;
   double depth_m = -1.0;  // the blade tip's depth below point_m along -normal (at rest); < 0: options' depth_m
   bool through = false;   // the tip passed the tissue's far side (the caller's measure: SurfaceCutter's)
+  bool in_wound = false;  // the point lies in an earlier incision's wound, where the path dips and climbs
+                          // (the caller's measure: SurfaceCutter's); no corner ends the incision there
 };
 
 enum class SampleStatus : std::uint8_t {
@@ -63,6 +65,9 @@ enum class SampleStatus : std::uint8_t {
   RefusedNaN,       // a non-finite coordinate, normal or time
   RefusedNormal,    // a zero normal, or one parallel to the step (no side direction)
   Ended,            // the lattice is full, or the incision is finished: the sample is not used
+  EndedAtCorner,    // the stroke turns at a corner sharper than the lattice can follow (Incision::extend):
+                    // the incision ended at the corner's station, the sample is not used; the caller may
+                    // begin another incision at it
 };
 const char* toString(SampleStatus status) noexcept;
 
@@ -107,7 +112,15 @@ class Incision {
   // The option checks of the constructor alone (load time): throws std::invalid_argument as it does.
   static void validateOptions(const IncisionOptions& options);
 
-  // Adds a sample; returns what was done with it. Never throws.
+  // Adds a sample; returns what was done with it. Never throws. Once the stroke has minOpeningStations()
+  // (the wound before a corner can open), a station whose path turns by more than kCornerTurn at the last
+  // one (the tangents there and at the one before, each across its two neighbours as the columns' frames
+  // take them, in the last station's surface plane), away from earlier wounds (StrokeSample::in_wound:
+  // a stroke across a groove dips into it and climbs out, which the lattice follows) and from where the
+  // blade goes through the tissue (StrokeSample::through: a through-cut there is one kerf), ends the
+  // incision at that station: beyond it the columns' across-lines would cross within the lattice (the walls
+  // of its inner side fold over each other, e.g. a stroke down a flank into a crease and up the next one).
+  // Returns EndedAtCorner then.
   SampleStatus extend(const StrokeSample& sample) noexcept;
   // No more samples: the columns after the last station become final and the cut may reach the last
   // station. Idempotent.
@@ -213,11 +226,19 @@ class Incision {
   // of the stations' spacing over a sharp ridge (rows meeting at the floor would leave it no width, and the
   // walls' strips would cross there).
   static constexpr double kFoldDepths = 1.5;
+  // The sharpest turn of the path between two stations' frames that one incision follows: 35 degrees, so a
+  // kink of more than 70 degrees is a corner (on a pad a kink of 75 degrees left 3 pairs of wall faces
+  // crossing, 105 and 120 degrees 66 and 137). The shipped traces turn at most 25 degrees (a 6-DOF
+  // device's jitter); the bunny's flank run into a crease, 94.
+  static constexpr double kCornerTurn = 0.610865238198015;  // radians
+  // next_exempt: the next station's samples are in a wound or through the tissue (no corner there).
+  bool turnsAtCorner(const Eigen::Vector3d& next_point_m, bool next_exempt) const noexcept;
   struct Station {
     Eigen::Vector3d point, normal;
     double time_s;
     double depth_m;  // clamped to [min_depth_m, depth_m]
     bool through;    // the nearer sample's StrokeSample::through
+    bool in_wound;   // either sample's StrokeSample::in_wound
   };
   struct Frame {  // zero until the column is first written, the same in a new and a restarted incision
     Eigen::Vector3d g = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),

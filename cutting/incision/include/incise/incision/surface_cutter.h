@@ -378,6 +378,10 @@ class SurfaceCutter {
   static constexpr size_t kHeadroomVertices = 200000;  // new vertices one incision may add without regrowth
   size_t reserved_vertices_ = 0;                       // what reserveHeadroom last reserved room for
   bool onSurface(const Eigen::Vector3d& p) const;
+  // Whether a seam or wall vertex (an earlier incision's: the current one's trail its newest sample by
+  // about three spacings) lies within 1.5 spacings of p at rest: StrokeSample::in_wound. A grid query
+  // into query_ (no allocation once it has grown to a contact query's size).
+  bool inWound(const Eigen::Vector3d& p) const;
   // query_: the vertices whose faces may meet the box; a new face stamp for skipForContact.
   void queryRest(const Eigen::AlignedBox3d& box) const;
   bool skipForContact(mesh::TriMesh::FaceHandle f) const;  // seen in this query already, or a wall
@@ -512,7 +516,7 @@ class SurfaceCutter {
   mesh::VertexGrid coarse_grid_;                       // the flagged vertices, at rest
   OpenMesh::VPropHandleT<Eigen::Vector3d> coarse_at_;  // where each is in coarse_grid_
   OpenMesh::VPropHandleT<double> coarse_reach_;        // each vertex's longest edge at rest (m)
-  mutable std::vector<int> query_;                     // scratch for intersect() and onSurface()
+  mutable std::vector<int> query_;                     // scratch for intersect(), onSurface(), inWound()
   mutable std::vector<std::uint32_t> face_stamp_;      // intersect(): the query that last tested each face
   mutable std::uint32_t face_query_ = 0;
   CutStats stats_;
