@@ -209,6 +209,11 @@ double Incision::sampleDepth(const StrokeSample& sample) const noexcept {
 void Incision::startAt(const StrokeSample& first, const Eigen::Vector3d& blade_direction) {
   blade_direction_ = blade_direction.normalized();
   last_sample_ = first;
+  smoothed_ = first;
+  smoothed_.normal = first.normal.normalized();
+  smoothed_.depth_m = sampleDepth(first);
+  path_ = smoothed_;
+  path_length_m_ = 0.0;
   addStation(
       {first.point_m, first.normal.normalized(), first.time_s, sampleDepth(first), first.through, first.in_wound});
   to_next_station_m_ = options_.spacing_m;
@@ -243,33 +248,63 @@ SampleStatus Incision::extend(const StrokeSample& sample) noexcept {
   if (step.dot(travel.normalized()) < -0.5 * length_m) return SampleStatus::SkippedBackward;
   if (step.normalized().cross(sample.normal.normalized()).norm() < 1e-6) return SampleStatus::RefusedNormal;
 
-  // Stations every spacing_m of arc length along the polyline of samples.
+  const double a = 1.0 - std::exp(-length_m / (kSmoothSpacings * options_.spacing_m));
+  const Eigen::Vector3d n = sample.normal.normalized();
+  StrokeSample& f = smoothed_;
+  f.point_m += a * (sample.point_m - f.point_m);
+  f.normal += a * (n - f.normal);
+  f.normal = f.normal.norm() > 1e-12 ? Eigen::Vector3d(f.normal.normalized()) : n;
+  f.time_s += a * (sample.time_s - f.time_s);
+  f.depth_m += a * (sampleDepth(sample) - f.depth_m);
+  f.through = sample.through, f.in_wound = sample.in_wound;
+  StrokeSample to = f;
+  to.point_m += 0.5 * n.dot(sample.point_m - f.point_m) * n;
+  const bool exempt = last_sample_.in_wound || sample.in_wound || last_sample_.through || sample.through;
+  const SampleStatus laid = layStations(to, true, exempt);
+  if (laid == SampleStatus::Accepted) last_sample_ = sample;
+  return laid;
+}
+
+SampleStatus Incision::layStations(const StrokeSample& to, bool corners, bool exempt) noexcept {
+  // Stations every spacing_m of arc length along the smoothed path.
+  const StrokeSample& from = path_;
+  const Eigen::Vector3d step = to.point_m - from.point_m;
+  const double length_m = step.norm();
   double along_m = to_next_station_m_;
   while (along_m <= length_m) {
     const double f = along_m / length_m;
     if (static_cast<int>(stations_.size()) + options_.order >= options_.max_columns) {
-      finish();
+      end();
       return SampleStatus::Ended;
     }
-    if (turnsAtCorner(last_sample_.point_m + f * step,
-                      last_sample_.in_wound || sample.in_wound || last_sample_.through || sample.through)) {
-      finish();
+    if (corners && turnsAtCorner(from.point_m + f * step, exempt)) {
+      end();
       return SampleStatus::EndedAtCorner;
     }
-    const Eigen::Vector3d normal = ((1.0 - f) * last_sample_.normal.normalized() + f * sample.normal.normalized());
-    addStation({last_sample_.point_m + f * step,
-                normal.norm() > 1e-12 ? normal.normalized() : sample.normal.normalized(),
-                last_sample_.time_s + f * (sample.time_s - last_sample_.time_s),
-                (1.0 - f) * sampleDepth(last_sample_) + f * sampleDepth(sample),
-                f < 0.5 ? last_sample_.through : sample.through, last_sample_.in_wound || sample.in_wound});
+    const Eigen::Vector3d normal = (1.0 - f) * from.normal + f * to.normal;
+    addStation({from.point_m + f * step, normal.norm() > 1e-12 ? normal.normalized() : to.normal,
+                from.time_s + f * (to.time_s - from.time_s), (1.0 - f) * from.depth_m + f * to.depth_m,
+                f < 0.5 ? from.through : to.through, from.in_wound || to.in_wound});
     along_m += options_.spacing_m;
   }
   to_next_station_m_ = along_m - length_m;
-  last_sample_ = sample;
+  path_length_m_ += length_m;
+  path_ = to;
   return SampleStatus::Accepted;
 }
 
 void Incision::finish() noexcept {
+  if (finished_) return;
+  if (!stations_.empty()) {
+    StrokeSample last = last_sample_;
+    last.normal = last.normal.normalized();
+    last.depth_m = sampleDepth(last);
+    layStations(last, false, false);
+  }
+  end();
+}
+
+void Incision::end() noexcept {
   if (finished_) return;
   finished_ = true;
   refreshRestColumns(std::max(0, stationCount() - 2) + options_.order - 1);

@@ -162,7 +162,6 @@ CutStep SurfaceCutter::begin(const StrokeSample& first, const Eigen::Vector3d& b
   ++incision_index_;
   ++stats_.incisions;
   stats_.figures.push_back({});
-  last_accepted_m_ = first.point_m;
   next_column_ = options_.incision.order - 1;  // the first slab of the v domain
   column_started_ = false;
   last_query_units_ = 0;
@@ -234,8 +233,7 @@ CutStep SurfaceCutter::add(std::span<const StrokeSample> samples, SampleOrigin o
     if (step.sample == SampleStatus::Accepted) {
       noteThrough();
       time_s_ = std::max(time_s_, sample.time_s);
-      stats_.figures.back().stroke_length_m += (sample.point_m - last_accepted_m_).norm();
-      last_accepted_m_ = sample.point_m;
+      stats_.figures.back().stroke_length_m = incision_->pathLength();
     }
     // One sample far from the stroke is a glitch, skipped; two in a row, the blade is elsewhere: the
     // incision ends (the caller may begin another there).

@@ -118,6 +118,7 @@ void SurfaceCutter::diagnose() noexcept {
   IncisionFigures& f = stats_.figures.back();
   f.done = true;
   f.row_limited_stations = incision_->rowLimitedStations();
+  f.stroke_length_m = incision_->pathLength();
   const double spacing_m = options_.incision.spacing_m;
   const double start_v = incision_->startV(), end_v = incision_->lastStationV();
   const int last = std::min(static_cast<int>(std::ceil(end_v)), static_cast<int>(cell_first_.size()));

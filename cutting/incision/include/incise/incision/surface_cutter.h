@@ -528,7 +528,6 @@ class SurfaceCutter {
   void faceChanged(mesh::TriMesh::FaceHandle f) {
     if (record_changes_) changes_.faces.push_back(f.idx());
   }
-  Eigen::Vector3d last_accepted_m_ = Eigen::Vector3d::Zero();  // the current incision's last accepted sample
   bool failed_ = false;
   core::WorkBudget::Clock::time_point deadline_ = core::WorkBudget::Clock::time_point::max();  // setDeadline()
   bool unlimited_ = false;  // process() ignores the budget (finishing a previous incision's work)

@@ -105,7 +105,7 @@ enum class ThroughCut : std::uint8_t { None, Made, Failed };
 const char* toString(ThroughCut through) noexcept;
 
 struct IncisionFigures {
-  double stroke_length_m = 0.0;       // arc length of the stroke in contact: the incision's accepted samples
+  double stroke_length_m = 0.0;       // of the stroke in contact: its samples smoothed (Incision::pathLength)
   double groove_length_m = 0.0;       // arc length, at rest, of the seam opened: the chain of seam vertices from
                                       // its start to its tip once one of them is duplicated; 0 while none is
   int inversions_failed = 0;          // vertices in their own slab whose inversion did not converge
