@@ -658,7 +658,7 @@ TEST_CASE("surface_cutter: a blade's tremor (a device's noise of 0.1 mm a sample
   // An S-curve on a pad at 50 mm/s, sampled at 1 kHz, each sample moved up to 0.1 mm in the skin's plane
   // (a 6-DOF device's noise). Taken as they came, the samples zigzagged: on the shipped pad-s-curve trace
   // with noise of 0.05 mm a sample the lattice tangled and the cut failed, with 0.1 mm it ended at 14 false
-  // corners. Samples within a quarter spacing of the last accepted one are skipped as standing still.
+  // corners. The stations follow the samples smoothed over a spacing of travel (Incision::kSmoothSpacings).
   mesh::SurfaceMesh pad =
       mesh::makeBox(Eigen::AlignedBox3d(Eigen::Vector3d(-0.03, -0.01, -0.03), Eigen::Vector3d(0.03, 0.0, 0.03)),
                     Eigen::Vector3i(60, 10, 60));

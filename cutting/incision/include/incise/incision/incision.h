@@ -239,7 +239,7 @@ class Incision {
   // applied alike to the point, normal, depth and time, so each station keeps the depth and time of where
   // it lies); finish() lays the rest of the way to the last sample. Taken as they came, samples with a
   // 6-DOF device's noise of 0.05 mm at 1 kHz zigzagged: the stations turned 35 degrees and more between
-  // neighbours and the lattice tangled (the pad's S-curve failed; at 0.1 mm it ended at 20 false corners).
+  // neighbours and the lattice tangled (the pad's S-curve failed; at 0.1 mm it ended at 14 false corners).
   // The filter's point lies L^2 k / 2 inside a surface of normal curvature k behind its lag L (the kernel's
   // second moment, 2 L^2): moved halfway back to the newest sample's tangent plane (which lies as far
   // outside) it is on the surface to second order, and the groove's depth is the blade's.
